@@ -1,0 +1,61 @@
+"""Colour arguments: ``'#rrggbb'`` (or ``'#rgb'``, ``'#rrggbbaa'``), common names, or tuples."""
+
+from __future__ import annotations
+
+from typing import Sequence, Union
+
+import numpy as np
+
+__all__ = ["ColorLike", "parse_color", "NAMED_COLORS"]
+
+ColorLike = Union[str, Sequence[int]]
+
+NAMED_COLORS = {
+    "black": (0, 0, 0), "white": (255, 255, 255), "red": (255, 0, 0), "green": (0, 128, 0),
+    "lime": (0, 255, 0), "blue": (0, 0, 255), "yellow": (255, 255, 0), "cyan": (0, 255, 255),
+    "magenta": (255, 0, 255), "gray": (128, 128, 128), "grey": (128, 128, 128),
+    "lightgray": (211, 211, 211), "lightgrey": (211, 211, 211), "darkgray": (64, 64, 64),
+    "darkgrey": (64, 64, 64), "orange": (255, 165, 0), "purple": (128, 0, 128),
+    "brown": (139, 69, 19), "pink": (255, 192, 203), "navy": (0, 0, 128), "teal": (0, 128, 128),
+    "olive": (128, 128, 0), "maroon": (128, 0, 0), "silver": (192, 192, 192),
+    "gold": (255, 215, 0), "steelblue": (70, 130, 180), "skyblue": (135, 206, 235),
+    "transparent": (0, 0, 0, 0),
+}
+
+
+def parse_color(value: ColorLike) -> np.ndarray:
+    """A colour as a (4,) uint8 RGBA array (alpha 255 unless given).
+
+    >>> parse_color('#ff8000').tolist(), parse_color('navy').tolist(), parse_color((1, 2, 3)).tolist()
+    ([255, 128, 0, 255], [0, 0, 128, 255], [1, 2, 3, 255])
+    """
+    if isinstance(value, str):
+        rgba = _parse_string(value.strip().lower())
+        if rgba is None:
+            raise ValueError(f"unknown colour {value!r}: use a name, #rrggbb, or (r, g, b)")
+    else:
+        try:
+            rgba = tuple(int(c) for c in value)
+        except (TypeError, ValueError):
+            raise ValueError(f"a colour tuple must hold 3 or 4 integers, got {value!r}") from None
+        if len(rgba) not in (3, 4) or any(not 0 <= c <= 255 for c in rgba):
+            raise ValueError(f"a colour tuple must hold 3 or 4 integers 0-255, got {value!r}")
+    if len(rgba) == 3:
+        rgba = (*rgba, 255)
+    return np.array(rgba, np.uint8)
+
+
+def _parse_string(s: str):
+    if s in NAMED_COLORS:
+        return NAMED_COLORS[s]
+    if not s.startswith("#"):
+        return None
+    digits = s[1:]
+    if len(digits) in (3, 4):
+        digits = "".join(c * 2 for c in digits)
+    if len(digits) not in (6, 8):
+        return None
+    try:
+        return tuple(int(digits[i:i + 2], 16) for i in range(0, len(digits), 2))
+    except ValueError:
+        return None

@@ -1,0 +1,82 @@
+"""Framebuffer: the colour, depth and (optional) primitive-id images a render draws into."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from .colors import ColorLike, parse_color
+from .image import save_image, to_pil
+
+__all__ = ["Framebuffer"]
+
+FARTHEST = np.float32(np.inf)
+
+
+class Framebuffer:
+    """Colour, depth and optional id buffers of one image.
+
+    Parameters
+    ----------
+    width, height : int
+        Size in pixels.
+    alpha : bool
+        Four colour channels (RGBA) instead of three. Implied by a background with alpha < 255.
+    background : colour
+        ``'#rrggbb'``, a name (``'transparent'`` included) or an ``(r, g, b[, a])`` tuple.
+    ids : bool
+        Also keep a primitive-id buffer.
+
+    Attributes
+    ----------
+    color : (H, W, 3 or 4) uint8
+        Cleared to the background.
+    depth : (H, W) float32
+        Cleared to +inf ("farthest"); drawn depths lie in [0, 1], 0 at the near plane.
+    ids : (H, W) int32 or None
+        Index of the triangle seen at each pixel, -1 where none.
+    """
+
+    def __init__(self, width: int, height: int, alpha: bool = False,
+                 background: ColorLike = "white", ids: bool = False):
+        if isinstance(width, bool) or isinstance(height, bool) or int(width) != width \
+                or int(height) != height or not (1 <= width <= 32768 and 1 <= height <= 32768):
+            raise ValueError(f"size must be whole numbers from 1 to 32768, got {width}x{height}")
+        self.background = parse_color(background)
+        alpha = bool(alpha) or self.background[3] < 255
+        self.width, self.height = int(width), int(height)
+        self.color = np.empty((self.height, self.width, 4 if alpha else 3), np.uint8)
+        self.depth = np.empty((self.height, self.width), np.float32)
+        self.ids = np.empty((self.height, self.width), np.int32) if ids else None
+        self.clear()
+
+    @property
+    def alpha(self) -> bool:
+        return self.color.shape[2] == 4
+
+    def clear(self) -> None:
+        """Colour to the background, depth to +inf, ids to -1."""
+        self.color[...] = self.background[: self.color.shape[2]]
+        self.depth.fill(FARTHEST)
+        if self.ids is not None:
+            self.ids.fill(-1)
+
+    def to_image(self):
+        """The colour buffer as a Pillow image (RGB or RGBA)."""
+        return to_pil(self.color)
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Write the colour buffer as a PNG (RGBA when it has alpha), atomically."""
+        save_image(self.color, path)
+
+    def _repr_png_(self) -> bytes:
+        import io
+
+        buf = io.BytesIO()
+        self.to_image().save(buf, format="PNG")
+        return buf.getvalue()
+
+    def __repr__(self) -> str:
+        kind = "RGBA" if self.alpha else "RGB"
+        return f"Framebuffer({self.width}x{self.height}, {kind}{', ids' if self.ids is not None else ''})"

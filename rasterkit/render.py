@@ -1,0 +1,169 @@
+"""render(): validate once, build the matrices, pick the kernels once, run the stages.
+
+The pipeline, in the spaces its variables are named after::
+
+    object --(model)--> world --(camera chain K)--> homogeneous raster (clip)
+    clip --> triangles: near-plane clip, cull, bin, rasterize, z-test  (solid, hidden)
+    clip --> edges: near-plane clip, 2D clip, Bresenham / Wu, z-test    (wire, hidden, solid+wire)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from .camera import Camera
+from .colors import ColorLike, parse_color
+from .framebuffer import Framebuffer
+from .kernels import line as line_kernels
+from .kernels import shade as shade_kernels
+from .kernels.vertex import transform_points
+from .mesh import Mesh
+from .triangles import rasterize_triangles
+
+__all__ = ["render", "MODES", "LINE_DEPTH_BIAS"]
+
+MODES = ("wire", "hidden", "solid", "solid+wire")
+CULL = ("back", "front", "none")
+SHADING = ("flat", "smooth")
+
+LINE_DEPTH_BIAS = 2e-4
+"""Depth bias of hidden-line edges (depth units; depth runs 0..1 from near to far plane): an
+edge is drawn where ``depth_edge - LINE_DEPTH_BIAS <= depth_buffer``, so the edges of visible
+faces survive the z-test against those faces' own depths."""
+
+AMBIENT = 0.25
+"""Fraction of the surface colour that unlit faces keep."""
+
+
+@dataclass(frozen=True)
+class _Options:
+    mode: str
+    cull: str
+    shading: str
+    color: np.ndarray
+    line_color: np.ndarray
+    aa: bool
+
+
+def as_mesh(mesh) -> Mesh:
+    """A :class:`Mesh` from a Mesh, a ``(vertices, faces)`` pair or an object with
+    ``.vertices`` and ``.faces`` (a trimesh mesh, for example)."""
+    if isinstance(mesh, Mesh):
+        return mesh
+    if isinstance(mesh, tuple) and len(mesh) == 2:
+        return Mesh(*mesh)
+    if hasattr(mesh, "vertices") and hasattr(mesh, "faces"):
+        return Mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces))
+    raise TypeError("mesh must be a rasterkit.Mesh, a (vertices, faces) tuple, "
+                    "or an object with .vertices and .faces")
+
+
+def _choice(name: str, value: str, allowed: tuple) -> str:
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
+    return value
+
+
+def render(mesh, camera: Camera, mode: str = "wire", *, cull: str = "back",
+           shading: str = "flat", color: ColorLike = "lightgray",
+           line_color: ColorLike = "black", background: ColorLike = "white",
+           aa: bool = False, ids: bool = False) -> Framebuffer:
+    """Render a mesh seen by a camera into a new :class:`Framebuffer`.
+
+    Parameters
+    ----------
+    mesh : Mesh, (vertices, faces) tuple, or object with ``.vertices`` and ``.faces``
+        Positions in world space, (N, 3) float; faces (M, 3) int, counter-clockwise seen
+        from the front.
+    camera : Camera
+        Gives the image size and the world -> raster chain.
+    mode : {"wire", "hidden", "solid", "solid+wire"}
+        ``wire``: every edge, no depth test. ``hidden``: hidden-line removal: a depth pass of
+        the triangles, then only the visible parts of the edges. ``solid``: shaded triangles.
+        ``solid+wire``: shaded triangles with the visible edges on top.
+    cull : {"back", "front", "none"}
+        Faces removed before rasterization (the lecture's n·v test, as the sign of the
+        screen-space area).
+    shading : {"flat", "smooth"}
+        Per-face Lambert or per-vertex (Gouraud) Lambert, lit by a headlight at the eye.
+    color, line_color, background : colour
+        ``'#rrggbb'``, a name, or an ``(r, g, b)`` tuple of 0-255. ``background='transparent'``
+        gives an RGBA framebuffer. Vertex or face colours of the mesh take the place of
+        ``color``.
+    aa : bool
+        Anti-aliased (Xiaolin Wu) lines.
+    ids : bool
+        Also fill the framebuffer's id buffer with the index of the visible face.
+
+    Returns
+    -------
+    Framebuffer
+    """
+    mesh = as_mesh(mesh)
+    if not isinstance(camera, Camera):
+        raise TypeError(f"camera must be a rasterkit.Camera, got {type(camera).__name__}")
+    options = _Options(_choice("mode", mode, MODES), _choice("cull", cull, CULL),
+                       _choice("shading", shading, SHADING), parse_color(color),
+                       parse_color(line_color), bool(aa))
+    fb = Framebuffer(camera.width, camera.height, background=background, ids=ids)
+    clip = transform_points(mesh.vertices, np.ascontiguousarray(camera.matrix()))
+    if options.mode != "wire":
+        _draw_triangles(fb, mesh, camera, clip, options)
+    if options.mode != "solid":
+        _draw_edges(fb, mesh, clip, options, depth_test=options.mode != "wire")
+    return fb
+
+
+def _draw_triangles(fb: Framebuffer, mesh: Mesh, camera: Camera, clip: np.ndarray,
+                    options: _Options) -> None:
+    """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer."""
+    if options.mode == "hidden":
+        rasterize_triangles(None, fb.depth, clip, mesh.faces, ids=fb.ids, cull=options.cull)
+        return
+    face_colors, vertex_colors = _shade(mesh, camera, options)
+    rasterize_triangles(fb.color, fb.depth, clip, mesh.faces, face_colors=face_colors,
+                        vertex_colors=vertex_colors, ids=fb.ids, cull=options.cull)
+
+
+def _shade(mesh: Mesh, camera: Camera, options: _Options):
+    """Lambert colours (0..255 float32) lit by a headlight: per face or per vertex."""
+    two_sided = options.cull == "none"
+    eye = np.asarray(camera.eye, np.float64)
+    positional = camera.kind == "perspective"
+    # A parallel camera's headlight shines along its viewing direction (towards the eye).
+    light = eye if positional else camera.basis()[2].astype(np.float64)
+    if options.shading == "flat":
+        normals = shade_kernels.face_normals(mesh.vertices, mesh.faces)
+        points = mesh.vertices[mesh.faces].mean(axis=1)
+        base = _base_colors(mesh.face_colors, mesh.vertex_colors, mesh, options, per_face=True)
+        return shade_kernels.lambert(normals, base, light, points, positional, AMBIENT, two_sided), None
+    normals = mesh.normals if mesh.normals is not None else \
+        shade_kernels.vertex_normals(mesh.vertices, mesh.faces)
+    base = _base_colors(mesh.face_colors, mesh.vertex_colors, mesh, options, per_face=False)
+    return None, shade_kernels.lambert(np.ascontiguousarray(normals, np.float64), base, light,
+                                       mesh.vertices, positional, AMBIENT, two_sided)
+
+
+def _base_colors(face_colors, vertex_colors, mesh: Mesh, options: _Options, per_face: bool):
+    """Surface colours 0..255 float32: the mesh's own (per face or vertex) or ``color``."""
+    if per_face and face_colors is not None:
+        return face_colors * np.float32(255)
+    if vertex_colors is not None:
+        rgb = vertex_colors * np.float32(255)
+        return np.ascontiguousarray(rgb[mesh.faces].mean(axis=1, dtype=np.float32)) if per_face else rgb
+    return options.color[None, :3].astype(np.float32)
+
+
+def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options,
+                depth_test: bool) -> None:
+    mode = line_kernels.MODE_PLAIN
+    if depth_test:
+        mode |= line_kernels.MODE_DEPTH_TEST
+    if options.aa:
+        mode |= line_kernels.MODE_ANTIALIAS
+    rgba = np.ascontiguousarray(options.line_color[: fb.color.shape[2]])
+    line_kernels.draw_edges(fb.color, fb.depth, clip, mesh.edges, rgba, mode,
+                            LINE_DEPTH_BIAS, numba.get_num_threads())

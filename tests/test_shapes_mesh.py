@@ -1,0 +1,96 @@
+"""Shapes are closed, outward-facing and have the edges of their polygons; Mesh validates."""
+
+import numpy as np
+import pytest
+
+from rasterkit import shapes
+from rasterkit.mesh import Mesh, polygon_edges
+
+CLOSED = ["cube", "tetrahedron", "octahedron", "icosahedron", "icosphere", "torus"]
+
+
+def _face_normals(mesh):
+    v = mesh.vertices[mesh.faces]
+    return np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v
+
+
+@pytest.mark.parametrize("name", CLOSED)
+def test_closed_shapes_are_watertight_and_wound_outward(name):
+    mesh = getattr(shapes, name)()
+    # watertight: every directed triangle edge has its reverse exactly once
+    f = mesh.faces
+    directed = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    forward = {tuple(e) for e in directed}
+    assert len(forward) == len(directed)
+    assert all((b, a) in forward for a, b in directed)
+    # outward: divergence theorem gives a positive volume
+    n, v = _face_normals(mesh)
+    assert np.einsum("ij,ij->i", v[:, 0], n).sum() / 6.0 > 0
+
+
+@pytest.mark.parametrize("name", ["cube", "tetrahedron", "octahedron", "icosahedron", "icosphere"])
+def test_convex_shapes_face_away_from_the_centre(name):
+    n, v = _face_normals(getattr(shapes, name)())
+    assert np.all(np.einsum("ij,ij->i", n, v.mean(axis=1)) > 0)
+
+
+def test_cube_has_volume_size_cubed_and_twelve_polygon_edges():
+    mesh = shapes.cube(2.0)
+    n, v = _face_normals(mesh)
+    assert np.einsum("ij,ij->i", v[:, 0], n).sum() / 6.0 == pytest.approx(8.0)
+    assert len(mesh.edges) == 12  # the quads' sides, not their diagonals
+    lengths = np.linalg.norm(mesh.vertices[mesh.edges[:, 0]] - mesh.vertices[mesh.edges[:, 1]], axis=1)
+    assert np.allclose(lengths, 2.0)
+
+
+def test_icosphere_counts_and_radius():
+    for k in range(4):
+        mesh = shapes.icosphere(k, radius=2.5)
+        assert len(mesh.vertices) == 10 * 4**k + 2
+        assert len(mesh.faces) == 20 * 4**k
+        assert np.allclose(np.linalg.norm(mesh.vertices, axis=1), 2.5)
+        # Euler characteristic of a sphere: V - E + F = 2
+        assert len(mesh.vertices) - len(mesh.edges) + len(mesh.faces) == 2
+
+
+def test_torus_is_genus_one_and_edges_are_the_quads_sides():
+    mesh = shapes.torus(1.0, 0.3, rings=12, sides=8)
+    assert len(mesh.faces) == 2 * 12 * 8
+    assert len(mesh.edges) == 2 * 12 * 8  # V - E + F(quads) = 0
+    assert len(mesh.vertices) - len(mesh.edges) + 12 * 8 == 0
+
+
+def test_grid_faces_up():
+    n, _ = _face_normals(shapes.grid(3, 4))
+    assert np.all(n[:, 1] > 0) and len(n) == 24
+
+
+def test_polygon_edges_are_unique_and_undirected():
+    edges = polygon_edges([[0, 1, 2, 3], [3, 2, 4]])
+    assert edges.tolist() == [[0, 1], [0, 3], [1, 2], [2, 3], [2, 4], [3, 4]]
+
+
+def test_mesh_derives_edges_and_validates():
+    mesh = Mesh(np.zeros((4, 3)), [[0, 1, 2], [0, 2, 3]])
+    assert mesh.edges.tolist() == [[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]]
+    assert mesh.vertices.flags.c_contiguous and mesh.faces.dtype == np.int64
+    with pytest.raises(ValueError, match="out of range"):
+        Mesh(np.zeros((3, 3)), [[0, 1, 3]])
+    with pytest.raises(ValueError, match="out of range"):
+        Mesh(np.zeros((3, 3)), [[0, 1, -1]])
+    with pytest.raises(ValueError, match="shape"):
+        Mesh(np.zeros((4, 3)), [[0, 1, 2, 3]])
+    with pytest.raises(ValueError, match="shape"):
+        Mesh(np.zeros((4, 2)), [[0, 1, 2]])
+    with pytest.raises(TypeError, match="integers"):
+        Mesh(np.zeros((3, 3)), [[0.0, 1.0, 2.0]])
+    with pytest.raises(ValueError, match="rows"):
+        Mesh(np.zeros((3, 3)), [[0, 1, 2]], vertex_colors=np.zeros((2, 3)))
+
+
+def test_bounding_sphere_holds_every_vertex_and_ignores_nan():
+    v = np.array([[0, 0, 0], [2, 0, 0], [0, 4, 0], [np.nan, 0, 0]], float)
+    mesh = Mesh(v, [[0, 1, 2]])
+    centre, radius = mesh.bounding_sphere()
+    assert np.allclose(centre, [1, 2, 0])
+    assert np.all(np.linalg.norm(v[:3] - centre, axis=1) <= radius + 1e-12)
