@@ -11,7 +11,9 @@ compilation policy (on-disk cache, fast-math flags, error model) is the same eve
   and ``ninf``: the depth buffer is cleared to +inf and clipping drops NaN vertices, and
   both need inf and NaN to behave as IEEE says.
 - ``boundscheck`` is left to the ``NUMBA_BOUNDSCHECK`` environment variable, so one CI pass
-  runs every kernel with bounds checking on.
+  runs every kernel with bounds checking on. That pass needs a cache of its own
+  (``NUMBA_CACHE_DIR``): the on-disk cache does not tell checked from unchecked code, so a
+  warm cache would hand back the unchecked kernels.
 """
 
 from __future__ import annotations

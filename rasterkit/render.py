@@ -129,30 +129,39 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, camera: Camera, clip: np.ndarra
 
 
 def _shade(mesh: Mesh, camera: Camera, options: _Options):
-    """Lambert colours (0..255 float32) lit by a headlight: per face or per vertex."""
+    """Lambert colours (0..255 float32) lit by a headlight: per face or per vertex.
+
+    The headlight shines along the viewing direction (from the eye towards the target), the
+    same direction for every face, so the triangles of one flat polygon get one colour.
+    """
     two_sided = options.cull == "none"
-    eye = np.asarray(camera.eye, np.float64)
-    positional = camera.kind == "perspective"
-    # A parallel camera's headlight shines along its viewing direction (towards the eye).
-    light = eye if positional else camera.basis()[2].astype(np.float64)
+    towards_eye = np.ascontiguousarray(camera.basis()[2], np.float64)
+    # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
+    # normals too, so they cannot spoil their neighbours' vertex normals.
+    finite = np.all(np.isfinite(mesh.vertices[mesh.faces]), axis=(1, 2))
     if options.shading == "flat":
         normals = shade_kernels.face_normals(mesh.vertices, mesh.faces)
-        points = mesh.vertices[mesh.faces].mean(axis=1)
-        base = _base_colors(mesh.face_colors, mesh.vertex_colors, mesh, options, per_face=True)
-        return shade_kernels.lambert(normals, base, light, points, positional, AMBIENT, two_sided), None
+        normals[~finite] = 0.0
+        base = _base_colors(mesh, options, per_face=True)
+        return _lambert(normals, base, towards_eye, two_sided), None
     normals = mesh.normals if mesh.normals is not None else \
-        shade_kernels.vertex_normals(mesh.vertices, mesh.faces)
-    base = _base_colors(mesh.face_colors, mesh.vertex_colors, mesh, options, per_face=False)
-    return None, shade_kernels.lambert(np.ascontiguousarray(normals, np.float64), base, light,
-                                       mesh.vertices, positional, AMBIENT, two_sided)
+        shade_kernels.vertex_normals(mesh.vertices, np.ascontiguousarray(mesh.faces[finite]))
+    base = _base_colors(mesh, options, per_face=False)
+    return None, _lambert(normals, base, towards_eye, two_sided)
 
 
-def _base_colors(face_colors, vertex_colors, mesh: Mesh, options: _Options, per_face: bool):
+def _lambert(normals, base, light, two_sided):
+    no_points = np.zeros((0, 3))  # read only by positional lights
+    normals = np.nan_to_num(np.ascontiguousarray(normals, np.float64), nan=0.0, posinf=0.0, neginf=0.0)
+    return shade_kernels.lambert(normals, base, light, no_points, False, AMBIENT, two_sided)
+
+
+def _base_colors(mesh: Mesh, options: _Options, per_face: bool):
     """Surface colours 0..255 float32: the mesh's own (per face or vertex) or ``color``."""
-    if per_face and face_colors is not None:
-        return face_colors * np.float32(255)
-    if vertex_colors is not None:
-        rgb = vertex_colors * np.float32(255)
+    if per_face and mesh.face_colors is not None:
+        return mesh.face_colors * np.float32(255)
+    if mesh.vertex_colors is not None:
+        rgb = mesh.vertex_colors * np.float32(255)
         return np.ascontiguousarray(rgb[mesh.faces].mean(axis=1, dtype=np.float32)) if per_face else rgb
     return options.color[None, :3].astype(np.float32)
 

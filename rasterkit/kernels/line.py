@@ -1,0 +1,554 @@
+"""Line rasterization kernels: single integer lines and framebuffer edges.
+
+Integer lines
+-------------
+A line between the integer pixels (x0, y0) and (x1, y1) is stepped along its *major* axis
+``u`` (the axis with the larger extent; x when |dx| == |dy|), one pixel per step, so it has
+``n + 1 = max(|dx|, |dy|) + 1`` pixels. At step ``t`` the ideal *minor* coordinate is
+``v0 + dv * t / n`` and the pixel takes that value **rounded half up**: when the ideal line
+passes exactly half-way between two pixels, the one with the larger minor coordinate wins
+(+y, i.e. downwards, for x-major lines; +x for y-major lines). The rule depends only on the
+ideal line, never on the drawing direction, so a reversed line has the same pixel set and a
+transposed line (x <-> y) has the transposed pixel set.
+
+Bresenham's midpoint algorithm keeps exactly this rounding in integers. With ``a = |dv|`` and
+``c = 0 if dv > 0 else 1`` (the tie rule), let ``N(t) = 2 a t + n - c``. The number of minor
+steps taken before step ``t`` is ``k(t) = N(t) // (2 n)`` and the error term is
+``r(t) = N(t) % (2 n)``: each step adds ``2 a`` to ``r`` and takes a minor step when ``r``
+reaches ``2 n``. Both are closed-form, so a clipped line can start at any step and still
+produce exactly the pixels of the unclipped line.
+
+Framebuffer edges
+-----------------
+:func:`draw_edges` draws many edges given in homogeneous raster space (see
+``ARCHITECTURE.md``). Per edge, once: drop non-finite input; clip before the divide against
+the near plane ``zh >= 0``, the far plane ``zh <= w`` and a guard band of ``+-GUARD_BAND``
+pixels (Liang-Barsky from a point inside, found by bisection when both ends are far away,
+so that even ends at 1e300 clip accurately); divide by ``w``. Per band of image rows: round
+the endpoints down
+to their pixels, find in closed form the Bresenham steps inside the band and step only
+those, so a segment costs its visible pixels however long it is. Each thread owns a band of
+rows, so no two threads write the same pixel, and since every per-pixel value is computed in
+closed form the image does not depend on the number of bands or threads.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import prange
+
+from rasterkit._jit import kernel
+
+METHOD_BRESENHAM = 0
+METHOD_DDA = 1
+METHOD_NAIVE = 2
+
+MODE_PLAIN = 0
+MODE_DEPTH_TEST = 1
+MODE_ANTIALIAS = 2
+
+GUARD_BAND = 2.0**24 + 0.5
+"""Half-size, in pixels, of the square ``[-G, G]^2`` that segments are clipped to before
+their endpoints are rounded to integers. Large enough that a segment with both endpoints
+inside it is drawn exactly as its unclipped integer line, small enough that the integer
+error terms (about ``8 G^2``) fit easily in int64. Its edges run through pixel centres, so
+the rounding error of a point clipped to them never changes the pixel the point falls in."""
+
+MAX_COORDINATE = 1e300
+"""Largest homogeneous coordinate magnitude accepted; beyond it (and for NaN or inf) an edge
+is dropped, which keeps every product and difference of the clipping finite."""
+
+_EMPTY_ROWS = 1 << 62
+
+# Each bisection halves a segment at most 2 * MAX_COORDINATE long; after about 2100 halvings
+# floating point cannot split it further.
+_MAX_BISECTIONS = 2200
+
+
+# --- integer lines: closed-form Bresenham --------------------------------------------------
+
+
+@kernel(inline="always")
+def _tie_offset(dv):
+    """``c`` of the module docstring: ties step towards +v, i.e. only when ``dv > 0``."""
+    return 0 if dv > 0 else 1
+
+
+@kernel(inline="always")
+def _minor_steps(t, n, a, c):
+    """Minor steps ``k(t)`` taken before major step ``t`` and the error term ``r(t)``."""
+    if a == 0:
+        return 0, 0
+    if t == 0:
+        # The usual unclipped start, without a (slow) 64-bit division.
+        return 0, n - c
+    numerator = 2 * a * t + n - c
+    k = numerator // (2 * n)
+    return k, numerator - 2 * n * k
+
+
+@kernel(inline="always")
+def _step_range(u0, v0, n, a, sv, c, ulo, uhi, vlo, vhi):
+    """Major steps ``t`` in ``[0, n]`` whose pixel lies in ``[ulo, uhi] x [vlo, vhi]``.
+
+    The pixel at step ``t`` is ``(u0 + t, v0 + sv * k(t))``. ``k`` is non-decreasing, so the
+    steps inside the box form one interval, found by inverting ``k`` in closed form.
+    Returns ``(tlo, thi)``; the interval is empty when ``tlo > thi``.
+    """
+    tlo = max(0, ulo - u0)
+    thi = min(n, uhi - u0)
+    if sv > 0:
+        kmin, kmax = vlo - v0, vhi - v0
+    else:
+        kmin, kmax = v0 - vhi, v0 - vlo
+    if a == 0:
+        if kmin > 0 or kmax < 0:
+            return 1, 0
+        return tlo, thi
+    # k(t) >= kmin  <=>  2 a t >= 2 n kmin - n + c   (ceiling division)
+    if kmin > 0:
+        tlo = max(tlo, -((n - c - 2 * n * kmin) // (2 * a)))
+    # k(t) <= kmax  <=>  2 a t <= 2 n (kmax + 1) - n + c - 1
+    if kmax < a:
+        thi = min(thi, (2 * n * (kmax + 1) - n + c - 1) // (2 * a))
+    return tlo, thi
+
+
+@kernel
+def _minor_bresenham(u0, v0, n, dv, out):
+    """Bresenham: minor coordinates of steps 0..n into ``out``, integer arithmetic only."""
+    a = abs(dv)
+    sv = 1 if dv >= 0 else -1
+    k, r = _minor_steps(0, n, a, _tie_offset(dv))
+    v = v0 + sv * k
+    for t in range(n + 1):
+        out[t] = v
+        r += 2 * a
+        if r >= 2 * n:
+            r -= 2 * n
+            v += sv
+
+
+@kernel
+def _minor_dda(u0, v0, n, dv, out):
+    """DDA: the minor coordinate grows by the slope ``m`` per major step, rounded half up."""
+    m = dv / n if n > 0 else 0.0
+    v = float(v0)
+    for t in range(n + 1):
+        out[t] = math.floor(v + 0.5)
+        v += m
+
+
+@kernel
+def _minor_naive(u0, v0, n, dv, out):
+    """Brute force: ``v = m u + b`` evaluated at every major coordinate, rounded half up."""
+    m = dv / n if n > 0 else 0.0
+    b = v0 - m * u0
+    for t in range(n + 1):
+        out[t] = math.floor(m * (u0 + t) + b + 0.5)
+
+
+@kernel
+def line_pixels(x0, y0, x1, y1, method):
+    """Pixels of the line from (x0, y0) to (x1, y1), endpoints included.
+
+    Parameters
+    ----------
+    x0, y0, x1, y1 : int
+        Endpoint pixels, raster space. ``|coordinate| <= 2**29`` keeps the integer error
+        terms inside int64 (the caller checks).
+    method : int
+        ``METHOD_BRESENHAM``, ``METHOD_DDA`` or ``METHOD_NAIVE``.
+
+    Returns
+    -------
+    (max(|dx|, |dy|) + 1, 2) int64
+        ``(x, y)`` pixels in drawing order from (x0, y0) to (x1, y1).
+
+    Every method steps from the endpoint with the smaller major coordinate and the output is
+    reversed afterwards, so reversing a line never changes its pixel set, even for the
+    floating-point methods.
+    """
+    steep = abs(y1 - y0) > abs(x1 - x0)
+    major, minor = (1, 0) if steep else (0, 1)
+    u0, v0, u1, v1 = (y0, x0, y1, x1) if steep else (x0, y0, x1, y1)
+    reverse = u1 < u0
+    if reverse:
+        u0, v0, u1, v1 = u1, v1, u0, v0
+    n = u1 - u0
+    v = np.empty(n + 1, dtype=np.int64)
+    if method == METHOD_BRESENHAM:
+        _minor_bresenham(u0, v0, n, v1 - v0, v)
+    elif method == METHOD_DDA:
+        _minor_dda(u0, v0, n, v1 - v0, v)
+    else:
+        _minor_naive(u0, v0, n, v1 - v0, v)
+    out = np.empty((n + 1, 2), dtype=np.int64)
+    for t in range(n + 1):
+        out[t, major] = u0 + t
+        out[t, minor] = v[t]
+    if reverse:
+        return out[::-1].copy()
+    return out
+
+
+# --- framebuffer edges: per-edge setup --------------------------------------------------------
+
+
+@kernel(inline="always")
+def _plane_distances(v):
+    """Signed distances (>= 0 inside) of homogeneous point ``v`` to the six clip planes.
+
+    The visible region is ``0 <= zh <= w`` (near and far planes) and
+    ``|xh|, |yh| <= GUARD_BAND * w``; it is convex and implies ``w >= 0``.
+    """
+    xh, yh, zh, w = v
+    g = GUARD_BAND * w
+    return (zh, w - zh, g + xh, g - xh, g + yh, g - yh)
+
+
+@kernel(inline="always")
+def _outcode(v):
+    """Bit k set when ``v`` is outside clip plane k; 0 inside the visible region."""
+    distances = _plane_distances(v)
+    code = 0
+    for k in range(6):
+        if distances[k] < 0.0:
+            code |= 1 << k
+    return code
+
+
+@kernel
+def _inside_point(p, q):
+    """Some point of the segment p-q inside the visible region, found by bisection.
+
+    Returns ``(found, point)``. A point computed as ``p + t (q - p)`` carries an absolute
+    error of about ``|p| * 2**-53`` (1e14 pixels when ``|p| = 1e30``); a midpoint
+    ``(a + b) / 2`` is accurate relative to its own size instead. So when neither end is
+    inside, halve the segment, keeping the half that is not trivially outside (both ends
+    beyond one plane, the Sproull-Sutherland test), until an end falls inside or the whole
+    segment is rejected. An end already inside, the usual case, costs one outcode.
+    """
+    a, b = p, q
+    code_a, code_b = _outcode(a), _outcode(b)
+    for _ in range(_MAX_BISECTIONS):
+        if code_a == 0:
+            return True, a
+        if code_b == 0:
+            return True, b
+        if code_a & code_b:
+            return False, a
+        m = ((a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5, (a[2] + b[2]) * 0.5, (a[3] + b[3]) * 0.5)
+        code_m = _outcode(m)
+        # A plane distance is linear, so m is outside a plane only if a or b is too.
+        if code_m & code_a:
+            a, code_a = m, code_m
+        else:
+            b, code_b = m, code_m
+    return False, a
+
+
+@kernel(inline="always")
+def _exit_point(c, e):
+    """The last point of segment c -> e inside the visible region, ``c`` being inside.
+
+    Liang-Barsky from an inside point needs only the exits. ``e`` itself is returned
+    bit-exact when it is inside; otherwise the point is ``c + t (e - c)``, accurate because
+    ``c`` is not huge and ``t (e - c)`` is about the distance from ``c`` to the exit.
+    """
+    dc = _plane_distances(c)
+    de = _plane_distances(e)
+    t = 1.0
+    for k in range(6):
+        if de[k] < 0.0:
+            t = min(t, dc[k] / (dc[k] - de[k]))
+    if t == 1.0:
+        return e
+    return (c[0] + t * (e[0] - c[0]), c[1] + t * (e[1] - c[1]), c[2] + t * (e[2] - c[2]), c[3] + t * (e[3] - c[3]))
+
+
+@kernel(inline="always")
+def _clamp(value, lo, hi):
+    return min(max(value, lo), hi)
+
+
+@kernel
+def _project_edge(p, q):
+    """Clip a homogeneous segment to the visible region (see _plane_distances), then divide.
+
+    ``p``, ``q`` are 4-tuples ``(xh, yh, zh, w)`` with magnitudes at most
+    ``MAX_COORDINATE``. Clipping before the divide means the divide never sees ``w <= 0``
+    and its results are bounded by the guard band. Returns
+    ``(visible, x0, y0, z0, x1, y1, z1)`` in raster space; ``visible`` is False when
+    nothing of the segment is left.
+    """
+    found, c = _inside_point(p, q)
+    if not found:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    xh0, yh0, zh0, w0 = _exit_point(c, p)
+    xh1, yh1, zh1, w1 = _exit_point(c, q)
+    if not (w0 > 0.0 and w1 > 0.0):
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    inv0 = 1.0 / w0
+    inv1 = 1.0 / w1
+    # The clamps only undo rounding at the guard band.
+    x0 = _clamp(xh0 * inv0, -GUARD_BAND, GUARD_BAND)
+    y0 = _clamp(yh0 * inv0, -GUARD_BAND, GUARD_BAND)
+    x1 = _clamp(xh1 * inv1, -GUARD_BAND, GUARD_BAND)
+    y1 = _clamp(yh1 * inv1, -GUARD_BAND, GUARD_BAND)
+    return True, x0, y0, zh0 * inv0, x1, y1, zh1 * inv1
+
+
+@kernel(inline="always")
+def _all_usable(values):
+    """Whether every float of the tuple ``values`` is finite and at most MAX_COORDINATE."""
+    for value in values:
+        if not abs(value) <= MAX_COORDINATE:
+            return False
+    return True
+
+
+@kernel(parallel=True)
+def _setup_edges(clip, edges):
+    """Per-edge setup, once for all bands.
+
+    Returns ``(segments, rows, dropped)``: ``segments`` (E, 6) float64 rows
+    ``(x0, y0, z0, x1, y1, z1)`` in raster space (undefined for invisible edges), ``rows``
+    (E, 2) int64 a conservative range of image rows each edge can touch (empty for invisible
+    edges), ``dropped`` the number of
+    edges with an input coordinate that is NaN, infinite or beyond ``MAX_COORDINATE``.
+    """
+    n_edges = edges.shape[0]
+    segments = np.empty((n_edges, 6), dtype=np.float64)
+    rows = np.empty((n_edges, 2), dtype=np.int64)
+    dropped = 0
+    for e in prange(n_edges):
+        rows[e, 0] = _EMPTY_ROWS
+        rows[e, 1] = -_EMPTY_ROWS
+        # Scalars, not row views: a view per edge costs an atomic refcount update, which
+        # serialises the threads on a shared cache line.
+        i, j = edges[e, 0], edges[e, 1]
+        p = (clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3])
+        q = (clip[j, 0], clip[j, 1], clip[j, 2], clip[j, 3])
+        if not _all_usable(p + q):
+            dropped += 1
+            continue
+        visible, x0, y0, z0, x1, y1, z1 = _project_edge(p, q)
+        if visible:
+            segments[e, 0], segments[e, 1], segments[e, 2] = x0, y0, z0
+            segments[e, 3], segments[e, 4], segments[e, 5] = x1, y1, z1
+            # Wu's two pixels and its end-column centres reach up to 2 rows beyond the ends.
+            rows[e, 0] = math.floor(min(y0, y1)) - 2
+            rows[e, 1] = math.floor(max(y0, y1)) + 2
+    return segments, rows, dropped
+
+
+# --- framebuffer edges: per-band drawing ----------------------------------------------------
+
+
+@kernel(inline="always")
+def _band_frame(steep, width, ylo, yhi):
+    """Strides and ranges of the band in (major u, minor v) terms.
+
+    Returns ``(ustride, vstride, ulo, uhi, vlo, vhi)``: pixel index steps (in pixels of the
+    flattened (H, W) image) and the inclusive coordinate ranges of the band.
+    """
+    if steep:
+        return width, 1, ylo, yhi, 0, width - 1
+    return 1, width, 0, width - 1, ylo, yhi
+
+
+@kernel(inline="always")
+def _oriented(x0, y0, x1, y1, steep, swap):
+    """The segment as ``(u0, v0, u1, v1)``: transposed if steep, reversed if swap."""
+    u0, v0, u1, v1 = (y0, x0, y1, x1) if steep else (x0, y0, x1, y1)
+    if swap:
+        return u1, v1, u0, v0
+    return u0, v0, u1, v1
+
+
+@kernel(inline="always")
+def _depth_at(u, u0f, du, z0, gz):
+    """Depth of the segment at the centre of major coordinate ``u``, clamped to its ends."""
+    return z0 + min(max(u + 0.5 - u0f, 0.0), du) * gz
+
+
+@kernel(inline="always")
+def _blend(cflat, pix, channels, rgba, weight):
+    """Blend ``rgba`` into pixel ``pix`` with coverage ``weight`` in [0, 1], rounding."""
+    base = pix * channels
+    for ch in range(channels):
+        old = np.float64(cflat[base + ch])
+        cflat[base + ch] = np.uint8(old + (np.float64(rgba[ch]) - old) * weight + 0.5)
+
+
+@kernel(inline="always")
+def _segment(segments, e):
+    """Row ``e`` of ``segments`` as a 6-tuple (a row view would cost an atomic refcount)."""
+    return (segments[e, 0], segments[e, 1], segments[e, 2], segments[e, 3], segments[e, 4], segments[e, 5])
+
+
+@kernel(inline="always")
+def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
+    """Draw one segment's integer line, restricted to rows ``[ylo, yhi]`` of the image."""
+    xi0, yi0 = math.floor(seg[0]), math.floor(seg[1])
+    xi1, yi1 = math.floor(seg[3]), math.floor(seg[4])
+    steep = abs(yi1 - yi0) > abs(xi1 - xi0)
+    # Step towards increasing major coordinate; deciding on the real ends also orders the
+    # integer ones, and keeps the depth slope's denominator >= 0.
+    swap = (seg[4] < seg[1]) if steep else (seg[3] < seg[0])
+    u0, v0, u1, v1 = _oriented(xi0, yi0, xi1, yi1, steep, swap)
+    u0f, _, u1f, _ = _oriented(seg[0], seg[1], seg[3], seg[4], steep, swap)
+    z0, z1 = (seg[5], seg[2]) if swap else (seg[2], seg[5])
+    ustride, vstride, ulo, uhi, vlo, vhi = _band_frame(steep, width, ylo, yhi)
+
+    n = u1 - u0
+    dv = v1 - v0
+    a = abs(dv)
+    sv = 1 if dv >= 0 else -1
+    c = _tie_offset(dv)
+    tlo, thi = _step_range(u0, v0, n, a, sv, c, ulo, uhi, vlo, vhi)
+    if tlo > thi:
+        return
+    k, r = _minor_steps(tlo, n, a, c)
+    pix = (u0 + tlo) * ustride + (v0 + sv * k) * vstride
+    du = u1f - u0f
+    gz = (z1 - z0) / du if du > 0.0 else 0.0
+    for t in range(tlo, thi + 1):
+        if not depth_test or _depth_at(u0 + t, u0f, du, z0, gz) - bias <= dflat[pix]:
+            base = pix * channels
+            for ch in range(channels):
+                cflat[base + ch] = rgba[ch]
+        r += 2 * a
+        if r >= 2 * n:
+            r -= 2 * n
+            pix += sv * vstride
+        pix += ustride
+
+
+@kernel(inline="always")
+def _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi):
+    """Major columns ``[first, last]`` of a Wu segment that can touch the band.
+
+    Column ``u`` puts the line's minor coordinate ``v(u)`` between the centres of rows
+    ``floor(v - 0.5)`` and the next, so it can touch ``[vlo, vhi]`` only when
+    ``v in [vlo - 0.5, vhi + 1.5)``; that range is inverted once per edge (with a margin of
+    one column for rounding) instead of testing every column.
+    """
+    first = max(math.floor(u0f), ulo)
+    last = min(math.ceil(u1f) - 1, uhi)
+    if g == 0.0:
+        if not vlo - 0.5 <= v0f < vhi + 1.5:
+            return 1, 0
+    elif first <= last:
+        ua = (vlo - 0.5 - v0f) / g + u0f - 0.5
+        ub = (vhi + 1.5 - v0f) / g + u0f - 0.5
+        lo = min(max(min(ua, ub), first - 1.0), last + 1.0)
+        hi = min(max(max(ua, ub), first - 1.0), last + 1.0)
+        first = max(first, math.floor(lo) - 1)
+        last = min(last, math.ceil(hi) + 1)
+    return first, last
+
+
+@kernel(inline="always")
+def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
+    """Draw one segment anti-aliased (Xiaolin Wu), restricted to rows ``[ylo, yhi]``.
+
+    Each major column ``u`` is covered over ``min(u1, u + 1) - max(u0, u)`` of its width;
+    that coverage is split between the two pixels whose centres straddle the line at the
+    column centre, in proportion to their distance from it.
+    """
+    steep = abs(seg[4] - seg[1]) > abs(seg[3] - seg[0])
+    swap = (seg[4] < seg[1]) if steep else (seg[3] < seg[0])
+    u0f, v0f, u1f, v1f = _oriented(seg[0], seg[1], seg[3], seg[4], steep, swap)
+    z0, z1 = (seg[5], seg[2]) if swap else (seg[2], seg[5])
+    du = u1f - u0f
+    if du == 0.0:
+        return
+    ustride, vstride, ulo, uhi, vlo, vhi = _band_frame(steep, width, ylo, yhi)
+    g = (v1f - v0f) / du
+    gz = (z1 - z0) / du
+    first, last = _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi)
+    for u in range(first, last + 1):
+        coverage = min(u1f, u + 1.0) - max(u0f, float(u))
+        below = v0f + (u + 0.5 - u0f) * g - 0.5
+        j = math.floor(below)
+        frac = below - j
+        z = _depth_at(u, u0f, du, z0, gz) - bias
+        for row, weight in ((j, 1.0 - frac), (j + 1, frac)):
+            if vlo <= row <= vhi:
+                pix = u * ustride + row * vstride
+                if not depth_test or z <= dflat[pix]:
+                    _blend(cflat, pix, channels, rgba, coverage * weight)
+
+
+@kernel(parallel=True)
+def draw_edges(color, depth, clip, edges, rgba, mode, bias, n_bands):
+    """Draw the edges of a mesh into a framebuffer.
+
+    Parameters
+    ----------
+    color : (H, W, C) uint8, C-contiguous, C in {3, 4}
+        Colour buffer, modified in place.
+    depth : (H, W) float32, C-contiguous
+        Depth buffer (smaller = nearer, +inf = empty). Read only with ``MODE_DEPTH_TEST``
+        and never written; without the depth test any float32 array will do (e.g.
+        ``np.empty((0, 0), np.float32)``).
+    clip : (N, 4) float64
+        Vertices in homogeneous raster space ``(xh, yh, zh, w)``.
+    edges : (E, 2) int64
+        Vertex indices into ``clip``, each in ``[0, N)`` (the caller checks).
+    rgba : (C,) uint8
+        Line colour.
+    mode : int
+        Bit set of ``MODE_DEPTH_TEST`` and ``MODE_ANTIALIAS``; ``MODE_PLAIN`` (0) is a
+        wireframe with neither.
+    bias : float
+        Depth-test mode draws a pixel only where ``z - bias <= depth[y, x]``, ``z`` being the
+        edge's depth (affine in screen space, so interpolated linearly) at the pixel's
+        major-axis centre. A small positive bias lets the edges of visible faces pass the
+        test against those faces' own depths.
+    n_bands : int
+        Number of horizontal bands the image is split into, drawn in parallel; normally
+        ``numba.get_num_threads()`` (passed in because reading it inside a kernel defeats
+        the on-disk cache). The image is the same for every value >= 1.
+
+    Returns
+    -------
+    int
+        Number of edges dropped because a coordinate of one of their vertices is NaN, inf or
+        beyond ``MAX_COORDINATE`` in magnitude.
+
+    Notes
+    -----
+    Plain and depth-tested edges write ``rgba`` to the pixels of the integer line between
+    the pixels containing the (clipped) endpoints, exactly as :func:`line_pixels` draws it
+    with Bresenham. Anti-aliased edges use Xiaolin Wu's algorithm on the real-valued
+    endpoints and blend ``rgba`` into the colour buffer, all C channels, by coverage; their
+    total weight is the segment's extent along its major axis. Edges are drawn in order, so
+    overlapping anti-aliased edges blend in index order. Segments are clipped to the near
+    and far planes and to the guard band ``[-GUARD_BAND, GUARD_BAND]^2`` in homogeneous
+    space; a segment with both ends inside the guard band is drawn exactly. Edges with a
+    coordinate beyond ``MAX_COORDINATE`` are dropped and counted like NaN ones. The image
+    must be smaller than ``GUARD_BAND`` on each side.
+    """
+    height, width, channels = color.shape
+    depth_test = (mode & MODE_DEPTH_TEST) != 0
+    antialias = (mode & MODE_ANTIALIAS) != 0
+    segments, rows, dropped = _setup_edges(clip, edges)
+    cflat = color.reshape(color.size)
+    dflat = depth.reshape(depth.size)
+    n_bands = min(height, n_bands)
+    for band in prange(n_bands):
+        ylo = band * height // n_bands
+        yhi = (band + 1) * height // n_bands - 1
+        for e in range(segments.shape[0]):
+            if rows[e, 0] <= yhi and rows[e, 1] >= ylo:
+                seg = _segment(segments, e)
+                if antialias:
+                    _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
+                else:
+                    _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
+    return dropped
