@@ -11,14 +11,16 @@ NumPy arrays in, NumPy arrays and images out; no GPU, no OpenGL, no display.
 
 from . import draw, shapes, transform
 from ._jit import set_threads
-from .camera import Camera
+from .camera import PROJECTIONS, Camera
 from .colors import parse_color
 from .framebuffer import Framebuffer
 from .mesh import Mesh
 from .obj import ObjError, load_obj
 from .render import render
+from .scene import Scene
 
 __all__ = [
+    "PROJECTIONS",
     "Camera",
     "Framebuffer",
     "Mesh",
@@ -27,6 +29,7 @@ __all__ = [
     "load_obj",
     "parse_color",
     "render",
+    "Scene",
     "set_threads",
     "shapes",
     "transform",

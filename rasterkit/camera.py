@@ -41,7 +41,7 @@ from .transform import (
     translate,
 )
 
-__all__ = ["Camera"]
+__all__ = ["Camera", "PROJECTIONS"]
 
 Vec3 = tuple[float, float, float]
 
@@ -50,6 +50,14 @@ Vec3 = tuple[float, float, float]
 ISOMETRIC_ELEVATION = math.degrees(math.atan(1.0 / math.sqrt(2.0)))
 
 _KINDS = ("perspective", "parallel")
+
+PROJECTIONS = ("perspective", "orthographic", "isometric", "dimetric", "trimetric", "cavalier",
+               "cabinet", "1-point", "2-point", "3-point")
+"""Names accepted by :meth:`Camera.preset` (and the command line's ``--projection``)."""
+
+_PRESET_METHODS = {"isometric": "isometric", "dimetric": "dimetric", "trimetric": "trimetric",
+                   "cavalier": "cavalier", "cabinet": "cabinet", "1-point": "one_point",
+                   "2-point": "two_point", "3-point": "three_point"}
 
 
 # --- the factors of the camera transformation, one small function each -----------------------
@@ -557,6 +565,47 @@ class Camera:
         """
         _require_off_axis_view(azimuth, elevation, "three_point")
         return cls._framed(center, radius, azimuth, elevation, width, height, fov_y=fov_y)
+
+    @classmethod
+    def preset(
+        cls, projection: str, center: Sequence[float], radius: float, *,
+        width: int = 640, height: int = 480, azimuth: float = 30.0, elevation: float = 20.0,
+        fov_y: float = 45.0, distance: float | None = None, eye: Sequence[float] | None = None,
+        target: Sequence[float] | None = None, up: Sequence[float] | None = None,
+        near: float | None = None, far: float | None = None,
+    ) -> Camera:
+        """The camera of a projection named in :data:`PROJECTIONS`, framing a bounding sphere.
+
+        ``'perspective'`` and ``'orthographic'`` look from (``azimuth``, ``elevation``) as
+        :meth:`frame` does; the other names are the axonometric, oblique and 1/2/3-point
+        presets (they choose their own view direction). Then, in this order: ``distance``
+        moves the eye along its line to that distance from the target; ``eye``, ``target``
+        and ``up`` replace those of the framed camera; ``near`` and ``far`` replace the
+        clipping distances, which otherwise enclose the sphere as seen from the final eye.
+        A parallel camera keeps its view box whatever the distance.
+        """
+        if projection not in PROJECTIONS:
+            raise ValueError(f"projection must be one of {', '.join(PROJECTIONS)}, got {projection!r}")
+        size = dict(width=width, height=height)
+        if projection in ("perspective", "orthographic"):
+            kind = "perspective" if projection == "perspective" else "parallel"
+            cam = cls.frame(center, radius, azimuth, elevation, fov_y, projection=kind, **size)
+        elif projection in ("1-point", "2-point", "3-point"):
+            cam = getattr(cls, _PRESET_METHODS[projection])(center, radius, fov_y=fov_y, **size)
+        else:
+            cam = getattr(cls, _PRESET_METHODS[projection])(center, radius, **size)
+        new_target = np.array(_point(target, "target") if target is not None else cam.target)
+        new_eye = np.array(_point(eye, "eye") if eye is not None else cam.eye)
+        if distance is not None and eye is None:
+            offset = np.subtract(cam.eye, cam.target)
+            new_eye = new_target + _positive(distance, "distance") * _unit(offset)
+        d = float(np.linalg.norm(new_eye - np.array(_point(center, "center"))))
+        r = _positive(radius, "radius")
+        auto_near = max(d - r, 1e-3 * r) / 2.0
+        return replace(cam, eye=tuple(new_eye), target=tuple(new_target),
+                       up=cam.up if up is None else up,
+                       near=auto_near if near is None else near,
+                       far=d + 2.0 * r if far is None else far)
 
     def with_size(self, width: int, height: int) -> Camera:
         """A copy with another image size (the vertical extent of the view is kept)."""

@@ -1,24 +1,34 @@
 """The command line: argument parsing and messages; no mathematics and no kernels here.
 
-Exit codes: 0 success, 2 bad input or usage (one line on stderr, no traceback, no output file),
-1 internal error.
+Exit codes: 0 success, 2 bad input or usage (one line on stderr naming the file and line, no
+traceback, no output file), 1 internal error.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from .camera import PROJECTIONS
+
 __all__ = ["main"]
+
+MODES = ("wire", "hidden", "solid", "solid+wire")
+IMAGE_SUFFIXES = (".png", ".gif", ".apng")
 
 EXAMPLES = """\
 examples:
   rasterkit render --demo -o demo.png
-  rasterkit render model.obj -o model.png --size 1920x1080
-  rasterkit render model.obj -o model.png --mode solid+wire --azimuth 45 --elevation 30
+  rasterkit render model.obj -o model.png --size 1920x1080 --mode solid+wire
+  rasterkit render model.obj -o model.png --projection isometric --mode hidden
+  rasterkit render model.obj -o model.png --eye 3,2,4 --target 0,0,0 --fov 35
+  rasterkit render model.obj -o spin.gif --turntable 36 --mode solid
+  rasterkit render models/ -o images/ --mode solid      (every .obj in a folder)
+  rasterkit info model.obj
 """
 
 
@@ -47,6 +57,23 @@ def _finite(text: str) -> float:
     return value
 
 
+def _point(text: str) -> tuple[float, float, float]:
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"a point is X,Y,Z, got {text!r}")
+    return tuple(_finite(p) for p in parts)
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # argparse prints usage + message; we want one line, exit 2
         raise UsageError(message)
@@ -56,81 +83,230 @@ def _parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="rasterkit", description="Render OBJ models to images, no GPU needed.",
                      epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    render = commands.add_parser("render", help="render a model to an image",
-                                 epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
-    render.add_argument("model", nargs="?", help="OBJ file to render")
-    render.add_argument("--demo", action="store_true", help="render the built-in demo model instead")
-    render.add_argument("-o", "--output", required=True, help="output image (.png)")
-    render.add_argument("--size", type=_size, default=(800, 600), metavar="WIDTHxHEIGHT",
-                        help="image size in pixels (default 800x600)")
-    render.add_argument("--mode", choices=("wire", "hidden", "solid", "solid+wire"), default="wire")
-    render.add_argument("--azimuth", type=_finite, default=30.0, metavar="DEG",
-                        help="camera azimuth about +Y, degrees (default 30)")
-    render.add_argument("--elevation", type=_finite, default=20.0, metavar="DEG",
-                        help="camera elevation, degrees (default 20)")
-    render.add_argument("--fov", type=_finite, default=45.0, metavar="DEG",
-                        help="vertical field of view, degrees (default 45)")
-    render.add_argument("--color", default="lightgray", help="surface colour (name or #rrggbb)")
-    render.add_argument("--line-color", default="black", help="line colour (name or #rrggbb)")
-    render.add_argument("--background", default="white",
-                        help="background colour; 'transparent' writes RGBA")
-    render.add_argument("--cull", choices=("back", "front", "none"), default="back")
-    render.add_argument("--shading", choices=("flat", "smooth"), default="flat")
-    render.add_argument("--aa", action="store_true", help="anti-aliased lines")
-    render.add_argument("--threads", type=int, default=None, metavar="N",
-                        help="threads for the kernels (default: all cores)")
+    info = commands.add_parser("info", help="print counts, bounds, groups, materials, warnings")
+    info.add_argument("models", nargs="+", metavar="MODEL.obj")
+    r = commands.add_parser("render", help="render models to images", epilog=EXAMPLES,
+                            formatter_class=argparse.RawDescriptionHelpFormatter)
+    r.add_argument("models", nargs="*", metavar="MODEL.obj",
+                   help="OBJ files or folders of them (several: -o names a folder)")
+    r.add_argument("--demo", action="store_true", help="render the built-in demo model")
+    r.add_argument("-o", "--output", required=True, metavar="OUT",
+                   help="image (.png; .gif/.png/.apng with --turntable), or a folder")
+    r.add_argument("--size", type=_size, default=(800, 600), metavar="WIDTHxHEIGHT",
+                   help="image size in pixels (default 800x600)")
+    r.add_argument("--mode", choices=MODES, default="wire", help="default wire")
+    r.add_argument("--projection", choices=PROJECTIONS, default="perspective")
+    cam = r.add_argument_group("camera (default: framed automatically around the model)")
+    cam.add_argument("--eye", type=_point, metavar="X,Y,Z")
+    cam.add_argument("--target", type=_point, metavar="X,Y,Z")
+    cam.add_argument("--up", type=_point, metavar="X,Y,Z")
+    cam.add_argument("--fov", type=_finite, default=45.0, metavar="DEG",
+                     help="vertical field of view (default 45)")
+    cam.add_argument("--near", type=_finite, metavar="N")
+    cam.add_argument("--far", type=_finite, metavar="F")
+    cam.add_argument("--azimuth", type=_finite, default=30.0, metavar="DEG",
+                     help="about +Y, from +Z towards +X (default 30)")
+    cam.add_argument("--elevation", type=_finite, default=20.0, metavar="DEG",
+                     help="above the horizon (default 20)")
+    cam.add_argument("--distance", type=_finite, metavar="D", help="eye distance from the target")
+    look = r.add_argument_group("appearance")
+    look.add_argument("--color", default="lightgray", help="surface colour (name or #rrggbb)")
+    look.add_argument("--line-color", default="black", help="line colour (name or #rrggbb)")
+    look.add_argument("--background", default="white",
+                      help="background colour; 'transparent' writes RGBA")
+    look.add_argument("--cull", choices=("back", "front", "none"), default="back")
+    look.add_argument("--shading", choices=("flat", "smooth"), default="flat")
+    look.add_argument("--aa", action="store_true", help="anti-aliased lines")
+    out = r.add_argument_group("output")
+    out.add_argument("--threads", type=_positive_int, metavar="N",
+                     help="threads for the kernels (default: all cores)")
+    out.add_argument("--turntable", type=_positive_int, metavar="N",
+                     help="N frames around the model, as an animated GIF or APNG")
+    out.add_argument("--depth", metavar="OUT.npy", help="also save the depth buffer (float32)")
     return parser
 
 
-def _load(args):
-    from .obj import load_obj
-    from .shapes import demo
-
-    if args.demo == (args.model is not None):
-        raise UsageError("give either a MODEL.obj or --demo")
-    return demo() if args.demo else load_obj(args.model)
+@dataclass
+class _Job:
+    source: Path | None  # None: the demo model
+    output: Path
 
 
-def _render(args) -> None:
-    from . import _jit
-    from .camera import Camera
-    from .render import render
+def _inputs(models: list[str]) -> list[Path]:
+    paths = []
+    for name in models:
+        path = Path(name)
+        if path.is_dir():
+            found = sorted(p for p in path.iterdir() if p.suffix.lower() == ".obj" and p.is_file())
+            if not found:
+                raise UsageError(f"{path}: no .obj files in this folder")
+            paths.extend(found)
+        else:
+            paths.append(path)
+    return paths
 
+
+def _jobs(args) -> list[_Job]:
+    if args.demo and args.models:
+        raise UsageError("give MODEL.obj files or --demo, not both")
+    if not args.demo and not args.models:
+        raise UsageError("give a MODEL.obj (or a folder of them), or --demo")
     out = Path(args.output)
-    if out.suffix.lower() != ".png":
-        raise UsageError(f"{out}: the output must be a .png file")
+    sources = [None] if args.demo else _inputs(args.models)
+    many = len(sources) > 1 or any(Path(m).is_dir() for m in args.models)
+    if many:
+        if out.suffix.lower() in IMAGE_SUFFIXES:
+            raise UsageError(f"{out}: several models render into a folder; give a folder for -o")
+        if args.depth:
+            raise UsageError("--depth takes one model")
+        if out.exists() and not out.is_dir():
+            raise UsageError(f"{out}: not a folder")
+        suffix = ".gif" if args.turntable else ".png"
+        return [_Job(s, out / (s.stem + suffix)) for s in sources]
+    _check_image_path(out, animated=bool(args.turntable))
+    return [_Job(sources[0], out)]
+
+
+def _check_image_path(out: Path, animated: bool) -> None:
+    allowed = IMAGE_SUFFIXES if animated else (".png",)
+    if out.suffix.lower() not in allowed:
+        raise UsageError(f"{out}: the output must end in {' or '.join(allowed)}")
     if not out.parent.is_dir():
         raise UsageError(f"{out}: folder {str(out.parent)!r} does not exist")
+
+
+def _camera(args, center, radius):
+    from .camera import Camera
+
+    width, height = args.size
+    return Camera.preset(args.projection, center, radius, width=width, height=height,
+                         azimuth=args.azimuth, elevation=args.elevation, fov_y=args.fov,
+                         distance=args.distance, eye=args.eye, target=args.target, up=args.up,
+                         near=args.near, far=args.far)
+
+
+def _render_job(job: _Job, args) -> None:
+    from .image import atomic_write, save_animation
+    from .obj import load_obj
+    from .render import render
+    from .scene import Scene
+    from .shapes import demo
+    from .transform import rotate_axis
+
+    mesh = demo() if job.source is None else load_obj(job.source)
+    for warning in mesh.warnings:
+        print(f"rasterkit: warning: {warning}", file=sys.stderr)
+    center, radius = mesh.bounding_sphere()
+    if radius == 0.0:
+        raise UsageError(f"{job.source}: the model has no extent (all vertices coincide)")
+    camera = _camera(args, center, radius)
+    style = dict(mode=args.mode, cull=args.cull, shading=args.shading, color=args.color,
+                 line_color=args.line_color, background=args.background, aa=args.aa)
+    if args.turntable:
+        frames = []
+        for k in range(args.turntable):
+            spin = rotate_axis(2 * np.pi * k / args.turntable, (0, 1, 0), center)
+            frames.append(render(Scene(camera).add(mesh, spin), **style).color)
+        save_animation(frames, job.output)
+        return
+    fb = render(mesh, camera, **style)
+    if args.depth:
+        with atomic_write(args.depth) as tmp:
+            with open(tmp, "wb") as f:
+                np.save(f, fb.depth)
+    fb.save(job.output)
+
+
+def _render(args) -> int:
+    from . import _jit
+
+    if args.depth and Path(args.depth).suffix.lower() != ".npy":
+        raise UsageError(f"{args.depth}: the depth output must end in .npy")
     try:
         _jit.set_threads(args.threads)
     except ValueError as e:
         raise UsageError(str(e)) from None
-    mesh = _load(args)
-    for warning in mesh.warnings:
-        print(f"rasterkit: warning: {warning}", file=sys.stderr)
-    center, radius = mesh.bounding_sphere()
-    width, height = args.size
-    camera = Camera.frame(center, radius, azimuth=args.azimuth, elevation=args.elevation,
-                          fov_y=args.fov, width=width, height=height)
-    fb = render(mesh, camera, mode=args.mode, cull=args.cull, shading=args.shading,
-                color=args.color, line_color=args.line_color, background=args.background,
-                aa=args.aa)
-    fb.save(out)
+    jobs = _jobs(args)
+    if len(jobs) == 1:
+        _render_job(jobs[0], args)
+        return 0
+    jobs[0].output.parent.mkdir(parents=True, exist_ok=True)
+    failed = 0
+    for k, job in enumerate(jobs, 1):
+        _progress(k, len(jobs), job.source.name)
+        try:
+            _render_job(job, args)
+        except _BAD_INPUT as e:
+            failed += 1
+            _report(e)
+    _progress_done()
+    return 2 if failed else 0
+
+
+def _progress(k: int, n: int, name: str) -> None:
+    width = 24
+    bar = "#" * (width * k // n) + "-" * (width - width * k // n)
+    end = "\r" if sys.stderr.isatty() else "\n"
+    print(f"[{bar}] {k}/{n} {name}".ljust(72), end=end, file=sys.stderr, flush=True)
+
+
+def _progress_done() -> None:
+    if sys.stderr.isatty():
+        print(file=sys.stderr)
+
+
+def _info(args) -> int:
+    from .obj import load_obj
+
+    failed = 0
+    for name in args.models:
+        try:
+            mesh = load_obj(name)
+        except _BAD_INPUT as e:
+            failed += 1
+            _report(e)
+            continue
+        print(_describe(name, mesh))
+    return 2 if failed else 0
+
+
+def _describe(name: str, mesh) -> str:
+    lo, hi = mesh.bounds
+    fmt = ", ".join
+    lines = [
+        f"{name}",
+        f"  vertices  {len(mesh.vertices)}",
+        f"  triangles {len(mesh.faces)}",
+        f"  edges     {len(mesh.edges)}",
+        f"  lines     {len(mesh.lines)}",
+        f"  bounds    ({fmt(f'{v:.6g}' for v in lo)}) .. ({fmt(f'{v:.6g}' for v in hi)})",
+        f"  attributes {fmt(a for a in ('vertex_colors', 'normals', 'texcoords', 'face_colors') if getattr(mesh, a) is not None) or 'none'}",
+        f"  groups    {len(mesh.group_names)}: {fmt(mesh.group_names[:8])}{' ...' if len(mesh.group_names) > 8 else ''}",
+        f"  materials {len(mesh.material_names)}: {fmt(mesh.material_names[:8])}{' ...' if len(mesh.material_names) > 8 else ''}",
+        f"  warnings  {len(mesh.warnings)}",
+    ]
+    lines += [f"    {w}" for w in mesh.warnings]
+    return "\n".join(lines)
+
+
+def _report(e: BaseException) -> None:
+    if isinstance(e, OSError):
+        name = f"{e.filename}: " if e.filename else ""
+        print(f"rasterkit: error: {name}{e.strerror or e}", file=sys.stderr)
+    else:
+        print(f"rasterkit: error: {e}", file=sys.stderr)
+
+
+_BAD_INPUT: tuple = (UsageError, ValueError, OSError)  # ObjError is a ValueError
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code."""
-    from .obj import ObjError
-
     try:
         args = _parser().parse_args(argv)
-        _render(args)
-    except (UsageError, ObjError, ValueError) as e:
-        print(f"rasterkit: error: {e}", file=sys.stderr)
-        return 2
-    except OSError as e:
-        name = f"{e.filename}: " if e.filename else ""
-        print(f"rasterkit: error: {name}{e.strerror or e}", file=sys.stderr)
+        return _render(args) if args.command == "render" else _info(args)
+    except _BAD_INPUT as e:
+        _report(e)
         return 2
     except KeyboardInterrupt:
         print("rasterkit: interrupted", file=sys.stderr)
@@ -138,7 +314,6 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as e:  # a bug of ours: still one line, but a distinct exit code
         print(f"rasterkit: internal error: {type(e).__name__}: {e}", file=sys.stderr)
         return 1
-    return 0
 
 
 if __name__ == "__main__":

@@ -21,6 +21,7 @@ from .kernels import line as line_kernels
 from .kernels import shade as shade_kernels
 from .kernels.vertex import transform_points
 from .mesh import Mesh
+from .scene import Scene
 from .triangles import rasterize_triangles
 
 __all__ = ["render", "MODES", "LINE_DEPTH_BIAS"]
@@ -46,6 +47,7 @@ class _Options:
     color: np.ndarray
     line_color: np.ndarray
     aa: bool
+    light: np.ndarray  # (3,) unit world-space direction towards the light
 
 
 def as_mesh(mesh) -> Mesh:
@@ -67,19 +69,21 @@ def _choice(name: str, value: str, allowed: tuple) -> str:
     return value
 
 
-def render(mesh, camera: Camera, mode: str = "wire", *, cull: str = "back",
+def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str = "back",
            shading: str = "flat", color: ColorLike = "lightgray",
-           line_color: ColorLike = "black", background: ColorLike = "white",
-           aa: bool = False, ids: bool = False) -> Framebuffer:
-    """Render a mesh seen by a camera into a new :class:`Framebuffer`.
+           line_color: ColorLike = "black", background: ColorLike | None = None,
+           light=None, aa: bool = False, ids: bool = False) -> Framebuffer:
+    """Render a mesh or a scene seen by a camera into a new :class:`Framebuffer`.
 
     Parameters
     ----------
-    mesh : Mesh, (vertices, faces) tuple, or object with ``.vertices`` and ``.faces``
+    mesh : Scene, Mesh, (vertices, faces) tuple, or object with ``.vertices`` and ``.faces``
         Positions in world space, (N, 3) float; faces (M, 3) int, counter-clockwise seen
-        from the front.
+        from the front. A :class:`Scene` brings its objects' model matrices and colours, and
+        the defaults for ``camera``, ``background`` and ``light``.
     camera : Camera
-        Gives the image size and the world -> raster chain.
+        Gives the image size and the world -> raster chain (optional for a scene that has
+        one).
     mode : {"wire", "hidden", "solid", "solid+wire"}
         ``wire``: every edge, no depth test. ``hidden``: hidden-line removal: a depth pass of
         the triangles, then only the visible parts of the edges. ``solid``: shaded triangles.
@@ -91,8 +95,11 @@ def render(mesh, camera: Camera, mode: str = "wire", *, cull: str = "back",
         Per-face Lambert or per-vertex (Gouraud) Lambert, lit by a headlight at the eye.
     color, line_color, background : colour
         ``'#rrggbb'``, a name, or an ``(r, g, b)`` tuple of 0-255. ``background='transparent'``
-        gives an RGBA framebuffer. Vertex or face colours of the mesh take the place of
-        ``color``.
+        gives an RGBA framebuffer (default white). Vertex or face colours of the mesh take
+        the place of ``color``.
+    light : (3,) float, optional
+        World-space direction towards a distant light; None is a headlight shining along
+        the viewing direction.
     aa : bool
         Anti-aliased (Xiaolin Wu) lines.
     ids : bool
@@ -102,40 +109,47 @@ def render(mesh, camera: Camera, mode: str = "wire", *, cull: str = "back",
     -------
     Framebuffer
     """
+    if isinstance(mesh, Scene):
+        camera = camera if camera is not None else mesh.camera
+        background = background if background is not None else mesh.background
+        light = light if light is not None else mesh.light
+        mesh = mesh.world_mesh(color)
     mesh = as_mesh(mesh)
     if not isinstance(camera, Camera):
         raise TypeError(f"camera must be a rasterkit.Camera, got {type(camera).__name__}")
+    light = _light_direction(light, camera)
+    background = "white" if background is None else background
     options = _Options(_choice("mode", mode, MODES), _choice("cull", cull, CULL),
                        _choice("shading", shading, SHADING), parse_color(color),
-                       parse_color(line_color), bool(aa))
+                       parse_color(line_color), bool(aa), light)
     fb = Framebuffer(camera.width, camera.height, background=background, ids=ids)
     clip = transform_points(mesh.vertices, np.ascontiguousarray(camera.matrix()))
     if options.mode != "wire":
-        _draw_triangles(fb, mesh, camera, clip, options)
+        _draw_triangles(fb, mesh, clip, options)
     if options.mode != "solid":
         _draw_edges(fb, mesh, clip, options, depth_test=options.mode != "wire")
     return fb
 
 
-def _draw_triangles(fb: Framebuffer, mesh: Mesh, camera: Camera, clip: np.ndarray,
+def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
                     options: _Options) -> None:
     """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer."""
     if options.mode == "hidden":
         rasterize_triangles(None, fb.depth, clip, mesh.faces, ids=fb.ids, cull=options.cull)
         return
-    face_colors, vertex_colors = _shade(mesh, camera, options)
+    face_colors, vertex_colors = _shade(mesh, options)
     rasterize_triangles(fb.color, fb.depth, clip, mesh.faces, face_colors=face_colors,
                         vertex_colors=vertex_colors, ids=fb.ids, cull=options.cull)
 
 
-def _shade(mesh: Mesh, camera: Camera, options: _Options):
-    """Lambert colours (0..255 float32) lit by a headlight: per face or per vertex.
+def _shade(mesh: Mesh, options: _Options):
+    """Lambert colours (0..255 float32) lit by a distant light: per face or per vertex.
 
-    The headlight shines along the viewing direction (from the eye towards the target), the
-    same direction for every face, so the triangles of one flat polygon get one colour.
+    The light has one direction for every face, so the triangles of one flat polygon get one
+    colour.
     """
     two_sided = options.cull == "none"
-    towards_eye = np.ascontiguousarray(camera.basis()[2], np.float64)
+    towards_light = options.light
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
     # normals too, so they cannot spoil their neighbours' vertex normals.
     finite = np.all(np.isfinite(mesh.vertices[mesh.faces]), axis=(1, 2))
@@ -143,11 +157,21 @@ def _shade(mesh: Mesh, camera: Camera, options: _Options):
         normals = shade_kernels.face_normals(mesh.vertices, mesh.faces)
         normals[~finite] = 0.0
         base = _base_colors(mesh, options, per_face=True)
-        return _lambert(normals, base, towards_eye, two_sided), None
+        return _lambert(normals, base, towards_light, two_sided), None
     normals = mesh.normals if mesh.normals is not None else \
         shade_kernels.vertex_normals(mesh.vertices, np.ascontiguousarray(mesh.faces[finite]))
     base = _base_colors(mesh, options, per_face=False)
-    return None, _lambert(normals, base, towards_eye, two_sided)
+    return None, _lambert(normals, base, towards_light, two_sided)
+
+
+def _light_direction(light, camera: Camera) -> np.ndarray:
+    """Unit direction towards the light; None is the headlight (from the target to the eye)."""
+    if light is None:
+        return np.ascontiguousarray(camera.basis()[2], np.float64)
+    d = np.asarray(light, dtype=np.float64)
+    if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.any(d):
+        raise ValueError(f"light must be a non-zero direction of 3 finite numbers, got {light!r}")
+    return d / np.linalg.norm(d)
 
 
 def _lambert(normals, base, light, two_sided):

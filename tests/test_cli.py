@@ -132,3 +132,121 @@ def test_python_dash_m_and_console_script_agree(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "rasterkit", "render", str(tmp_path / "missing.obj"),
                           "-o", str(out)], capture_output=True, text=True, env=env, timeout=300)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "missing.obj" in bad.stderr
+
+
+# --- the complete command line ------------------------------------------------------------
+
+
+@pytest.mark.parametrize("projection", ["perspective", "orthographic", "isometric", "dimetric",
+                                        "trimetric", "cavalier", "cabinet", "1-point", "2-point",
+                                        "3-point"])
+def test_every_projection_renders_the_model_inside_the_image(cube_obj, tmp_path, capsys, projection):
+    out = tmp_path / "p.png"
+    code, err = _run(["render", cube_obj, "-o", out, "--size", "80x60", "--projection", projection,
+                      "--mode", "solid+wire"], capsys)
+    assert code == 0, err
+    with Image.open(out) as im:
+        drawn = np.any(np.asarray(im) != 255, axis=2)
+    ys, xs = np.nonzero(drawn)
+    assert len(xs) > 200 and xs.min() > 0 and xs.max() < 79 and ys.min() >= 0 and ys.max() <= 59
+
+
+def test_explicit_camera_flags_match_the_python_api(cube_obj, tmp_path, capsys):
+    import rasterkit
+
+    out = tmp_path / "c.png"
+    code, err = _run(["render", cube_obj, "-o", out, "--size", "64x48", "--eye", "4,3,5",
+                      "--target", "0,0.5,0", "--up", "0,1,0", "--fov", "40", "--near", "1",
+                      "--far", "20", "--mode", "solid", "--color", "#336699"], capsys)
+    assert code == 0, err
+    camera = rasterkit.Camera.look_at((4, 3, 5), (0, 0.5, 0), fov_y=40, width=64, height=48,
+                                      near=1, far=20)
+    expected = rasterkit.render(rasterkit.load_obj(cube_obj), camera, mode="solid", color="#336699")
+    with Image.open(out) as im:
+        assert np.array_equal(np.asarray(im), expected.color)
+
+
+def test_distance_moves_the_eye_away_and_the_model_shrinks(cube_obj, tmp_path, capsys):
+    sizes = []
+    for d in ("5", "10"):
+        out = tmp_path / f"d{d}.png"
+        assert _run(["render", cube_obj, "-o", out, "--size", "64x64", "--distance", d,
+                     "--mode", "solid"], capsys)[0] == 0
+        with Image.open(out) as im:
+            sizes.append(np.any(np.asarray(im) != 255, axis=2).sum())
+    assert sizes[1] < sizes[0] / 3
+
+
+def test_transparent_background_depth_and_turntable(cube_obj, tmp_path, capsys):
+    out, depth = tmp_path / "t.png", tmp_path / "t.npy"
+    code, err = _run(["render", cube_obj, "-o", out, "--size", "40x30", "--mode", "solid",
+                      "--background", "transparent", "--depth", depth], capsys)
+    assert code == 0, err
+    with Image.open(out) as im:
+        rgba = np.asarray(im)
+    d = np.load(depth)
+    assert rgba.shape == (30, 40, 4) and d.shape == (30, 40) and d.dtype == np.float32
+    assert np.array_equal(rgba[..., 3] == 255, np.isfinite(d))  # drawn exactly where depth is
+    assert np.all((d[np.isfinite(d)] >= 0) & (d[np.isfinite(d)] <= 1))
+    for name in ("spin.gif", "spin.png"):
+        code, err = _run(["render", cube_obj, "-o", tmp_path / name, "--size", "32x24",
+                          "--turntable", "6", "--azimuth", "10"], capsys)
+        assert code == 0, err
+        with Image.open(tmp_path / name) as im:
+            assert im.n_frames == 6
+
+
+def test_several_models_and_folders_render_into_an_output_folder(cube_obj, tmp_path, capsys):
+    models = tmp_path / "models"
+    models.mkdir()
+    (models / "a.obj").write_text(CUBE_OBJ)
+    (models / "b.obj").write_text(CUBE_OBJ.replace("f 1 4 3 2", "f 1 4 3"))
+    (models / "notes.txt").write_text("not a model")
+    out = tmp_path / "images"
+    code, err = _run(["render", models, cube_obj, "-o", out, "--size", "20x20"], capsys)
+    assert code == 0, err
+    assert sorted(p.name for p in out.iterdir()) == ["a.png", "b.png", "cube.png"]
+    assert "3/3" in err  # progress on stderr
+
+
+def test_a_bad_model_among_several_is_reported_and_the_others_still_render(cube_obj, tmp_path, capsys):
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nf 1 2 3\n")
+    out = tmp_path / "images"
+    code, err = _run(["render", bad, cube_obj, "-o", out, "--size", "20x20"], capsys)
+    assert code == 2
+    assert "bad.obj:2:" in err and "Traceback" not in err
+    assert sorted(p.name for p in out.iterdir()) == ["cube.png"]
+
+
+def test_info_prints_counts_bounds_and_warnings(cube_obj, tmp_path, capsys):
+    code = main(["info", str(cube_obj)])
+    text = capsys.readouterr().out
+    assert code == 0
+    assert "vertices  8" in text and "triangles 12" in text and "edges     12" in text
+    assert "(-1, -1, -1) .. (1, 1, 1)" in text
+    odd = tmp_path / "odd.obj"
+    odd.write_text("mtllib missing.mtl\n" + CUBE_OBJ + "vp 0.5\n")
+    assert main(["info", str(odd)]) == 0
+    text = capsys.readouterr().out
+    assert "missing.mtl" in text and "warnings  2" in text
+
+
+def test_help_shows_examples(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["render", "--help"])
+    assert exit_.value.code == 0
+    assert "examples:" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv", [
+    ["--projection", "fisheye"], ["--eye", "1,2"], ["--eye", "1,2,inf"], ["--turntable", "0"],
+    ["--threads", "0"], ["--threads", "999"], ["--depth", "d.txt"], ["--near", "2", "--far", "1"],
+    ["--eye", "0,0,0", "--target", "0,0,0"], ["--color", "#12345"], ["--background", "nope"],
+])
+def test_bad_flags_exit_2_with_one_line(argv, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, err = _run(["render", "--demo", "-o", "x.png", "--size", "16x16", *argv], capsys)
+    assert code == 2, err
+    assert err.startswith("rasterkit: error:") and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,123 @@
+"""Scene: meshes placed in the world by model matrices, a camera, a light and a background.
+
+No kernels here: :func:`rasterkit.render` turns a scene into one world-space mesh with
+:meth:`Scene.world_mesh` and draws it through the same pipeline as a single mesh.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from .camera import Camera
+from .colors import ColorLike, parse_color
+from .mesh import Mesh
+from .transform import apply_normals, apply_points
+
+__all__ = ["Scene", "SceneObject"]
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    """One mesh in a scene: its model matrix (object -> world) and optional colour."""
+
+    mesh: Mesh
+    matrix: np.ndarray
+    color: np.ndarray | None = None
+
+
+@dataclass
+class Scene:
+    """Meshes with their own model matrices and colours, a camera, a light, a background.
+
+    Parameters
+    ----------
+    camera : Camera, optional
+        Used by ``render(scene)`` unless a camera is passed there.
+    light : (3,) float, optional
+        World-space direction *towards* a distant light. None is a headlight (the light
+        shines along the viewing direction).
+    background : colour
+        Background of ``render(scene)`` unless one is passed there.
+
+    Examples
+    --------
+    >>> from rasterkit import Scene, shapes, transform
+    >>> scene = Scene().add(shapes.cube(), transform.translate(-1, 0, 0), color="red")
+    >>> scene = scene.add(shapes.icosphere(1), transform.translate(1, 0, 0))
+    >>> len(scene.objects), len(scene.world_mesh().faces)
+    (2, 92)
+    """
+
+    camera: Camera | None = None
+    light: Sequence[float] | None = None
+    background: ColorLike = "white"
+    objects: list[SceneObject] = field(default_factory=list)
+
+    def add(self, mesh: Mesh, matrix: np.ndarray | None = None,
+            color: ColorLike | None = None) -> "Scene":
+        """Place ``mesh`` in the world by ``matrix`` (4x4, default identity); returns self."""
+        from .render import as_mesh
+
+        m = np.eye(4) if matrix is None else np.array(matrix, dtype=np.float64)
+        if m.shape != (4, 4) or not np.all(np.isfinite(m)):
+            raise ValueError(f"a model matrix must be a finite 4x4 array, got shape {m.shape}")
+        if not np.array_equal(m[3], [0.0, 0.0, 0.0, 1.0]):
+            raise ValueError("a model matrix must be affine (last row 0, 0, 0, 1)")
+        rgb = None if color is None else parse_color(color)[:3].astype(np.float32) / 255.0
+        self.objects.append(SceneObject(as_mesh(mesh), m, rgb))
+        return self
+
+    def world_mesh(self, default_color: ColorLike = "lightgray") -> Mesh:
+        """All objects in world space as one mesh.
+
+        Faces carry colours when any object has a colour of its own (``color``, face colours,
+        or vertex colours averaged over each face); faces without one get ``default_color``.
+        Vertex colours survive only when every object has them and none has a ``color``.
+        """
+        if not self.objects:
+            raise ValueError("the scene is empty: add a mesh first")
+        offsets = np.cumsum([0] + [len(o.mesh.vertices) for o in self.objects])
+        vertices = np.concatenate([apply_points(o.matrix, o.mesh.vertices) for o in self.objects])
+        faces = np.concatenate([o.mesh.faces + k for o, k in zip(self.objects, offsets)])
+        edges = np.concatenate([o.mesh.edges + k for o, k in zip(self.objects, offsets)])
+        return Mesh(vertices, faces, edges=edges, normals=self._normals(),
+                    vertex_colors=self._vertex_colors(),
+                    face_colors=self._face_colors(parse_color(default_color)[:3] / 255.0))
+
+    def bounding_sphere(self) -> tuple[np.ndarray, float]:
+        """Centre and radius of a sphere holding every object's world-space vertices."""
+        return self.world_mesh().bounding_sphere()
+
+    def _normals(self):
+        if all(o.mesh.normals is not None for o in self.objects):
+            return np.concatenate([apply_normals(o.matrix, o.mesh.normals) for o in self.objects])
+        return None
+
+    def _vertex_colors(self):
+        if all(o.mesh.vertex_colors is not None and o.color is None for o in self.objects):
+            return np.concatenate([o.mesh.vertex_colors for o in self.objects])
+        return None
+
+    def _face_colors(self, default_rgb: np.ndarray):
+        own = [_own_face_colors(o) for o in self.objects]
+        if all(c is None for c in own) or self._vertex_colors() is not None:
+            return None
+        return np.concatenate([
+            c if c is not None else np.tile(default_rgb, (len(o.mesh.faces), 1))
+            for c, o in zip(own, self.objects)
+        ]).astype(np.float32)
+
+
+def _own_face_colors(obj: SceneObject) -> np.ndarray | None:
+    """(M, 3) colours 0..1 an object brings itself, or None."""
+    mesh = obj.mesh
+    if obj.color is not None:
+        return np.tile(obj.color, (len(mesh.faces), 1))
+    if mesh.face_colors is not None:
+        return mesh.face_colors
+    if mesh.vertex_colors is not None:
+        return mesh.vertex_colors[mesh.faces].mean(axis=1)
+    return None
