@@ -1,0 +1,117 @@
+"""What one run of the suite measures: sizes, models and repeat counts of each profile."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+MODELS_DIR = Path(__file__).resolve().parents[2] / "shared" / "models"
+"""The shared test models (``../shared/models`` beside the repository)."""
+
+TARGET_SIZE = (1920, 1080)
+"""The resolution at which the rasterization issue sets its targets."""
+
+TARGET_MODELS = ("stanford-bunny", "ogre", "sportsCar")
+"""The models whose 1920x1080 frames carry the render targets."""
+
+MODES = ("wire", "hidden", "solid", "solid+wire")
+
+
+@dataclass(frozen=True)
+class Settings:
+    """One profile of the suite.
+
+    Attributes
+    ----------
+    name : str
+        ``full``, ``quick`` or ``tiny``.
+    warmup, repeat : int
+        Untimed runs first, then timed runs per side (the median is reported).
+    models : tuple of str
+        OBJ names (without ``.obj``) in :data:`MODELS_DIR`, small to large.
+    sizes : tuple of (width, height)
+        Render resolutions, pixels.
+    fill_size : (width, height)
+        Resolution of the fill-rate and thread scenes.
+    fill_counts : tuple of int
+        Triangle counts of the fill-rate scenes (depth complexity grows with the count).
+    segments : int
+        Number of random 2D segments.
+    segment_size : (width, height)
+        Image of the 2D line benchmark.
+    cli_model : str
+        Model rendered by the command-line benchmark.
+    cli_size : (width, height)
+    cold_runs : int
+        First-ever CLI runs (each with an empty cache); 0 skips them.
+    sweep_triangles : tuple of int
+        Torus ring counts of the triangle-count sweep (2 * rings * rings / 2 triangles).
+    sweep_sizes : tuple of (width, height)
+        Resolutions of the pixel-count sweep.
+    sweep_model : str
+        Model of the pixel-count sweep.
+    memory : tuple of str
+        Workload families whose peak memory is measured (see :mod:`benchmarks.memory`).
+    process_repeat : int
+        Timed runs of the workloads that start a process per run (warm CLI runs).
+    """
+
+    name: str
+    warmup: int
+    repeat: int
+    models: tuple
+    sizes: tuple
+    fill_size: tuple
+    fill_counts: tuple
+    segments: int
+    segment_size: tuple
+    cli_model: str
+    cli_size: tuple
+    cold_runs: int
+    sweep_triangles: tuple
+    sweep_sizes: tuple
+    sweep_model: str
+    memory: tuple
+    process_repeat: int
+
+
+FULL = Settings(
+    name="full", warmup=2, repeat=7,
+    models=("suzanne", "spot", "stanford-bunny", "ogre", "sportsCar"),
+    sizes=((640, 480), (1920, 1080), (3840, 2160)),
+    fill_size=TARGET_SIZE, fill_counts=(50, 100, 200, 400),
+    segments=1_000_000, segment_size=TARGET_SIZE,
+    cli_model="stanford-bunny", cli_size=TARGET_SIZE, cold_runs=3,
+    sweep_triangles=(16, 32, 64, 128, 256, 512),
+    sweep_sizes=((320, 240), (640, 480), (1280, 720), (1920, 1080), (2560, 1440), (3840, 2160)),
+    sweep_model="stanford-bunny", memory=("render", "fill", "lines2d", "loading"), process_repeat=5,
+)
+
+QUICK = Settings(
+    name="quick", warmup=1, repeat=5,
+    models=("suzanne", "spot", "stanford-bunny"),
+    sizes=((640, 480), TARGET_SIZE),
+    fill_size=TARGET_SIZE, fill_counts=(200,),
+    segments=100_000, segment_size=TARGET_SIZE,
+    cli_model="spot", cli_size=(640, 480), cold_runs=0,
+    sweep_triangles=(16, 64, 256),
+    sweep_sizes=((320, 240), (1280, 720), (3840, 2160)),
+    sweep_model="stanford-bunny", memory=("render",), process_repeat=3,
+)
+
+TINY = Settings(
+    name="tiny", warmup=1, repeat=1,
+    models=("suzanne",),
+    sizes=((64, 48),),
+    fill_size=(64, 48), fill_counts=(20,),
+    segments=1000, segment_size=(64, 48),
+    cli_model="suzanne", cli_size=(64, 48), cold_runs=0,
+    sweep_triangles=(8, 16),
+    sweep_sizes=((32, 24), (64, 48)),
+    sweep_model="suzanne", memory=("render",), process_repeat=1,
+)
+
+
+def model_path(name: str) -> Path:
+    """Path of a shared model, ``MODELS_DIR / (name + '.obj')``."""
+    return MODELS_DIR / f"{name}.obj"

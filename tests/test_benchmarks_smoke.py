@@ -1,0 +1,68 @@
+"""Smoke test of the benchmark suite: ``python -m benchmarks --quick --tiny`` still runs.
+
+The suite runs once (64x48 images, one timed run) in a subprocess; its timings are not
+checked, only that every family produced rasterkit's side, that the output files follow the
+documented schema, and that every skipped peer was reported with its reason. Peers
+(moderngl, OpenCV, trimesh) are optional: without them rasterkit's side must still run, and
+the peer checks are skipped.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+MODELS = ROOT.parent / "shared" / "models"
+FAMILIES = {"render", "fill", "threads", "lines2d", "loading", "cli", "scaling", "memory"}
+RECORD_KEYS = {"family", "name", "peer", "sizes", "quantity", "rasterkit", "peer_value", "ratio",
+               "throughput", "target", "runs", "note"}
+
+
+@pytest.fixture(scope="module")
+def suite(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench")
+    done = subprocess.run([sys.executable, "-m", "benchmarks", "--quick", "--tiny", "--out", str(out)],
+                          cwd=ROOT, capture_output=True, text=True, timeout=600,
+                          env={**os.environ, "PYTHONPATH": os.pathsep.join(
+                              [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])})
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    return out, json.loads((out / "results.json").read_text()), done.stdout
+
+
+def test_rasterkit_side_of_every_family(suite):
+    out, results, stdout = suite
+    assert results["schema"] == 1 and results["profile"] == "tiny"
+    assert {"platform", "cpu_count", "threads", "versions"} <= set(results["machine"])
+    records = results["records"]
+    families = {r["family"] for r in records}
+    expected = FAMILIES if MODELS.is_dir() else FAMILIES - {"render", "loading", "cli", "memory"}
+    assert expected <= families
+    for r in records:
+        assert set(r) == RECORD_KEYS
+        assert r["rasterkit"] >= 0 if r["quantity"] == "peak_bytes" else r["rasterkit"] > 0
+        if r["peer_value"]:
+            assert r["ratio"] == pytest.approx(r["rasterkit"] / r["peer_value"])
+    for skipped in results["skipped"]:  # never silently: each reason is printed
+        assert skipped["reason"] and skipped["reason"] in stdout
+    markdown = (out / "results.md").read_text()
+    assert all(r["name"] in markdown for r in records)
+    assert (out / "scaling_triangles.png").stat().st_size > 0
+
+
+def test_peers_measured_when_installed(suite):
+    for module in ("moderngl", "cv2", "trimesh"):
+        pytest.importorskip(module)
+    _, results, _ = suite
+    no_gl = [s["reason"] for s in results["skipped"] if s["what"] == "llvmpipe"]
+    if no_gl:
+        pytest.skip(f"llvmpipe could not start: {no_gl[0]}")
+    peers = {r["peer"] for r in results["records"]}
+    assert {"llvmpipe", "cv2.polylines", "trimesh"} <= peers
+    fill = [r for r in results["records"] if r["family"] == "fill" and r["peer"] == "llvmpipe"]
+    assert fill and fill[0]["throughput"]["unit"] == "pixel/s"
