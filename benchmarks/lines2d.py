@@ -7,9 +7,8 @@ segment in black, one pixel wide, no anti-aliasing; the inputs are converted to 
 library's preferred batch form beforehand (outside the timed region, as rasterkit's arrays
 are built beforehand too).
 
-rasterkit has no public batch-of-2D-lines function yet (``rasterkit.draw.line`` returns one
-line's pixels), so its side calls the kernel ``rasterkit.kernels.line.draw_edges`` with
-``w = 1`` points: the routine the renderer's wireframes use.
+rasterkit's side is ``rasterkit.draw.lines``, the batch form of ``rasterkit.draw.line``, which
+runs the same kernel as the renderer's wireframes.
 
 Peers: ``cv2.polylines`` given the whole list at once (OpenCV's batch form), a ``cv2.line``
 loop, Pillow's ``ImageDraw.line`` in a loop (its image then viewed as NumPy) and
@@ -18,7 +17,6 @@ loop, Pillow's ``ImageDraw.line`` in a loop (its image then viewed as NumPy) and
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from .compare import RASTERKIT, compare
@@ -42,22 +40,14 @@ def segments(count: int, width: int, height: int, seed: int = 3) -> np.ndarray:
 
 
 def rasterkit_side(segs: np.ndarray, width: int, height: int):
-    """rasterkit: the edge kernel on (x + 0.5, y + 0.5, 0, 1) points, plain mode."""
-    from rasterkit.kernels.line import MODE_PLAIN, draw_edges
+    """rasterkit: ``rasterkit.draw.lines``, the batch form of its Bresenham lines."""
+    from rasterkit.draw import lines
 
-    count = len(segs)
-    clip = np.ones((2 * count, 4))
-    clip[:, :2] = segs.reshape(-1, 2) + 0.5  # pixel centres: the kernel floors them back
-    clip[:, 2] = 0.0
-    edges = np.arange(2 * count, dtype=np.int64).reshape(count, 2)
     image = np.empty((height, width, 3), np.uint8)
-    no_depth = np.empty((0, 0), np.float32)
-    black = np.zeros(3, np.uint8)
 
     def draw():
         image.fill(255)
-        draw_edges(image, no_depth, clip, edges, black, MODE_PLAIN, 0.0, numba.get_num_threads())
-        return image
+        return lines(image, segs, color="black")
 
     return draw
 

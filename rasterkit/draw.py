@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import numbers
 
+import numba
 import numpy as np
 
 from rasterkit.kernels import line as _line
 
-__all__ = ["LINE_METHODS", "line"]
+__all__ = ["LINE_METHODS", "line", "lines"]
 
 LINE_METHODS = {
     "bresenham": _line.METHOD_BRESENHAM,
@@ -108,3 +109,68 @@ def line(x0: int, y0: int, x1: int, y1: int, method: str = "bresenham") -> np.nd
     if not isinstance(method, str) or method not in LINE_METHODS:
         raise ValueError(f"method must be one of {sorted(LINE_METHODS)}, got {method!r}")
     return _line.line_pixels(*coords, LINE_METHODS[method])
+
+
+def lines(image: np.ndarray, segments, color=(0, 0, 0), aa: bool = False) -> np.ndarray:
+    """Draw many 2D segments into an image, in place, and return it.
+
+    The batch form of :func:`line`: each segment is drawn with the same Bresenham pixels
+    (or with Xiaolin Wu's anti-aliasing when ``aa``), clipped to the image before any
+    stepping, in parallel over horizontal bands of the image.
+
+    Parameters
+    ----------
+    image : (H, W, 3) or (H, W, 4) uint8, C-contiguous
+        Drawn into in place.
+    segments : (K, 4) or (K, 2, 2) array of int or float
+        ``x0, y0, x1, y1`` in raster pixels (x right, y down). Integers name pixels; a float
+        point lies in the pixel that contains it (``floor``). Any finite value is accepted:
+        parts outside the image are clipped away; rows with NaN or inf are skipped.
+    color : colour
+        A name, ``'#rrggbb'`` or an ``(r, g, b[, a])`` tuple.
+    aa : bool
+        Anti-aliased lines, blended into the image.
+
+    Returns
+    -------
+    image : the same array
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rasterkit.draw import lines
+    >>> img = np.zeros((4, 6, 3), np.uint8)
+    >>> _ = lines(img, [[0, 0, 5, 3], [0, 3, 2, 3]], color="white")
+    >>> img[..., 0] // 255
+    array([[1, 0, 0, 0, 0, 0],
+           [0, 1, 1, 0, 0, 0],
+           [0, 0, 0, 1, 1, 0],
+           [1, 1, 1, 0, 0, 1]], dtype=uint8)
+    """
+    from rasterkit.colors import parse_color
+
+    if not isinstance(image, np.ndarray) or image.dtype != np.uint8 or image.ndim != 3 \
+            or image.shape[2] not in (3, 4) or not image.flags.c_contiguous:
+        raise ValueError("image must be a C-contiguous uint8 array of shape (H, W, 3) or (H, W, 4)")
+    if max(image.shape[:2]) >= _line.GUARD_BAND:
+        raise ValueError("image is too large")
+    seg = np.asarray(segments, dtype=np.float64)
+    if seg.size == 0:
+        return image
+    if seg.ndim == 3 and seg.shape[1:] == (2, 2):
+        seg = seg.reshape(-1, 4)
+    if seg.ndim != 2 or seg.shape[1] != 4:
+        raise ValueError(f"segments must have shape (K, 4) or (K, 2, 2), got {np.shape(segments)}")
+    if np.issubdtype(np.asarray(segments).dtype, np.integer):
+        seg = seg + 0.5  # pixel centres: the kernel takes the pixel containing each point
+    count = len(seg)
+    points = np.empty((2 * count, 4))
+    points[:, :2] = seg.reshape(-1, 2)
+    points[:, 2] = 0.0  # depth 0: inside the near and far planes
+    points[:, 3] = 1.0
+    edges = np.arange(2 * count, dtype=np.int64).reshape(count, 2)
+    rgba = np.ascontiguousarray(parse_color(color)[: image.shape[2]])
+    mode = _line.MODE_ANTIALIAS if aa else _line.MODE_PLAIN
+    _line.draw_edges(image, np.empty((0, 0), np.float32), points, edges, rgba, mode, 0.0,
+                     numba.get_num_threads())
+    return image

@@ -521,3 +521,31 @@ def test_image_is_bit_identical_for_any_number_of_threads_and_bands(mode):
     finally:
         numba.set_num_threads(previous)
     assert serial.any()
+
+
+# --- draw.lines: the public batch form -------------------------------------------------------
+
+
+def test_lines_batch_equals_single_lines_clipped_to_the_image():
+    rng = np.random.default_rng(11)
+    segs = rng.integers(-30, 70, size=(300, 4))
+    image = np.zeros((40, 50, 3), np.uint8)
+    rasterkit.draw.lines(image, segs, color="white")
+    expected = np.zeros((40, 50), bool)
+    for x0, y0, x1, y1 in segs:
+        xy = line(int(x0), int(y0), int(x1), int(y1))
+        keep = (xy[:, 0] >= 0) & (xy[:, 0] < 50) & (xy[:, 1] >= 0) & (xy[:, 1] < 40)
+        expected[xy[keep, 1], xy[keep, 0]] = True
+    assert np.array_equal(image[..., 0] == 255, expected)
+
+
+def test_lines_accepts_pairs_floats_rgba_and_skips_nan():
+    image = np.zeros((8, 8, 4), np.uint8)
+    rasterkit.draw.lines(image, [[[0.9, 0.2], [7.5, 0.7]], [[np.nan, 0], [3, 3]]], color=(1, 2, 3, 4))
+    assert image[0].tolist() == [[1, 2, 3, 4]] * 8 and not image[1:].any()
+    with pytest.raises(ValueError):
+        rasterkit.draw.lines(np.zeros((8, 8), np.uint8), [[0, 0, 1, 1]])
+    with pytest.raises(ValueError):
+        rasterkit.draw.lines(np.zeros((8, 8, 3), np.uint8), [[0, 0, 1]])
+    with pytest.raises(ValueError):
+        rasterkit.draw.lines(np.zeros((8, 8, 3), np.uint8)[:, ::2], [[0, 0, 1, 1]])
