@@ -13,8 +13,10 @@ import numba
 import numpy as np
 
 from rasterkit.kernels import line as _line
+from rasterkit.kernels import triangle as _triangle
+from rasterkit.kernels.clip import GUARD_BAND as _TRIANGLE_LIMIT
 
-__all__ = ["LINE_METHODS", "line", "lines"]
+__all__ = ["LINE_METHODS", "line", "lines", "triangle"]
 
 LINE_METHODS = {
     "bresenham": _line.METHOD_BRESENHAM,
@@ -174,3 +176,84 @@ def lines(image: np.ndarray, segments, color=(0, 0, 0), aa: bool = False) -> np.
     _line.draw_edges(image, np.empty((0, 0), np.float32), points, edges, rgba, mode, 0.0,
                      numba.get_num_threads())
     return image
+
+_TRIANGLE_MAX_BOX = 2**26  # pixels in the bounding box: keeps the result under 1 GiB
+
+
+def _check_vertex_coordinate(name: str, value) -> float:
+    """Return ``value`` as a float; reject bools, non-numbers, NaN/inf and huge values."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real raster coordinate, got {type(value).__name__} {value!r}")
+    value = float(value)
+    if not abs(value) <= _TRIANGLE_LIMIT:
+        raise ValueError(f"{name} must be finite and within [-2**20, 2**20], got {value}")
+    return value
+
+
+def triangle(x0: float, y0: float, x1: float, y1: float, x2: float, y2: float) -> np.ndarray:
+    """Pixels covered by the triangle with vertices (x0, y0), (x1, y1), (x2, y2).
+
+    A pixel (x, y) is covered when its centre (x + 0.5, y + 0.5) lies inside the triangle;
+    centres exactly on an edge count only for a *top* edge (horizontal, the triangle below
+    it) or a *left* edge (the triangle to its right): the top-left rule of Direct3D and
+    OpenGL, the one the renderer uses. So triangles sharing an edge never share a pixel and
+    leave no gap between them, and a mesh covers each pixel centre exactly once. Vertices are
+    first rounded to 1/256 pixel, like the renderer's fixed point.
+
+    Parameters
+    ----------
+    x0, y0, x1, y1, x2, y2 : float
+        Vertices in raster space (x right, y down; pixel (x, y) is the square
+        [x, x + 1) x [y, y + 1)), each finite and within ``[-2**20, 2**20]``. Either
+        winding gives the same pixels.
+
+    Returns
+    -------
+    pixels : (N, 2) int64
+        ``(x, y)`` of the covered pixels, row by row (y ascending), x ascending in a row;
+        empty for a triangle of zero area or one that covers no pixel centre. Not clipped
+        to any image: coordinates may be negative.
+
+    Raises
+    ------
+    TypeError
+        If a coordinate is not a real number (bools are rejected).
+    ValueError
+        If a coordinate is NaN, infinite or out of range, or the bounding box has more
+        than 2**26 pixels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rasterkit.draw import triangle
+    >>> triangle(0, 0, 4, 0, 0, 4)
+    array([[0, 0],
+           [1, 0],
+           [2, 0],
+           [0, 1],
+           [1, 1],
+           [0, 2]])
+
+    The top and left edges below run through pixel centres, which are drawn; so does the
+    diagonal, whose centres are left to the neighbouring triangle:
+
+    >>> img = np.zeros((6, 7), dtype=np.uint8)
+    >>> xy = triangle(0.5, 0.5, 5.5, 0.5, 0.5, 5.5)
+    >>> img[xy[:, 1], xy[:, 0]] = 1
+    >>> xy = triangle(5.5, 0.5, 5.5, 5.5, 0.5, 5.5)
+    >>> img[xy[:, 1], xy[:, 0]] += 2
+    >>> img
+    array([[1, 1, 1, 1, 1, 0, 0],
+           [1, 1, 1, 1, 2, 0, 0],
+           [1, 1, 1, 2, 2, 0, 0],
+           [1, 1, 2, 2, 2, 0, 0],
+           [1, 2, 2, 2, 2, 0, 0],
+           [0, 0, 0, 0, 0, 0, 0]], dtype=uint8)
+    """
+    names = ("x0", "y0", "x1", "y1", "x2", "y2")
+    xs = [_check_vertex_coordinate(n, v) for n, v in zip(names, (x0, y0, x1, y1, x2, y2))]
+    width = np.ceil(max(xs[0::2])) - np.floor(min(xs[0::2])) + 1
+    height = np.ceil(max(xs[1::2])) - np.floor(min(xs[1::2])) + 1
+    if width * height > _TRIANGLE_MAX_BOX:
+        raise ValueError(f"the triangle's bounding box has {width * height:.0f} pixels, more than 2**26")
+    return _triangle.triangle_pixels(*xs)

@@ -24,16 +24,22 @@ from .mesh import Mesh
 from .scene import Scene
 from .triangles import rasterize_triangles
 
-__all__ = ["render", "MODES", "LINE_DEPTH_BIAS"]
+__all__ = ["render", "MODES", "LINE_DEPTH_BIAS", "POLYGON_OFFSET"]
 
 MODES = ("wire", "hidden", "solid", "solid+wire")
 CULL = ("back", "front", "none")
 SHADING = ("flat", "smooth")
 
-LINE_DEPTH_BIAS = 2e-4
+LINE_DEPTH_BIAS = 1e-5
 """Depth bias of hidden-line edges (depth units; depth runs 0..1 from near to far plane): an
-edge is drawn where ``depth_edge - LINE_DEPTH_BIAS <= depth_buffer``, so the edges of visible
-faces survive the z-test against those faces' own depths."""
+edge is drawn where ``depth_edge - LINE_DEPTH_BIAS <= depth_buffer``."""
+
+POLYGON_OFFSET = (1.0, 1e-5)
+"""``(factor, units)`` of the polygon offset applied to the faces when edges are drawn over
+them (hidden and solid+wire modes): each face is pushed back by ``factor`` times its largest
+depth slope per pixel plus ``units``. An edge's depth is sampled on the line, up to half a
+pixel from the pixel centre where its face's depth was sampled; the slope term covers that
+difference even on faces seen almost edge-on, which a constant bias cannot."""
 
 AMBIENT = 0.25
 """Fraction of the surface colour that unlit faces keep."""
@@ -134,12 +140,15 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
 def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
                     options: _Options) -> None:
     """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer."""
+    offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     if options.mode == "hidden":
-        rasterize_triangles(None, fb.depth, clip, mesh.faces, ids=fb.ids, cull=options.cull)
+        rasterize_triangles(None, fb.depth, clip, mesh.faces, ids=fb.ids, cull=options.cull,
+                            depth_offset=offset)
         return
     face_colors, vertex_colors = _shade(mesh, options)
     rasterize_triangles(fb.color, fb.depth, clip, mesh.faces, face_colors=face_colors,
-                        vertex_colors=vertex_colors, ids=fb.ids, cull=options.cull)
+                        vertex_colors=vertex_colors, ids=fb.ids, cull=options.cull,
+                        depth_offset=offset)
 
 
 def _shade(mesh: Mesh, options: _Options):

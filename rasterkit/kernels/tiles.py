@@ -1,0 +1,216 @@
+"""Binning triangle records into bands and drawing the bands in parallel.
+
+The image is cut into *bands* (tiles the width of the image, ``BAND_HEIGHT`` rows tall);
+full-width tiles compute each row's span once, where square tiles would redo it in every
+tile the row crosses. Each band is owned by exactly one thread, which rasterizes every
+triangle of its bin into it and then resolves its colours, so no two threads ever write
+the same pixel and no locks are needed.
+
+Order
+    A bin lists its records in submission order (face order; a cut face's fan in fan
+    order), so equal depths resolve the same way whatever the thread count: the image is
+    bit-identical for 1 and N threads. Binning is a stable counting sort over the same
+    face chunks as the setup stage (:data:`triangle.N_CHUNKS`), whose counting pass the
+    setup does (:func:`rasterkit.kernels.triangle.count_bands`).
+
+Scheduling
+    ``prange`` runs one iteration per thread *slot*; slot ``s`` of ``n`` owns the bands
+    ``s, s + n, s + 2n, ...``. Interleaving spreads a mesh in the middle of the image
+    over all threads, and each slot reuses one band-sized visibility buffer.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import prange
+
+from rasterkit._jit import kernel
+from rasterkit.kernels.shade import resolve_row
+from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
+
+#: Rows per band. 32 rows of a 1920-pixel image keep the band's depth and visibility
+#: rows (2 x 240 KiB) in the L2 cache while its triangles are drawn; taller bands mean
+#: fewer triangles set up twice (once per band they cross) but coarser load balance.
+BAND_HEIGHT = 32
+
+
+@kernel(inline="always")
+def n_bands(height):
+    """Number of bands of an image ``height`` rows tall."""
+    return (height + BAND_HEIGHT - 1) // BAND_HEIGHT
+
+
+@kernel(inline="always")
+def _bin_record(t, ch, tri_box, cursor, items):
+    """Put record ``t`` into the bins of the bands its box spans; 1 if drawn, else 0."""
+    j_lo, j_hi = tri_box[t, 2], tri_box[t, 3]
+    if j_lo > j_hi:
+        return 0
+    for b in range(j_lo // BAND_HEIGHT, j_hi // BAND_HEIGHT + 1):
+        items[cursor[ch, b]] = t
+        cursor[ch, b] += 1
+    return 1
+
+
+@kernel
+def _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, cursor, items):
+    """Bin the records of face chunk ``ch`` in submission order; returns how many are drawn.
+
+    Record ``f`` is face ``f``'s, except for a cut face, whose ``n_fan[f]`` fan records
+    come next in the chunk's run of fan records from ``fan_start[ch]``.
+    """
+    start, stop = chunk_range(n_faces, ch)
+    t_fan = fan_start[ch]
+    drawn = 0
+    for f in range(np.uint64(start), np.uint64(stop)):
+        if n_fan[f] == 0:
+            drawn += _bin_record(f, ch, tri_box, cursor, items)
+        else:
+            for t in range(t_fan, t_fan + n_fan[f]):
+                drawn += _bin_record(t, ch, tri_box, cursor, items)
+            t_fan += n_fan[f]
+    return drawn
+
+
+@kernel(parallel=True)
+def bin_records(n_faces, n_fan, fan_start, tri_box, band_counts):
+    """Bin the records into bands, in submission order (a stable counting sort).
+
+    Parameters
+    ----------
+    n_faces : int
+        M; record ``f < M`` is face ``f``'s uncut triangle.
+    n_fan : (M,) int8
+        Records of each cut face (0 for the others).
+    fan_start : (N_CHUNKS,) int64
+        First fan record of each chunk (the fans of a chunk are consecutive).
+    tri_box : (T, 4) int32
+        Pixel boxes ``i_lo, i_hi, j_lo, j_hi``; empty ones are skipped.
+    band_counts : (N_CHUNKS, n_bands) int64
+        Drawn records per face chunk and band, counted during setup
+        (:func:`rasterkit.kernels.triangle.count_bands`). Used as scratch.
+
+    Returns
+    -------
+    band_start : (n_bands + 1,) int64
+        Bin ``b`` is ``items[band_start[b]:band_start[b + 1]]``.
+    items : (K,) int32
+        Record indices.
+    n_records : int
+        Records drawn (non-empty), each counted once however many bands it spans.
+    """
+    nb = band_counts.shape[1]
+    band_start = np.empty(nb + 1, np.int64)
+    total = 0
+    for b in range(nb):  # turn counts into cursors: band-major, then chunk (= face) order
+        band_start[b] = total
+        for ch in range(N_CHUNKS):
+            count = band_counts[ch, b]
+            band_counts[ch, b] = total
+            total += count
+    band_start[nb] = total
+    items = np.empty(total, np.int32)
+    drawn = np.zeros(N_CHUNKS, np.int64)
+    for ch in prange(N_CHUNKS):
+        drawn[ch] = _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, band_counts, items)
+    return band_start, items, drawn.sum()
+
+
+@kernel(parallel=True)
+def draw_bands(band_start, items, records, shading, target, clear, lid):
+    """Rasterize and resolve every band; returns the number of fragments depth-tested.
+
+    Parameters
+    ----------
+    band_start, items
+        From :func:`bin_records`.
+    records : tuple
+        ``(tri_xy, tri_z, tri_box)`` (:mod:`rasterkit.kernels.triangle`).
+    shading : tuple
+        ``(mode, n_faces, fan_face, packed, vertex_colors, faces, bary)``: how to colour
+        a visible pixel (:func:`rasterkit.kernels.shade.resolve_row`); record ``t`` is
+        face ``t`` below ``n_faces``, else face ``fan_face[t - n_faces]``.
+    target : tuple
+        ``(depth, color, write_ids, ids)``: depth (H, W) float32 (less-than test), colour
+        (H, W, C) uint8 (untouched in SHADE_NONE), and whether to write face indices into
+        ids (H, W) int32.
+    clear : tuple
+        ``(clear, color_bytes, background)``: when ``clear``, each band is cleared right
+        before it is drawn, while its rows are in this thread's cache anyway: depth +inf,
+        ids -1, and each row of ``color_bytes`` (the colour buffer seen as (H, W * C)
+        uint8; (0, 0) without one) set to ``background`` (W * C,) uint8.
+    lid : (n_slots, BAND_HEIGHT, W) int32
+        One visibility buffer per parallel slot, all -1 on entry, all -1 again on return
+        (the resolve resets what it reads). The number of slots (normally the thread
+        count) does not change the image.
+    """
+    n_slots = lid.shape[0]
+    fragments = np.zeros(n_slots, np.int64)
+    for slot in prange(n_slots):
+        fragments[slot] = _draw_slot(slot, band_start, items, records, shading, target, clear, lid)
+    return fragments.sum()
+
+
+@kernel(inline="always")
+def _clear_band(y0, y1, target, clear):
+    """Clear rows ``y0 .. y1 - 1``: depth +inf, ids -1, colour bytes = the background row.
+
+    Plain loops with unsigned indices: Numba's slice assignment is ten times slower here.
+    """
+    depth, _, write_ids, ids = target
+    _, color_bytes, background = clear
+    for j in range(y0, y1):
+        ju = np.uint64(j)
+        for i in range(depth.shape[1]):
+            depth[ju, np.uint64(i)] = np.inf
+        if write_ids:
+            for i in range(ids.shape[1]):
+                ids[ju, np.uint64(i)] = -1
+        if color_bytes.shape[0]:
+            for i in range(background.size):
+                color_bytes[ju, np.uint64(i)] = background[np.uint64(i)]
+
+
+@kernel
+def _draw_slot(slot, band_start, items, records, shading, target, clear, lid):
+    """:func:`draw_bands` for the bands of one slot; returns its fragment count."""
+    tri_xy, tri_z, tri_box = records
+    mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
+    depth, color, write_ids, ids = target
+    do_clear = clear[0]
+    height, width = depth.shape
+    n_slots = lid.shape[0]
+    band_lid = lid[slot]
+    row_lo = np.empty(BAND_HEIGHT, np.int64)
+    row_hi = np.empty(BAND_HEIGHT, np.int64)
+    fragments = 0
+    for b in range(slot, band_start.size - 1, n_slots):
+        y0 = b * BAND_HEIGHT
+        y1 = min(y0 + BAND_HEIGHT, height)
+        if do_clear:
+            _clear_band(y0, y1, target, clear)
+        if band_start[b] == band_start[b + 1]:
+            continue
+        for r in range(BAND_HEIGHT):
+            row_lo[r], row_hi[r] = width, -1
+        for k in range(band_start[b], band_start[b + 1]):
+            t = items[k]
+            face = t if t < n_faces else fan_face[t - n_faces]
+            fragments += raster_band(t, face, tri_xy, tri_z, tri_box, y0, y1, depth, band_lid, row_lo, row_hi)
+        for r in range(y1 - y0):
+            resolve_row(
+                mode,
+                band_lid,
+                r,
+                y0 + r,
+                row_lo[r],
+                row_hi[r],
+                packed,
+                vertex_colors,
+                faces,
+                bary,
+                color,
+                write_ids,
+                ids,
+            )
+    return fragments

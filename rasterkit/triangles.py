@@ -1,0 +1,420 @@
+"""Validated entry point to the triangle pipeline: clip -> cull -> bin -> rasterize -> resolve.
+
+:func:`rasterize_triangles` checks every input once and then runs the kernels of
+:mod:`rasterkit.kernels` (``clip``, ``cull``, ``triangle``, ``tiles``, ``shade``); the
+renderer calls it with the vertices already in homogeneous raster space.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from rasterkit.kernels.clip import MAX_IMAGE_SIZE
+from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
+from rasterkit.kernels.shade import (
+    SHADE_FLAT,
+    SHADE_NONE,
+    SHADE_SMOOTH,
+    all_finite,
+    bary_matrices,
+    pack_colors,
+)
+from rasterkit.kernels.tiles import BAND_HEIGHT, bin_records, draw_bands, n_bands
+from rasterkit.kernels.triangle import (
+    MAX_FAN,
+    N_CHUNKS,
+    N_STATUS,
+    STATUS_CULLED,
+    STATUS_DRAWN,
+    STATUS_EMPTY,
+    STATUS_NONFINITE,
+    STATUS_OUTSIDE,
+    count_fans,
+    face_index_range,
+    offset_depths,
+    setup_cut_faces,
+    setup_faces,
+    setup_vertices,
+)
+
+__all__ = ["TriangleStats", "rasterize_triangles"]
+
+_CULL_MODES = {"none": CULL_NONE, "back": CULL_BACK, "front": CULL_FRONT}
+
+# Record indices are int32 in the visibility buffer; a face becomes at most MAX_FAN records.
+_MAX_FACES = (2**31 - 1) // (MAX_FAN + 1)
+
+
+@dataclass(frozen=True)
+class TriangleStats:
+    """What happened to the faces of one :func:`rasterize_triangles` call.
+
+    Every face is counted in exactly one of ``drawn``, ``culled``, ``empty``, ``outside``
+    and ``dropped_nonfinite`` (they add up to ``faces``); ``clipped`` counts the faces,
+    among those, that were cut by the near, far or guard-band planes with something left.
+
+    Attributes
+    ----------
+    faces : int
+        Faces submitted.
+    drawn : int
+        Faces with at least one triangle sent to the rasterizer (it may still lose every
+        depth test).
+    culled : int
+        Faces removed by backface culling.
+    empty : int
+        Faces of zero area after snapping to 1/256 pixel, or covering no pixel centre.
+    outside : int
+        Faces wholly outside the view volume (beside the image, before near, beyond far).
+    dropped_nonfinite : int
+        Faces with a NaN or infinite vertex coordinate.
+    clipped : int
+        Faces cut by a clipping plane (and not wholly removed).
+    triangles : int
+        Triangles rasterized (a cut face can become up to 7).
+    fragments : int
+        Covered pixel centres that reached the depth test.
+    """
+
+    faces: int
+    drawn: int
+    culled: int
+    empty: int
+    outside: int
+    dropped_nonfinite: int
+    clipped: int
+    triangles: int
+    fragments: int
+
+
+def _check_array(name, a, dtype, ndim):
+    if not isinstance(a, np.ndarray):
+        raise TypeError(f"{name} must be a numpy.ndarray, got {type(a).__name__}")
+    if a.dtype != dtype:
+        raise TypeError(f"{name} must have dtype {np.dtype(dtype).name}, got {a.dtype}")
+    if a.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-dimensional, got shape {a.shape}")
+    if not a.flags.c_contiguous:
+        raise ValueError(f"{name} must be C-contiguous (use numpy.ascontiguousarray)")
+
+
+def _check_buffer(name, a, dtype, shape):
+    _check_array(name, a, dtype, len(shape))
+    if a.shape != shape:
+        raise ValueError(f"{name} has shape {a.shape}, expected {shape} to match depth")
+    if not a.flags.writeable:
+        raise ValueError(f"{name} must be writeable")
+
+
+def _check_colors(name, colors, rows, what):
+    _check_array(name, colors, np.float32, 2)
+    if colors.shape != (rows, 3):
+        raise ValueError(f"{name} must have shape ({rows}, 3) (one RGB per {what}), got {colors.shape}")
+    if not all_finite(colors):
+        raise ValueError(f"{name} must be finite")
+
+
+def _check_geometry(clip, faces):
+    _check_array("clip", clip, np.float64, 2)
+    if clip.shape[1] != 4:
+        raise ValueError(f"clip must have shape (N, 4) (xh, yh, zh, w), got {clip.shape}")
+    _check_array("faces", faces, np.int64, 2)
+    if faces.shape[1] != 3:
+        raise ValueError(f"faces must have shape (M, 3), got {faces.shape}")
+    if faces.shape[0] > _MAX_FACES:
+        raise ValueError(f"at most {_MAX_FACES} faces per call, got {faces.shape[0]}")
+    if faces.size and not _indices_in_range(faces, clip.shape[0]):
+        raise ValueError(f"faces must index vertices 0..{clip.shape[0] - 1}")
+
+
+def _indices_in_range(faces, n):
+    lo, hi = face_index_range(faces)
+    return lo >= 0 and hi < n
+
+
+def _check_depth(depth):
+    _check_array("depth", depth, np.float32, 2)
+    if not depth.flags.writeable:
+        raise ValueError("depth must be writeable")
+    height, width = depth.shape
+    if not (1 <= width <= MAX_IMAGE_SIZE and 1 <= height <= MAX_IMAGE_SIZE):
+        raise ValueError(f"image size must be 1..{MAX_IMAGE_SIZE} pixels a side, got {width}x{height}")
+
+
+def _shading(color, face_colors, vertex_colors, faces, clip):
+    """Pick the resolve mode once for the draw; returns (mode, face_colors, vertex_colors)."""
+    if face_colors is not None and vertex_colors is not None:
+        raise ValueError("give face_colors or vertex_colors, not both")
+    if color is None:
+        if face_colors is not None or vertex_colors is not None:
+            raise ValueError("colours were given but color is None")
+        return SHADE_NONE, np.zeros((0, 3), np.float32), np.zeros((0, 3), np.float32)
+    if vertex_colors is not None:
+        _check_colors("vertex_colors", vertex_colors, clip.shape[0], "vertex")
+        return SHADE_SMOOTH, np.zeros((0, 3), np.float32), vertex_colors
+    if face_colors is None:
+        raise ValueError("color needs face_colors or vertex_colors (or pass color=None for depth only)")
+    _check_colors("face_colors", face_colors, faces.shape[0], "face")
+    return SHADE_FLAT, face_colors, np.zeros((0, 3), np.float32)
+
+
+def _background(clear, color):
+    """The clear colour as a (C,) uint8 array (empty without a colour buffer), or None."""
+    if clear is None:
+        return None
+    channels = 0 if color is None else color.shape[2]
+    values = np.asarray(clear)
+    if values.shape != (channels,) or (channels and not np.issubdtype(values.dtype, np.integer)):
+        raise ValueError(f"clear must be {channels} integers 0..255 (one per colour channel), got {clear!r}")
+    if channels and (values.min() < 0 or values.max() > 255):
+        raise ValueError(f"clear values must be in 0..255, got {clear!r}")
+    return values.astype(np.uint8)
+
+
+def _threads(threads):
+    limit = numba.config.NUMBA_NUM_THREADS
+    if threads is None:
+        return numba.get_num_threads()
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= limit:
+        raise ValueError(f"threads must be an int in 1..{limit} or None, got {threads!r}")
+    return int(threads)
+
+
+def rasterize_triangles(
+    color,
+    depth,
+    clip,
+    faces,
+    *,
+    face_colors=None,
+    vertex_colors=None,
+    ids=None,
+    cull="back",
+    clear=None,
+    depth_offset=(0.0, 0.0),
+    threads=None,
+):
+    """Draw triangles into colour, depth and (optionally) id buffers.
+
+    Runs clip (near/far planes, guard band) -> backface cull -> bin into bands ->
+    rasterize (top-left rule, 8 sub-pixel bits, less-than depth test) -> colour.
+
+    Parameters
+    ----------
+    color : (H, W, C) uint8 or None
+        Colour buffer, C = 3 (RGB) or 4 (RGBA: drawn pixels get alpha 255). None draws
+        depth (and ids) only.
+    depth : (H, W) float32
+        Depth buffer (cleared to +inf); a pixel is drawn when its depth ``z = zh / w`` is
+        less than the stored one, which it then replaces.
+    clip : (N, 4) float64
+        Vertices in homogeneous raster space ``(xh, yh, zh, w)``: ``xh / w, yh / w`` are
+        raster pixels, ``zh / w`` is the depth; inside the view volume ``0 <= zh <= w``.
+        Faces using a NaN or infinite vertex are dropped (and counted).
+    faces : (M, 3) int64
+        Vertex indices, counter-clockwise seen from the front (right-handed world).
+    face_colors : (M, 3) float32, optional
+        Flat shading: RGB 0..255 per face (rounded, clamped to 0..255).
+    vertex_colors : (N, 3) float32, optional
+        Smooth (Gouraud) shading: RGB 0..255 per vertex, interpolated perspective-correctly.
+        Exactly one of ``face_colors`` and ``vertex_colors`` is needed when ``color`` is
+        given.
+    ids : (H, W) int32, optional
+        Receives the index of the face visible at each drawn pixel.
+    cull : {"back", "front", "none"}
+        Which faces to remove; front faces wind counter-clockwise on screen.
+    clear : sequence of int, optional
+        Clear the buffers first: colour to this value (C integers 0..255; ``()`` when
+        ``color`` is None), depth to +inf, ids to -1. Done band by band in the drawing
+        threads, it costs far less than clearing before the call.
+    depth_offset : (float, float)
+        ``(factor, units)``: every triangle is pushed back by
+        ``factor * max(|dz/dx|, |dz/dy|) + units`` (depth units, slopes per pixel) before the
+        depth test, like OpenGL's polygon offset, so that lines drawn over the faces
+        afterwards survive the depth test. Default no offset.
+    threads : int, optional
+        Threads to use (default: Numba's current setting). The result does not depend on it.
+
+    Returns
+    -------
+    TriangleStats
+        Per-face accounting of the call (drawn, culled, clipped, dropped_nonfinite, ...).
+
+    Raises
+    ------
+    TypeError, ValueError
+        For a wrong type, dtype, shape or layout, an index out of range, buffers whose sizes
+        disagree, non-finite colours, or an unknown ``cull`` or ``clear``.
+
+    Notes
+    -----
+    Pixels are covered when their centre is inside the triangle, centres on an edge by the
+    top-left rule, after snapping vertices to 1/256 pixel; equal depths keep the face
+    drawn first (less-than test, faces in order). The image is bit-identical for any
+    thread count. Per-face scratch arrays are kept between calls (per Python thread), so
+    that repeated draws do not pay for fresh memory.
+    """
+    _check_depth(depth)
+    height, width = depth.shape
+    if color is not None:
+        _check_array("color", color, np.uint8, 3)
+        if color.shape[2] not in (3, 4):
+            raise ValueError(f"color must have 3 or 4 channels, got shape {color.shape}")
+        _check_buffer("color", color, np.uint8, (height, width, color.shape[2]))
+    if ids is not None:
+        _check_buffer("ids", ids, np.int32, (height, width))
+    _check_geometry(clip, faces)
+    if cull not in _CULL_MODES:
+        raise ValueError(f"cull must be one of {sorted(_CULL_MODES)}, got {cull!r}")
+    mode, face_colors, vertex_colors = _shading(color, face_colors, vertex_colors, faces, clip)
+    offset = _depth_offset(depth_offset)
+    background = _background(clear, color)
+    n_threads = _threads(threads)
+    previous = numba.get_num_threads()
+    numba.set_num_threads(n_threads)
+    try:
+        return _run(
+            color,
+            depth,
+            clip,
+            faces,
+            mode,
+            face_colors,
+            vertex_colors,
+            ids,
+            _CULL_MODES[cull],
+            background,
+            offset,
+            n_threads,
+        )
+    finally:
+        numba.set_num_threads(previous)
+
+
+class _Workspace(threading.local):
+    """Scratch arrays kept between calls, one set per Python thread.
+
+    A draw of a few hundred thousand faces needs tens of megabytes of per-face records;
+    allocated afresh each time, the operating system would zero every page again, which
+    costs as much as the setup itself. Buffers only grow.
+    """
+
+    def __init__(self):
+        self._buffers = {}
+
+    def take(self, name, shape, dtype, keep=0):
+        """A C-contiguous ``shape`` array of ``dtype``; its first ``keep`` rows are kept
+        from the previous ``take`` of the same name (when the buffer has to grow)."""
+        size = int(np.prod(shape))
+        buffer = self._buffers.get(name)
+        if buffer is None or buffer.dtype != dtype or buffer.size < size:
+            grown = np.empty(size + size // 4, dtype)
+            if keep and buffer is not None:
+                row = size // shape[0]
+                grown[: keep * row] = buffer[: keep * row]
+            self._buffers[name] = buffer = grown
+        return buffer[:size].reshape(shape)
+
+    def visibility(self, slots, width):
+        """(slots, BAND_HEIGHT, width) int32, all -1 (draw_bands leaves it so)."""
+        lid = self._buffers.get("lid")
+        if lid is None or lid.shape != (slots, BAND_HEIGHT, width):
+            self._buffers["lid"] = lid = np.full((slots, BAND_HEIGHT, width), -1, np.int32)
+        return lid
+
+
+_WORKSPACE = _Workspace()
+
+
+def _records(ws, rows, keep=0):
+    """Record arrays ``tri_xy, tri_z, tri_box`` of ``rows`` records, the first ``keep`` kept."""
+    return (
+        ws.take("tri_xy", (rows, 6), np.int32, keep),
+        ws.take("tri_z", (rows, 3), np.float32, keep),
+        ws.take("tri_box", (rows, 4), np.int32, keep),
+    )
+
+
+def _clear_spec(background, color, width):
+    """``(clear, color_bytes, background_row)`` as draw_bands takes it."""
+    if background is None or color is None:
+        return background is not None, np.empty((0, 0), np.uint8), np.empty(0, np.uint8)
+    return True, color.reshape(color.shape[0], -1), np.tile(background, width)
+
+
+def _set_up(ws, clip, faces, width, height, cull_mode):
+    """Vertex pass, face pass and (when needed) the cut faces' fans; binning counted.
+
+    Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts)`` for
+    :func:`rasterkit.kernels.tiles.bin_records` and the resolve; ``counts`` (N_STATUS + 1,)
+    are the faces per STATUS_* and, last, the faces cut with something left.
+    """
+    n, m = clip.shape[0], faces.shape[0]
+    vcode = ws.take("vcode", (n,), np.int32)
+    vxy = ws.take("vxy", (n, 2), np.int32)
+    vz = ws.take("vz", (n,), np.float32)
+    setup_vertices(clip, width, height, vcode, vxy, vz)
+    tri_xy, tri_z, tri_box = _records(ws, m)
+    cut_mask, n_fan = ws.take("cut_mask", (m,), np.int8), ws.take("n_fan", (m,), np.int8)
+    band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
+    tally = np.zeros((N_CHUNKS, N_STATUS + 1), np.int64)
+    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_HEIGHT, band_counts, tally)
+    n_cut = setup_faces(faces, vcode, vxy, vz, width, height, cull_mode, *face_pass)
+    fan_start = np.full(N_CHUNKS, m, np.int64)
+    fan_face = np.empty(0, np.int32)
+    if n_cut:
+        fans = count_fans(clip, faces, width, height, cut_mask, n_fan)
+        fan_start += np.cumsum(fans) - fans
+        tri_xy, tri_z, tri_box = _records(ws, m + int(fans.sum()), keep=m)
+        fan_face = ws.take("fan_face", (int(fans.sum()),), np.int32)
+        fan_pass = (fan_start, fan_face, tri_xy, tri_z, tri_box, cut_mask, BAND_HEIGHT, band_counts, tally)
+        setup_cut_faces(clip, faces, width, height, cull_mode, *fan_pass)
+    return (tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0)
+
+
+def _depth_offset(value):
+    """``(factor, units)`` as two finite floats (glPolygonOffset's arguments)."""
+    try:
+        factor, units = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"depth_offset must be (factor, units), got {value!r}") from None
+    if not (np.isfinite(factor) and np.isfinite(units)):
+        raise ValueError(f"depth_offset must be finite, got {value!r}")
+    return factor, units
+
+
+def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_mode, background, offset, n_threads):
+    """The pipeline itself, on validated inputs."""
+    ws = _WORKSPACE
+    height, width = depth.shape
+    m = faces.shape[0]
+    records, n_fan, fan_start, fan_face, band_counts, counts = _set_up(
+        ws, clip, faces, width, height, cull_mode
+    )
+    band_start, items, n_records = bin_records(m, n_fan, fan_start, records[2], band_counts)
+    if offset != (0.0, 0.0):
+        offset_depths(*records, records[0].shape[0], *offset)
+    packed = pack_colors(face_colors) if mode == SHADE_FLAT else np.empty(0, np.uint32)
+    bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
+    shading = (mode, m, fan_face, packed, vertex_colors, faces, bary)
+    color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
+    target = (depth, color_target, ids is not None, ids if ids is not None else np.empty((0, 0), np.int32))
+    clear = _clear_spec(background, color, width)
+    fragments = draw_bands(
+        band_start, items, records, shading, target, clear, ws.visibility(n_threads, width)
+    )
+    return TriangleStats(
+        faces=m,
+        drawn=int(counts[STATUS_DRAWN]),
+        culled=int(counts[STATUS_CULLED]),
+        empty=int(counts[STATUS_EMPTY]),
+        outside=int(counts[STATUS_OUTSIDE]),
+        dropped_nonfinite=int(counts[STATUS_NONFINITE]),
+        clipped=int(counts[N_STATUS]),
+        triangles=int(n_records),
+        fragments=int(fragments),
+    )
