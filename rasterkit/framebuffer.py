@@ -27,6 +27,9 @@ class Framebuffer:
         ``'#rrggbb'``, a name (``'transparent'`` included) or an ``(r, g, b[, a])`` tuple.
     ids : bool
         Also keep a primitive-id buffer.
+    cleared : bool
+        False leaves the buffers uninitialised, for a renderer that clears them itself
+        (faster, in parallel); :meth:`clear` does it in NumPy.
 
     Attributes
     ----------
@@ -39,7 +42,7 @@ class Framebuffer:
     """
 
     def __init__(self, width: int, height: int, alpha: bool = False,
-                 background: ColorLike = "white", ids: bool = False):
+                 background: ColorLike = "white", ids: bool = False, *, cleared: bool = True):
         if isinstance(width, bool) or isinstance(height, bool) or int(width) != width \
                 or int(height) != height or not (1 <= width <= 32768 and 1 <= height <= 32768):
             raise ValueError(f"size must be whole numbers from 1 to 32768, got {width}x{height}")
@@ -49,7 +52,8 @@ class Framebuffer:
         self.color = np.empty((self.height, self.width, 4 if alpha else 3), np.uint8)
         self.depth = np.empty((self.height, self.width), np.float32)
         self.ids = np.empty((self.height, self.width), np.int32) if ids else None
-        self.clear()
+        if cleared:
+            self.clear()
 
     @property
     def alpha(self) -> bool:

@@ -18,6 +18,7 @@ from .camera import Camera
 from .colors import ColorLike, parse_color
 from .framebuffer import Framebuffer
 from .kernels import line as line_kernels
+from .kernels.clear import clear as clear_kernel
 from .kernels import shade as shade_kernels
 from .kernels.vertex import transform_points
 from .mesh import Mesh
@@ -128,10 +129,16 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     options = _Options(_choice("mode", mode, MODES), _choice("cull", cull, CULL),
                        _choice("shading", shading, SHADING), parse_color(color),
                        parse_color(line_color), bool(aa), light)
-    fb = Framebuffer(camera.width, camera.height, background=background, ids=ids)
+    fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
     clip = transform_points(mesh.vertices, np.ascontiguousarray(camera.matrix()))
-    if options.mode != "wire":
-        _draw_triangles(fb, mesh, clip, options)
+    if options.mode in ("solid", "solid+wire"):
+        _draw_triangles(fb, mesh, clip, options)  # clears the buffers band by band as it draws
+    else:
+        no_ids = np.empty((0, 0), np.int32)
+        clear_kernel(fb.color, fb.depth, fb.ids if fb.ids is not None else no_ids,
+                     np.ascontiguousarray(fb.background[: fb.color.shape[2]]))
+        if options.mode == "hidden":
+            _draw_triangles(fb, mesh, clip, options)
     if options.mode != "solid":
         _draw_edges(fb, mesh, clip, options, depth_test=options.mode != "wire")
     return fb
@@ -146,9 +153,10 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
                             depth_offset=offset)
         return
     face_colors, vertex_colors = _shade(mesh, options)
+    background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
     rasterize_triangles(fb.color, fb.depth, clip, mesh.faces, face_colors=face_colors,
                         vertex_colors=vertex_colors, ids=fb.ids, cull=options.cull,
-                        depth_offset=offset)
+                        clear=background, depth_offset=offset)
 
 
 def _shade(mesh: Mesh, options: _Options):
@@ -161,14 +169,18 @@ def _shade(mesh: Mesh, options: _Options):
     towards_light = options.light
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
     # normals too, so they cannot spoil their neighbours' vertex normals.
-    finite = np.all(np.isfinite(mesh.vertices[mesh.faces]), axis=(1, 2))
+    finite = None
+    if not np.isfinite(mesh.vertices).all():
+        finite = np.all(np.isfinite(mesh.vertices[mesh.faces]), axis=(1, 2))
     if options.shading == "flat":
         normals = shade_kernels.face_normals(mesh.vertices, mesh.faces)
-        normals[~finite] = 0.0
+        if finite is not None:
+            normals[~finite] = 0.0
         base = _base_colors(mesh, options, per_face=True)
         return _lambert(normals, base, towards_light, two_sided), None
     normals = mesh.normals if mesh.normals is not None else \
-        shade_kernels.vertex_normals(mesh.vertices, np.ascontiguousarray(mesh.faces[finite]))
+        shade_kernels.vertex_normals(mesh.vertices, mesh.faces if finite is None
+                                     else np.ascontiguousarray(mesh.faces[finite]))
     base = _base_colors(mesh, options, per_face=False)
     return None, _lambert(normals, base, towards_light, two_sided)
 
