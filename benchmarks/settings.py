@@ -81,7 +81,7 @@ FULL = Settings(
     sizes=((640, 480), (1920, 1080), (3840, 2160)),
     fill_size=TARGET_SIZE, fill_counts=(50, 100, 200, 400),
     segments=1_000_000, segment_size=TARGET_SIZE,
-    cli_model="stanford-bunny", cli_size=TARGET_SIZE, cold_runs=3,
+    cli_model="stanford-bunny", cli_size=TARGET_SIZE, cold_runs=5,
     sweep_triangles=(16, 32, 64, 128, 256, 512),
     sweep_sizes=((320, 240), (640, 480), (1280, 720), (1920, 1080), (2560, 1440), (3840, 2160)),
     sweep_model="stanford-bunny", memory=("render", "fill", "lines2d", "loading"), process_repeat=5,

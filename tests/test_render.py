@@ -8,7 +8,7 @@ from reference_raster import reference_raster
 
 import rasterkit
 from rasterkit import Camera, shapes
-from rasterkit.render import as_mesh
+from rasterkit.render import AMBIENT, as_mesh
 
 BLACK = np.array([0, 0, 0], np.uint8)
 
@@ -94,7 +94,7 @@ def test_flat_shading_is_lambert_with_a_headlight():
     assert fb.color[20, 20].tolist() == [200, 100, 40]
     tilted = (quad[0] @ rasterkit.transform.rotate_x(np.pi / 3)[:3, :3].T, quad[1])
     fb = rasterkit.render(tilted, cam, mode="solid", color=(200, 100, 40))
-    k = rasterkit.render.__globals__["AMBIENT"] if hasattr(rasterkit.render, "__globals__") else 0.25
+    k = AMBIENT
     expected = np.round(np.array([200, 100, 40]) * (k + (1 - k) * 0.5))
     assert np.abs(fb.color[20, 20].astype(int) - expected).max() <= 1
 
