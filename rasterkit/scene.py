@@ -83,9 +83,11 @@ class Scene:
         vertices = np.concatenate([apply_points(o.matrix, o.mesh.vertices) for o in self.objects])
         faces = np.concatenate([o.mesh.faces + k for o, k in zip(self.objects, offsets)])
         edges = np.concatenate([o.mesh.edges + k for o, k in zip(self.objects, offsets)])
+        vertex_colors = self._vertex_colors()
+        face_colors = None if vertex_colors is not None else \
+            self._face_colors(parse_color(default_color)[:3] / 255.0)
         return Mesh(vertices, faces, edges=edges, normals=self._normals(),
-                    vertex_colors=self._vertex_colors(),
-                    face_colors=self._face_colors(parse_color(default_color)[:3] / 255.0))
+                    vertex_colors=vertex_colors, face_colors=face_colors)
 
     def bounding_sphere(self) -> tuple[np.ndarray, float]:
         """Centre and radius of a sphere holding every object's world-space vertices."""
@@ -103,7 +105,7 @@ class Scene:
 
     def _face_colors(self, default_rgb: np.ndarray):
         own = [_own_face_colors(o) for o in self.objects]
-        if all(c is None for c in own) or self._vertex_colors() is not None:
+        if all(c is None for c in own):
             return None
         return np.concatenate([
             c if c is not None else np.tile(default_rgb, (len(o.mesh.faces), 1))
