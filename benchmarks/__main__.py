@@ -1,4 +1,4 @@
-"""``python -m benchmarks [--quick] [--out DIR] [--only FAMILY,...] [--no-peers]``.
+"""``python -m benchmarks [--quick | --targets] [--out DIR] [--only FAMILY,...] [--no-peers]``.
 
 Runs the workload families in turn, printing each result (and each skipped peer, with the
 reason) as it comes, then writes ``results.json``, ``results.md`` and the PNG plots to DIR.
@@ -19,12 +19,15 @@ import numba
 
 from . import cli, fill, lines2d, loading, memory, render, report, scaling
 from .peers import Peers
-from .settings import FULL, QUICK, TINY
+from .settings import FULL, QUICK, TARGETS, TINY
 
 # The families that start processes come last: in one run, rasterkit's 2-thread kernels in this
 # process were seen to slow down ~10x for a minute after the CLI family's subprocesses.
 FAMILIES = {"render": render.run, "fill": fill.run, "lines2d": lines2d.run, "loading": loading.run,
-            "scaling": scaling.run, "memory": memory.run, "cli": cli.run}
+            "scaling": scaling.run, "memory": memory.run, "cli": cli.run, "threads": scaling.run_threads}
+DEFAULT_FAMILIES = ("render", "fill", "lines2d", "loading", "scaling", "memory", "cli")
+"""What a run measures unless ``--only`` says otherwise (``threads`` is part of ``scaling``)."""
+TARGET_FAMILIES = ("render", "fill", "threads")
 
 PACKAGES = ("rasterkit", "numpy", "numba", "llvmlite", "pillow", "moderngl", "opencv-python-headless",
             "trimesh", "scikit-image")
@@ -36,12 +39,15 @@ TINY_VARIABLE = "RASTERKIT_BENCH_TINY"
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a small version (well under a minute)")
+    parser.add_argument("--targets", action="store_true",
+                        help="only the rasterization targets: 3 models at 1920x1080, the fill "
+                             "scene and 2 threads vs 1 (about two minutes; families render,fill,threads)")
     parser.add_argument("--tiny", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--out", type=Path, default=Path("benchmark-results"),
                         help="folder for results.json, results.md and the plots "
                              "(default: benchmark-results)")
-    parser.add_argument("--only", default=",".join(FAMILIES), metavar="FAMILY,...",
-                        help=f"families to run (default all: {','.join(FAMILIES)})")
+    parser.add_argument("--only", default=None, metavar="FAMILY,...",
+                        help=f"families to run (default: {','.join(DEFAULT_FAMILIES)}; also threads)")
     parser.add_argument("--no-peers", action="store_true", help="time rasterkit alone")
     return parser
 
@@ -90,8 +96,12 @@ def write(out: Path, results: report.Results, profile: str, info: dict) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    settings = TINY if args.tiny or os.environ.get(TINY_VARIABLE) == "1" else QUICK if args.quick else FULL
-    families = [f.strip() for f in args.only.split(",") if f.strip()]
+    settings = TINY if args.tiny or os.environ.get(TINY_VARIABLE) == "1" else QUICK if args.quick \
+        else TARGETS if args.targets else FULL
+    if args.only is not None:
+        families = [f.strip() for f in args.only.split(",") if f.strip()]
+    else:
+        families = list(TARGET_FAMILIES if args.targets else DEFAULT_FAMILIES)
     unknown = sorted(set(families) - set(FAMILIES))
     if unknown:
         print(f"unknown families: {', '.join(unknown)} (choose from {', '.join(FAMILIES)})", file=sys.stderr)

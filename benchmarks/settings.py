@@ -24,7 +24,7 @@ class Settings:
     Attributes
     ----------
     name : str
-        ``full``, ``quick`` or ``tiny``.
+        ``full``, ``quick``, ``targets`` or ``tiny``.
     warmup, repeat : int
         Untimed runs first, then timed runs per side (the median is reported).
     models : tuple of str
@@ -98,6 +98,19 @@ QUICK = Settings(
     sweep_sizes=((320, 240), (1280, 720), (3840, 2160)),
     sweep_model="stanford-bunny", memory=("render",), process_repeat=3,
 )
+
+TARGETS = Settings(
+    name="targets", warmup=3, repeat=11,
+    models=TARGET_MODELS,
+    sizes=(TARGET_SIZE,),
+    fill_size=TARGET_SIZE, fill_counts=(200,),
+    segments=100_000, segment_size=TARGET_SIZE,
+    cli_model="stanford-bunny", cli_size=TARGET_SIZE, cold_runs=0,
+    sweep_triangles=(16,), sweep_sizes=((640, 480),),
+    sweep_model="stanford-bunny", memory=("render",), process_repeat=3,
+)
+"""Only what the rasterization issue's targets need (``--targets``): its three models at
+1920x1080 in every mode, the 200-triangle fill scene and its thread scaling."""
 
 TINY = Settings(
     name="tiny", warmup=1, repeat=1,

@@ -6,6 +6,7 @@ import os
 
 import numpy as np
 
+from . import _memory
 from .colors import ColorLike, parse_color
 from .image import save_image, to_pil
 
@@ -37,8 +38,15 @@ class Framebuffer:
         Cleared to the background.
     depth : (H, W) float32
         Cleared to +inf ("farthest"); drawn depths lie in [0, 1], 0 at the near plane.
+        Made on first use: a wireframe render never needs it.
     ids : (H, W) int32 or None
         Index of the triangle seen at each pixel, -1 where none.
+
+    Notes
+    -----
+    The buffers' memory is recycled (:mod:`rasterkit._memory`): a new framebuffer reuses
+    the memory of one that nothing refers to any more, which saves the operating system's
+    page faults on fresh memory (several milliseconds per 1080p frame).
     """
 
     def __init__(self, width: int, height: int, alpha: bool = False,
@@ -49,11 +57,34 @@ class Framebuffer:
         self.background = parse_color(background)
         alpha = bool(alpha) or self.background[3] < 255
         self.width, self.height = int(width), int(height)
-        self.color = np.empty((self.height, self.width, 4 if alpha else 3), np.uint8)
-        self.depth = np.empty((self.height, self.width), np.float32)
-        self.ids = np.empty((self.height, self.width), np.int32) if ids else None
+        self.color = _memory.take((self.height, self.width, 4 if alpha else 3), np.uint8)
+        self._depth = None  # None: not made yet, all farthest
+        self.ids = _memory.take((self.height, self.width), np.int32) if ids else None
         if cleared:
             self.clear()
+        else:
+            self._depth = self._new_depth()
+
+    def _new_depth(self) -> np.ndarray:
+        return _memory.take((self.height, self.width), np.float32)
+
+    @property
+    def depth(self) -> np.ndarray:
+        if self._depth is None:
+            self._depth = self._new_depth()
+            self._depth.fill(FARTHEST)
+        return self._depth
+
+    @depth.setter
+    def depth(self, value) -> None:
+        value = np.asarray(value)
+        if value.shape != (self.height, self.width) or value.dtype != np.float32:
+            raise ValueError(f"depth must be a ({self.height}, {self.width}) float32 array")
+        self._depth = value
+
+    def _clear_depth_lazily(self) -> None:
+        """Depth back to "farthest" without touching memory (for colour-only renderers)."""
+        self._depth = None
 
     @property
     def alpha(self) -> bool:
@@ -62,7 +93,8 @@ class Framebuffer:
     def clear(self) -> None:
         """Colour to the background, depth to +inf, ids to -1."""
         self.color[...] = self.background[: self.color.shape[2]]
-        self.depth.fill(FARTHEST)
+        if self._depth is not None:
+            self._depth.fill(FARTHEST)
         if self.ids is not None:
             self.ids.fill(-1)
 

@@ -16,9 +16,9 @@ import numpy as np
 
 from .camera import Camera
 from .colors import ColorLike, parse_color
+from . import _memory
 from .framebuffer import Framebuffer
 from .kernels import line as line_kernels
-from .kernels.clear import clear as clear_kernel
 from .kernels import shade as shade_kernels
 from .kernels.vertex import transform_points
 from .mesh import Mesh
@@ -129,18 +129,18 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     options = _Options(_choice("mode", mode, MODES), _choice("cull", cull, CULL),
                        _choice("shading", shading, SHADING), parse_color(color),
                        parse_color(line_color), bool(aa), light)
+    # Every buffer is cleared by the kernels, band by band in the threads that draw it.
     fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
     clip = transform_points(mesh.vertices, np.ascontiguousarray(camera.matrix()))
-    if options.mode in ("solid", "solid+wire"):
-        _draw_triangles(fb, mesh, clip, options)  # clears the buffers band by band as it draws
+    if options.mode == "wire":
+        fb._clear_depth_lazily()  # never read: left "farthest" until someone asks for it
+        if fb.ids is not None:
+            fb.ids.fill(-1)
     else:
-        no_ids = np.empty((0, 0), np.int32)
-        clear_kernel(fb.color, fb.depth, fb.ids if fb.ids is not None else no_ids,
-                     np.ascontiguousarray(fb.background[: fb.color.shape[2]]))
-        if options.mode == "hidden":
-            _draw_triangles(fb, mesh, clip, options)
+        _draw_triangles(fb, mesh, clip, options)
     if options.mode != "solid":
-        _draw_edges(fb, mesh, clip, options, depth_test=options.mode != "wire")
+        _draw_edges(fb, mesh, clip, options, depth_test=options.mode != "wire",
+                    clear=options.mode in ("wire", "hidden"))
     return fb
 
 
@@ -148,9 +148,9 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
                     options: _Options) -> None:
     """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer."""
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
-    if options.mode == "hidden":
+    if options.mode == "hidden":  # the colour buffer is cleared by the edge pass
         rasterize_triangles(None, fb.depth, clip, mesh.faces, ids=fb.ids, cull=options.cull,
-                            depth_offset=offset)
+                            clear=(), depth_offset=offset)
         return
     face_colors, vertex_colors = _shade(mesh, options)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
@@ -167,20 +167,16 @@ def _shade(mesh: Mesh, options: _Options):
     """
     two_sided = options.cull == "none"
     towards_light = options.light
+    if options.shading == "flat":
+        base = _base_colors(mesh, options, per_face=True)
+        return shade_kernels.flat_colors(mesh.vertices, mesh.faces, base, towards_light, AMBIENT,
+                                         two_sided), None
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
     # normals too, so they cannot spoil their neighbours' vertex normals.
-    finite = None
+    faces = mesh.faces
     if not np.isfinite(mesh.vertices).all():
-        finite = np.all(np.isfinite(mesh.vertices[mesh.faces]), axis=(1, 2))
-    if options.shading == "flat":
-        normals = shade_kernels.face_normals(mesh.vertices, mesh.faces)
-        if finite is not None:
-            normals[~finite] = 0.0
-        base = _base_colors(mesh, options, per_face=True)
-        return _lambert(normals, base, towards_light, two_sided), None
-    normals = mesh.normals if mesh.normals is not None else \
-        shade_kernels.vertex_normals(mesh.vertices, mesh.faces if finite is None
-                                     else np.ascontiguousarray(mesh.faces[finite]))
+        faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
+    normals = mesh.normals if mesh.normals is not None else shade_kernels.vertex_normals(mesh.vertices, faces)
     base = _base_colors(mesh, options, per_face=False)
     return None, _lambert(normals, base, towards_light, two_sided)
 
@@ -212,12 +208,16 @@ def _base_colors(mesh: Mesh, options: _Options, per_face: bool):
 
 
 def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options,
-                depth_test: bool) -> None:
+                depth_test: bool, clear: bool) -> None:
     mode = line_kernels.MODE_PLAIN
     if depth_test:
         mode |= line_kernels.MODE_DEPTH_TEST
     if options.aa:
         mode |= line_kernels.MODE_ANTIALIAS
-    rgba = np.ascontiguousarray(options.line_color[: fb.color.shape[2]])
-    line_kernels.draw_edges(fb.color, fb.depth, clip, mesh.edges, rgba, mode,
-                            LINE_DEPTH_BIAS, numba.get_num_threads())
+    channels = fb.color.shape[2]
+    rgba = np.ascontiguousarray(options.line_color[:channels])
+    background = np.ascontiguousarray(fb.background[:channels]) if clear else np.empty(0, np.uint8)
+    depth = fb.depth if depth_test else np.empty((0, 0), np.float32)
+    proj = _memory.take((clip.shape[0], 4), np.float64)
+    line_kernels.draw_edges_cleared(fb.color, depth, clip, mesh.edges, rgba, mode, LINE_DEPTH_BIAS,
+                                    numba.get_num_threads(), background, proj)

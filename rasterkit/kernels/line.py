@@ -21,14 +21,15 @@ produce exactly the pixels of the unclipped line.
 Framebuffer edges
 -----------------
 :func:`draw_edges` draws many edges given in homogeneous raster space (see
-``ARCHITECTURE.md``). Per edge, once: drop non-finite input; clip before the divide against
-the near plane ``zh >= 0``, the far plane ``zh <= w`` and a guard band of ``+-GUARD_BAND``
-pixels (Liang-Barsky from a point inside, found by bisection when both ends are far away,
-so that even ends at 1e300 clip accurately); divide by ``w``. Per band of image rows: round
-the endpoints down
-to their pixels, find in closed form the Bresenham steps inside the band and step only
-those, so a segment costs its visible pixels however long it is. Each thread owns a band of
-rows, so no two threads write the same pixel, and since every per-pixel value is computed in
+``ARCHITECTURE.md``). Per vertex, once: classify it and, when it is inside the visible
+region, divide by ``w``. Per edge whose ends are not both inside: drop non-finite input;
+clip before the divide against the near plane ``zh >= 0``, the far plane ``zh <= w`` and a
+guard band of ``+-GUARD_BAND`` pixels (Liang-Barsky from a point inside, found by bisection
+when both ends are far away, so that even ends at 1e300 clip accurately); divide by ``w``.
+Per band of image rows: round the endpoints down to their pixels, find in closed form the
+Bresenham steps inside the band and step only those, so a segment costs its visible pixels
+however long it is (clipping a segment again in every band it crosses). Each thread owns a
+band of rows, so no two threads write the same pixel, and since every per-pixel value is computed in
 closed form the image does not depend on the number of bands or threads.
 """
 
@@ -40,6 +41,7 @@ import numpy as np
 from numba import prange
 
 from rasterkit._jit import kernel
+from rasterkit.kernels.clear import background_pattern, fill_bytes
 
 METHOD_BRESENHAM = 0
 METHOD_DDA = 1
@@ -59,8 +61,6 @@ the rounding error of a point clipped to them never changes the pixel the point 
 MAX_COORDINATE = 1e300
 """Largest homogeneous coordinate magnitude accepted; beyond it (and for NaN or inf) an edge
 is dropped, which keeps every product and difference of the clipping finite."""
-
-_EMPTY_ROWS = 1 << 62
 
 # Each bisection halves a segment at most 2 * MAX_COORDINATE long; after about 2100 halvings
 # floating point cannot split it further.
@@ -310,39 +310,86 @@ def _all_usable(values):
     return True
 
 
-@kernel(parallel=True)
-def _setup_edges(clip, edges):
-    """Per-edge setup, once for all bands.
+_VERTEX_CHUNKS = 16
+_ROWS_PER_BIN = 8
 
-    Returns ``(segments, rows, dropped)``: ``segments`` (E, 6) float64 rows
-    ``(x0, y0, z0, x1, y1, z1)`` in raster space (undefined for invisible edges), ``rows``
-    (E, 2) int64 a conservative range of image rows each edge can touch (empty for invisible
-    edges), ``dropped`` the number of
-    edges with an input coordinate that is NaN, infinite or beyond ``MAX_COORDINATE``.
+
+@kernel(parallel=True)
+def project_vertices(clip, proj, height):
+    """Vertex pass of :func:`draw_edges`: divide every vertex that needs no clipping, once.
+
+    ``proj[i]`` becomes ``(x, y, z, 1.0)`` (raster space, exactly as :func:`_project_edge`
+    computes an end that is inside) for a vertex inside the visible region with ``w > 0``;
+    ``(., ., ., 0.0)`` for a usable vertex outside it, whose edges are clipped one by one;
+    ``(., ., ., -1.0)`` for a vertex with a NaN, infinite or too large coordinate, whose
+    edges are dropped. A vertex is shared by several edges (three per vertex in a closed
+    triangle mesh), so this saves most of the per-edge work.
+
+    Returns the number of projected vertices in each ``_ROWS_PER_BIN`` rows of an image
+    ``height`` rows tall, a cheap estimate of where the drawing work lies.
     """
-    n_edges = edges.shape[0]
-    segments = np.empty((n_edges, 6), dtype=np.float64)
-    rows = np.empty((n_edges, 2), dtype=np.int64)
-    dropped = 0
-    for e in prange(n_edges):
-        rows[e, 0] = _EMPTY_ROWS
-        rows[e, 1] = -_EMPTY_ROWS
-        # Scalars, not row views: a view per edge costs an atomic refcount update, which
-        # serialises the threads on a shared cache line.
-        i, j = edges[e, 0], edges[e, 1]
-        p = (clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3])
-        q = (clip[j, 0], clip[j, 1], clip[j, 2], clip[j, 3])
-        if not _all_usable(p + q):
-            dropped += 1
+    n_bins = (height + _ROWS_PER_BIN - 1) // _ROWS_PER_BIN
+    counts = np.zeros((_VERTEX_CHUNKS, n_bins), np.int64)
+    n = clip.shape[0]
+    for ch in prange(_VERTEX_CHUNKS):
+        for i in range(n * ch // _VERTEX_CHUNKS, n * (ch + 1) // _VERTEX_CHUNKS):
+            p = (clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3])
+            if not _all_usable(p):
+                proj[i, 3] = -1.0
+            elif _outcode(p) != 0 or not p[3] > 0.0:
+                proj[i, 3] = 0.0
+            else:
+                inv = 1.0 / p[3]
+                y = _clamp(p[1] * inv, -GUARD_BAND, GUARD_BAND)
+                proj[i, 0] = _clamp(p[0] * inv, -GUARD_BAND, GUARD_BAND)
+                proj[i, 1] = y
+                proj[i, 2] = p[2] * inv
+                proj[i, 3] = 1.0
+                if 0.0 <= y < height:
+                    counts[ch, np.int64(y) // _ROWS_PER_BIN] += 1
+    return counts.sum(axis=0)
+
+
+@kernel
+def balanced_bands(counts, n_bands, height):
+    """Row boundaries ``(n_bands + 1,)`` splitting ``height`` rows into bands holding about
+    equal shares of ``counts`` (per ``_ROWS_PER_BIN`` rows; equal row counts when all are
+    zero). Band ``b`` is rows ``[bounds[b], bounds[b + 1])``, possibly empty."""
+    bounds = np.empty(n_bands + 1, np.int64)
+    total = counts.sum()
+    bounds[0] = 0
+    acc = 0
+    bin_ = 0
+    for b in range(1, n_bands):
+        if total == 0:
+            bounds[b] = b * height // n_bands
             continue
-        visible, x0, y0, z0, x1, y1, z1 = _project_edge(p, q)
-        if visible:
-            segments[e, 0], segments[e, 1], segments[e, 2] = x0, y0, z0
-            segments[e, 3], segments[e, 4], segments[e, 5] = x1, y1, z1
-            # Wu's two pixels and its end-column centres reach up to 2 rows beyond the ends.
-            rows[e, 0] = math.floor(min(y0, y1)) - 2
-            rows[e, 1] = math.floor(max(y0, y1)) + 2
-    return segments, rows, dropped
+        goal = total * b // n_bands
+        while bin_ < counts.size and acc + counts[bin_] <= goal:
+            acc += counts[bin_]
+            bin_ += 1
+        bounds[b] = min(max(bin_ * _ROWS_PER_BIN, bounds[b - 1]), height)
+    bounds[n_bands] = height
+    return bounds
+
+
+@kernel(inline="always")
+def _edge_segment(clip, proj, i, j):
+    """Edge ``i``-``j`` in raster space: ``(status, (x0, y0, z0, x1, y1, z1))``.
+
+    ``status`` is 1 for a segment to draw, 0 when nothing of it is visible and -1 when it
+    is dropped for a non-finite or too large coordinate. Both ends projected by
+    :func:`project_vertices` are taken as they are; otherwise the segment is clipped here.
+    """
+    fi, fj = proj[i, 3], proj[j, 3]
+    if fi > 0.0 and fj > 0.0:
+        return 1, (proj[i, 0], proj[i, 1], proj[i, 2], proj[j, 0], proj[j, 1], proj[j, 2])
+    if fi < 0.0 or fj < 0.0:
+        return -1, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    p = (clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3])
+    q = (clip[j, 0], clip[j, 1], clip[j, 2], clip[j, 3])
+    visible, x0, y0, z0, x1, y1, z1 = _project_edge(p, q)
+    return (1 if visible else 0), (x0, y0, z0, x1, y1, z1)
 
 
 # --- framebuffer edges: per-band drawing ----------------------------------------------------
@@ -385,12 +432,6 @@ def _blend(cflat, pix, channels, rgba, weight):
 
 
 @kernel(inline="always")
-def _segment(segments, e):
-    """Row ``e`` of ``segments`` as a 6-tuple (a row view would cost an atomic refcount)."""
-    return (segments[e, 0], segments[e, 1], segments[e, 2], segments[e, 3], segments[e, 4], segments[e, 5])
-
-
-@kernel(inline="always")
 def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
     """Draw one segment's integer line, restricted to rows ``[ylo, yhi]`` of the image."""
     xi0, yi0 = math.floor(seg[0]), math.floor(seg[1])
@@ -409,23 +450,56 @@ def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_te
     a = abs(dv)
     sv = 1 if dv >= 0 else -1
     c = _tie_offset(dv)
-    tlo, thi = _step_range(u0, v0, n, a, sv, c, ulo, uhi, vlo, vhi)
-    if tlo > thi:
-        return
-    k, r = _minor_steps(tlo, n, a, c)
+    if min(xi0, xi1) >= 0 and max(xi0, xi1) < width and min(yi0, yi1) >= ylo and max(yi0, yi1) <= yhi:
+        tlo, thi, k, r = 0, n, 0, n - c  # the whole line is in the band: the usual case
+    else:
+        tlo, thi = _step_range(u0, v0, n, a, sv, c, ulo, uhi, vlo, vhi)
+        if tlo > thi:
+            return
+        k, r = _minor_steps(tlo, n, a, c)
     pix = (u0 + tlo) * ustride + (v0 + sv * k) * vstride
-    du = u1f - u0f
-    gz = (z1 - z0) / du if du > 0.0 else 0.0
-    for t in range(tlo, thi + 1):
-        if not depth_test or _depth_at(u0 + t, u0f, du, z0, gz) - bias <= dflat[pix]:
-            base = pix * channels
-            for ch in range(channels):
-                cflat[base + ch] = rgba[ch]
-        r += 2 * a
-        if r >= 2 * n:
-            r -= 2 * n
-            pix += sv * vstride
-        pix += ustride
+    if depth_test:
+        du = u1f - u0f
+        gz = (z1 - z0) / du if du > 0.0 else 0.0
+        for t in range(tlo, thi + 1):
+            if _depth_at(u0 + t, u0f, du, z0, gz) - bias <= dflat[pix]:
+                _put(cflat, pix, channels, rgba)
+            r += 2 * a
+            step = r >= 2 * n
+            r -= 2 * n if step else 0
+            pix += ustride + (sv * vstride if step else 0)
+    elif channels == 3:
+        _steps_rgb(cflat, pix * 3, thi - tlo + 1, r, 2 * a, 2 * n, 3 * ustride, 3 * sv * vstride,
+                   rgba[0], rgba[1], rgba[2])
+    else:
+        for t in range(tlo, thi + 1):
+            _put(cflat, pix, channels, rgba)
+            r += 2 * a
+            step = r >= 2 * n
+            r -= 2 * n if step else 0
+            pix += ustride + (sv * vstride if step else 0)
+
+
+@kernel(inline="always")
+def _put(cflat, pix, channels, rgba):
+    base = pix * channels
+    for ch in range(channels):
+        cflat[base + ch] = rgba[ch]
+
+
+@kernel(inline="always")
+def _steps_rgb(cflat, byte, count, r, two_a, two_n, ubytes, vbytes, red, green, blue):
+    """The Bresenham loop of an RGB buffer without a depth test: ``count`` pixels from byte
+    offset ``byte``, the minor step taken branch-free (the branch would be mispredicted
+    on about every other pixel of a diagonal line)."""
+    for _ in range(count):
+        cflat[byte] = red
+        cflat[byte + 1] = green
+        cflat[byte + 2] = blue
+        r += two_a
+        step = r >= two_n
+        r -= two_n if step else 0
+        byte += ubytes + (vbytes if step else 0)
 
 
 @kernel(inline="always")
@@ -484,7 +558,7 @@ def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bia
                     _blend(cflat, pix, channels, rgba, coverage * weight)
 
 
-@kernel(parallel=True)
+@kernel
 def draw_edges(color, depth, clip, edges, rgba, mode, bias, n_bands):
     """Draw the edges of a mesh into a framebuffer.
 
@@ -534,21 +608,44 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias, n_bands):
     coordinate beyond ``MAX_COORDINATE`` are dropped and counted like NaN ones. The image
     must be smaller than ``GUARD_BAND`` on each side.
     """
+    proj = np.empty((clip.shape[0], 4))
+    return draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands,
+                              np.empty(0, np.uint8), proj)
+
+
+@kernel(parallel=True)
+def draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands, background, proj):
+    """:func:`draw_edges`, clearing the colour buffer first, with caller-owned scratch.
+
+    ``background`` (C,) uint8 is written to every pixel of a band by the thread that owns
+    the band, right before it draws the band's edges (nothing is cleared when it is
+    empty, (0,)). ``proj`` (N, 4) float64 is scratch for :func:`project_vertices`. Returns
+    the number of dropped edges, like :func:`draw_edges`.
+    """
     height, width, channels = color.shape
     depth_test = (mode & MODE_DEPTH_TEST) != 0
     antialias = (mode & MODE_ANTIALIAS) != 0
-    segments, rows, dropped = _setup_edges(clip, edges)
+    n_bands = min(height, n_bands)
+    bounds = balanced_bands(project_vertices(clip, proj, height), n_bands, height)
     cflat = color.reshape(color.size)
     dflat = depth.reshape(depth.size)
-    n_bands = min(height, n_bands)
+    dropped = np.zeros(n_bands, np.int64)
+    clear = background.size == channels
+    pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
     for band in prange(n_bands):
-        ylo = band * height // n_bands
-        yhi = (band + 1) * height // n_bands - 1
-        for e in range(segments.shape[0]):
-            if rows[e, 0] <= yhi and rows[e, 1] >= ylo:
-                seg = _segment(segments, e)
-                if antialias:
-                    _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
-                else:
-                    _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
-    return dropped
+        ylo, yhi = bounds[band], bounds[band + 1] - 1
+        if clear:
+            fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
+        for e in range(edges.shape[0]):
+            status, seg = _edge_segment(clip, proj, edges[e, 0], edges[e, 1])
+            if status <= 0:
+                dropped[band] += status < 0
+                continue
+            # Wu's two pixels and its end-column centres reach up to 2 rows beyond the ends.
+            if math.floor(min(seg[1], seg[4])) - 2 > yhi or math.floor(max(seg[1], seg[4])) + 2 < ylo:
+                continue
+            if antialias:
+                _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
+            else:
+                _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
+    return dropped[0]

@@ -166,6 +166,47 @@ def lambert(normals, base, light, points, positional, ambient, two_sided):
 
 
 @kernel(parallel=True)
+def flat_colors(positions, faces, base, light, ambient, two_sided):
+    """Per-face Lambert colours under a distant light, in one pass.
+
+    The same as :func:`face_normals` then :func:`lambert` (not positional), except that a
+    face whose normal is not finite (a NaN or infinite corner) gets the ambient term only,
+    like a degenerate face.
+
+    Parameters
+    ----------
+    positions : (N, 3) float64
+    faces : (M, 3) int64
+    base : (B, 3) float32
+        Colour(s) 0..255: one per face (``B == M``) or one for all (``B == 1``).
+    light : (3,) float64
+        Unit direction towards the light.
+    ambient : float
+    two_sided : bool
+
+    Returns
+    -------
+    (M, 3) float32
+    """
+    m = faces.shape[0]
+    out = np.empty((m, 3), np.float32)
+    single = base.shape[0] == 1
+    lx, ly, lz = light[0], light[1], light[2]
+    for f in prange(m):
+        nx, ny, nz = _face_cross(positions, faces, f)
+        length = np.sqrt(nx * nx + ny * ny + nz * nz)
+        cos = (nx * lx + ny * ly + nz * lz) / length
+        if not np.isfinite(cos):  # degenerate (0 / 0) or a non-finite corner
+            cos = 0.0
+        cos = abs(cos) if two_sided else max(cos, 0.0)
+        intensity = ambient + (1.0 - ambient) * cos
+        src = 0 if single else np.int64(f)
+        for c in range(3):
+            out[f, c] = base[src, c] * intensity
+    return out
+
+
+@kernel(parallel=True)
 def bary_matrices(clip, faces):
     """Per face, the rows that turn a pixel into perspective-correct barycentrics.
 
