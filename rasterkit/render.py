@@ -219,5 +219,7 @@ def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options
     background = np.ascontiguousarray(fb.background[:channels]) if clear else np.empty(0, np.uint8)
     depth = fb.depth if depth_test else np.empty((0, 0), np.float32)
     proj = _memory.take((clip.shape[0], 4), np.float64)
+    recs = _memory.take((len(mesh.edges) if mode == line_kernels.MODE_PLAIN else 0,
+                         line_kernels.REC_FIELDS), np.int32)
     line_kernels.draw_edges_cleared(fb.color, depth, clip, mesh.edges, rgba, mode, LINE_DEPTH_BIAS,
-                                    numba.get_num_threads(), background, proj)
+                                    numba.get_num_threads(), background, proj, recs)

@@ -609,24 +609,99 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias, n_bands):
     must be smaller than ``GUARD_BAND`` on each side.
     """
     proj = np.empty((clip.shape[0], 4))
+    plain = (mode & (MODE_DEPTH_TEST | MODE_ANTIALIAS)) == 0
+    recs = np.empty((edges.shape[0] if plain else 0, REC_FIELDS), np.int32)
     return draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands,
-                              np.empty(0, np.uint8), proj)
+                              np.empty(0, np.uint8), proj, recs)
+
+
+#: Columns of the per-edge records of :func:`plain_setup`.
+_REC_PIX, _REC_N, _REC_R, _REC_A2, _REC_N2, _REC_CODE, _REC_JLO, _REC_JHI = range(8)
+REC_FIELDS = 8
 
 
 @kernel(parallel=True)
-def draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands, background, proj):
+def plain_setup(proj, edges, width, height, recs):
+    """Per-edge Bresenham setup of plain (no depth test, no anti-aliasing) edges, once.
+
+    For an edge whose ends were both projected by :func:`project_vertices` and whose
+    integer line lies inside the image, ``recs[e]`` (int32) gets the loop state that
+    :func:`_draw_bresenham` would start from: first pixel index, ``n``, error term ``r``,
+    ``2a``, ``2n``, a code (bit 0: steep, bit 1: minor steps go negative) and the rows
+    ``jlo <= jhi`` the line spans. Other edges get ``jlo = -1`` and are drawn by the
+    general path. Written without branches, so the loop is mostly arithmetic.
+    """
+    for e in prange(edges.shape[0]):
+        i, j = edges[e, 0], edges[e, 1]
+        x0f, y0f, x1f, y1f = proj[i, 0], proj[i, 1], proj[j, 0], proj[j, 1]
+        xi0, yi0 = np.int64(math.floor(x0f)), np.int64(math.floor(y0f))
+        xi1, yi1 = np.int64(math.floor(x1f)), np.int64(math.floor(y1f))
+        # 0/1 integers and products instead of if/else: edge directions are random, so
+        # branches on them would be mispredicted half the time.
+        ok = np.int64(proj[i, 3] > 0.0) & np.int64(proj[j, 3] > 0.0)
+        ok &= np.int64(min(xi0, xi1) >= 0) & np.int64(max(xi0, xi1) < width)
+        ok &= np.int64(min(yi0, yi1) >= 0) & np.int64(max(yi0, yi1) < height)
+        dx, dy = xi1 - xi0, yi1 - yi0
+        steep = np.int64(abs(dy) > abs(dx))
+        flat = 1 - steep
+        # As _draw_bresenham: step towards the larger major coordinate, decided on the
+        # real ends.
+        swap = steep * np.int64(y1f < y0f) + flat * np.int64(x1f < x0f)
+        sign = 1 - 2 * swap
+        n = sign * (steep * dy + flat * dx)
+        dv = sign * (steep * dx + flat * dy)
+        recs[e, _REC_PIX] = (yi0 + swap * dy) * width + xi0 + swap * dx
+        recs[e, _REC_N] = n
+        recs[e, _REC_R] = n - np.int64(dv <= 0)  # _tie_offset
+        recs[e, _REC_A2] = 2 * abs(dv)
+        recs[e, _REC_N2] = 2 * n
+        recs[e, _REC_CODE] = steep | (np.int64(dv < 0) << 1)
+        recs[e, _REC_JLO] = ok * (min(yi0, yi1) + 1) - 1
+        recs[e, _REC_JHI] = max(yi0, yi1)
+
+
+@kernel(inline="always")
+def _draw_record(cflat, width, channels, rgba, recs, e):
+    """Step the Bresenham line of record ``e`` of :func:`plain_setup`."""
+    code = np.int64(recs[e, _REC_CODE])
+    steep = code & 1
+    sv = 1 - (code & 2)
+    ustride = 1 + steep * (width - 1)
+    vstride = sv * (width - steep * (width - 1))
+    pix = np.int64(recs[e, _REC_PIX])
+    count = np.int64(recs[e, _REC_N]) + 1
+    r, two_a, two_n = np.int64(recs[e, _REC_R]), np.int64(recs[e, _REC_A2]), np.int64(recs[e, _REC_N2])
+    if channels == 3:
+        _steps_rgb(cflat, pix * 3, count, r, two_a, two_n, 3 * ustride, 3 * vstride,
+                   rgba[0], rgba[1], rgba[2])
+        return
+    for _ in range(count):
+        _put(cflat, pix, channels, rgba)
+        r += two_a
+        step = r >= two_n
+        r -= two_n if step else 0
+        pix += ustride + (vstride if step else 0)
+
+
+@kernel(parallel=True)
+def draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands, background, proj, recs):
     """:func:`draw_edges`, clearing the colour buffer first, with caller-owned scratch.
 
     ``background`` (C,) uint8 is written to every pixel of a band by the thread that owns
     the band, right before it draws the band's edges (nothing is cleared when it is
-    empty, (0,)). ``proj`` (N, 4) float64 is scratch for :func:`project_vertices`. Returns
-    the number of dropped edges, like :func:`draw_edges`.
+    empty, (0,)). ``proj`` (N, 4) float64 is scratch for :func:`project_vertices`;
+    ``recs`` (E, REC_FIELDS) int32 is scratch for :func:`plain_setup` in plain mode
+    (ignored otherwise, and may then have no rows). Returns the number of dropped edges,
+    like :func:`draw_edges`.
     """
     height, width, channels = color.shape
     depth_test = (mode & MODE_DEPTH_TEST) != 0
     antialias = (mode & MODE_ANTIALIAS) != 0
+    plain = not depth_test and not antialias
     n_bands = min(height, n_bands)
     bounds = balanced_bands(project_vertices(clip, proj, height), n_bands, height)
+    if plain:
+        plain_setup(proj, edges, width, height, recs)
     cflat = color.reshape(color.size)
     dflat = depth.reshape(depth.size)
     dropped = np.zeros(n_bands, np.int64)
@@ -637,6 +712,15 @@ def draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands, bac
         if clear:
             fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
         for e in range(edges.shape[0]):
+            if plain:
+                jlo = recs[e, _REC_JLO]
+                if jlo >= 0:
+                    jhi = recs[e, _REC_JHI]
+                    if jhi < ylo or jlo > yhi:
+                        continue
+                    if jlo >= ylo and jhi <= yhi:
+                        _draw_record(cflat, width, channels, rgba, recs, e)
+                        continue
             status, seg = _edge_segment(clip, proj, edges[e, 0], edges[e, 1])
             if status <= 0:
                 dropped[band] += status < 0
