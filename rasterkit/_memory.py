@@ -21,7 +21,7 @@ import threading
 
 import numpy as np
 
-__all__ = ["take", "idle_bytes", "release", "ENABLED"]
+__all__ = ["ENABLED", "idle_bytes", "release", "take"]
 
 MAX_IDLE_BYTES = 256 * 2**20
 """Idle blocks beyond this total are let go (the oldest first)."""

@@ -14,9 +14,9 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from . import _memory
 from .camera import Camera
 from .colors import ColorLike, parse_color
-from . import _memory
 from .framebuffer import Framebuffer
 from .kernels import line as line_kernels
 from .kernels import shade as shade_kernels
@@ -25,7 +25,7 @@ from .mesh import Mesh
 from .scene import Scene
 from .triangles import rasterize_triangles
 
-__all__ = ["render", "MODES", "LINE_DEPTH_BIAS", "POLYGON_OFFSET"]
+__all__ = ["LINE_DEPTH_BIAS", "MODES", "POLYGON_OFFSET", "render"]
 
 MODES = ("wire", "hidden", "solid", "solid+wire")
 CULL = ("back", "front", "none")
@@ -160,7 +160,8 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
 
 
 def _shade(mesh: Mesh, options: _Options):
-    """Lambert colours (0..255 float32) lit by a distant light: per face or per vertex.
+    """Lambert colours lit by a distant light: per face (packed RGBA uint32) or per vertex
+    ((N, 3) float32 0..255).
 
     The light has one direction for every face, so the triangles of one flat polygon get one
     colour.
@@ -168,9 +169,15 @@ def _shade(mesh: Mesh, options: _Options):
     two_sided = options.cull == "none"
     towards_light = options.light
     if options.shading == "flat":
-        base = _base_colors(mesh, options, per_face=True)
-        return shade_kernels.flat_colors(mesh.vertices, mesh.faces, base, towards_light, AMBIENT,
-                                         two_sided), None
+        if mesh.face_colors is not None:
+            base, scale = mesh.face_colors, np.float32(255)
+        elif mesh.vertex_colors is not None:
+            base, scale = _base_colors(mesh, options, per_face=True), np.float32(1)
+        else:
+            base, scale = options.color[None, :3].astype(np.float32), np.float32(1)
+        packed = shade_kernels.flat_packed(mesh.vertices, mesh.faces, base, scale, towards_light,
+                                           AMBIENT, two_sided)
+        return packed, None
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
     # normals too, so they cannot spoil their neighbours' vertex normals.
     faces = mesh.faces

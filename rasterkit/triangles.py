@@ -158,6 +158,11 @@ def _shading(color, face_colors, vertex_colors, faces, clip):
         return SHADE_SMOOTH, np.zeros((0, 3), np.float32), vertex_colors
     if face_colors is None:
         raise ValueError("color needs face_colors or vertex_colors (or pass color=None for depth only)")
+    if isinstance(face_colors, np.ndarray) and face_colors.dtype == np.uint32:
+        _check_array("face_colors", face_colors, np.uint32, 1)
+        if face_colors.shape != (faces.shape[0],):
+            raise ValueError(f"packed face_colors must have shape ({faces.shape[0]},), got {face_colors.shape}")
+        return SHADE_FLAT, face_colors, np.zeros((0, 3), np.float32)
     _check_colors("face_colors", face_colors, faces.shape[0], "face")
     return SHADE_FLAT, face_colors, np.zeros((0, 3), np.float32)
 
@@ -217,8 +222,10 @@ def rasterize_triangles(
         Faces using a NaN or infinite vertex are dropped (and counted).
     faces : (M, 3) int64
         Vertex indices, counter-clockwise seen from the front (right-handed world).
-    face_colors : (M, 3) float32, optional
-        Flat shading: RGB 0..255 per face (rounded, clamped to 0..255).
+    face_colors : (M, 3) float32 or (M,) uint32, optional
+        Flat shading: RGB 0..255 per face (rounded, clamped to 0..255), or packed opaque
+        RGBA per face, R in the low byte (``R | G << 8 | B << 16 | A << 24``; A is written
+        only to an RGBA buffer).
     vertex_colors : (N, 3) float32, optional
         Smooth (Gouraud) shading: RGB 0..255 per vertex, interpolated perspective-correctly.
         Exactly one of ``face_colors`` and ``vertex_colors`` is needed when ``color`` is
@@ -398,7 +405,10 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
     band_start, items, n_records = bin_records(m, n_fan, fan_start, records[2], band_counts)
     if offset != (0.0, 0.0):
         offset_depths(*records, records[0].shape[0], *offset)
-    packed = pack_colors(face_colors) if mode == SHADE_FLAT else np.empty(0, np.uint32)
+    if mode != SHADE_FLAT:
+        packed = np.empty(0, np.uint32)
+    else:
+        packed = face_colors if face_colors.dtype == np.uint32 else pack_colors(face_colors)
     bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
     shading = (mode, m, fan_face, packed, vertex_colors, faces, bary)
     color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)

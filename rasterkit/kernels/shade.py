@@ -166,19 +166,21 @@ def lambert(normals, base, light, points, positional, ambient, two_sided):
 
 
 @kernel(parallel=True)
-def flat_colors(positions, faces, base, light, ambient, two_sided):
-    """Per-face Lambert colours under a distant light, in one pass.
+def flat_packed(positions, faces, base, scale, light, ambient, two_sided):
+    """Per-face Lambert colours under a distant light, packed, in one pass.
 
-    The same as :func:`face_normals` then :func:`lambert` (not positional), except that a
-    face whose normal is not finite (a NaN or infinite corner) gets the ambient term only,
-    like a degenerate face.
+    The same as :func:`face_normals`, :func:`lambert` (not positional) on ``base * scale``
+    and :func:`pack_colors`, to the bit, except that a face whose normal is not finite (a
+    NaN or infinite corner) gets the ambient term only, like a degenerate face.
 
     Parameters
     ----------
     positions : (N, 3) float64
     faces : (M, 3) int64
     base : (B, 3) float32
-        Colour(s) 0..255: one per face (``B == M``) or one for all (``B == 1``).
+        Colour(s), one per face (``B == M``) or one for all (``B == 1``), in units that
+        ``scale`` turns into 0..255 (255 for colours in [0, 1]).
+    scale : float32
     light : (3,) float64
         Unit direction towards the light.
     ambient : float
@@ -186,10 +188,11 @@ def flat_colors(positions, faces, base, light, ambient, two_sided):
 
     Returns
     -------
-    (M, 3) float32
+    (M,) uint32
+        Opaque RGBA, R in the low byte (as :func:`pack_colors`).
     """
     m = faces.shape[0]
-    out = np.empty((m, 3), np.float32)
+    out = np.empty(m, np.uint32)
     single = base.shape[0] == 1
     lx, ly, lz = light[0], light[1], light[2]
     for f in prange(m):
@@ -201,8 +204,10 @@ def flat_colors(positions, faces, base, light, ambient, two_sided):
         cos = abs(cos) if two_sided else max(cos, 0.0)
         intensity = ambient + (1.0 - ambient) * cos
         src = 0 if single else np.int64(f)
-        for c in range(3):
-            out[f, c] = base[src, c] * intensity
+        red = to_u8(np.float32(np.float32(base[src, 0] * scale) * intensity))
+        green = to_u8(np.float32(np.float32(base[src, 1] * scale) * intensity))
+        blue = to_u8(np.float32(np.float32(base[src, 2] * scale) * intensity))
+        out[f] = np.uint32(red | green << 8 | blue << 16 | 255 << 24)
     return out
 
 

@@ -1,0 +1,142 @@
+"""Recycled framebuffer memory, the lazy depth buffer, and the fast paths added for speed,
+each against the slower path it replaces (bit for bit) or a hand-made expectation."""
+
+import numpy as np
+import pytest
+
+import rasterkit
+from rasterkit import Camera, _memory, shapes
+from rasterkit.framebuffer import Framebuffer
+from rasterkit.kernels import line as line_kernels
+from rasterkit.kernels.shade import face_normals, flat_packed, lambert, pack_colors
+from rasterkit.triangles import rasterize_triangles
+
+BIG = (1024, 512)  # 2 MiB of RGBA: above _memory.MIN_BYTES, so recycled
+
+
+def test_a_block_is_reused_only_when_nothing_refers_to_it():
+    first = _memory.take(BIG, np.uint32)
+    address = first.__array_interface__["data"][0]
+    view = first[10:20]
+    del first
+    second = _memory.take(BIG, np.uint32)  # the first block is still held by `view`
+    assert second.__array_interface__["data"][0] != address
+    view[:] = 7
+    assert not np.shares_memory(view, second)
+    del view
+    third = _memory.take(BIG, np.uint32)  # now the first block is idle
+    assert third.__array_interface__["data"][0] == address
+    assert not np.shares_memory(second, third)
+
+
+def test_small_requests_and_idle_memory_are_bounded():
+    small = _memory.take((10, 10), np.float64)
+    assert small.base is None  # plain allocation
+    blocks = [_memory.take(BIG, np.uint32) for _ in range(3)]
+    del blocks
+    assert 0 < _memory.idle_bytes() <= _memory.MAX_IDLE_BYTES
+    _memory.release()
+    assert _memory.idle_bytes() == 0
+
+
+def test_framebuffers_never_share_memory_while_alive():
+    frames = [Framebuffer(640, 480, background="red") for _ in range(3)]
+    for a in frames:
+        for b in frames:
+            if a is not b:
+                assert not np.shares_memory(a.color, b.color)
+                assert not np.shares_memory(a.depth, b.depth)
+    kept = frames[0].color
+    frames = None
+    again = Framebuffer(640, 480, background="blue")
+    assert np.all(kept == [255, 0, 0]) and np.all(again.color == [0, 0, 255])
+
+
+def test_depth_is_made_on_first_use_and_is_farthest():
+    mesh = shapes.cube()
+    camera = Camera.frame(*mesh.bounding_sphere(), width=40, height=30)
+    fb = rasterkit.render(mesh, camera, mode="wire")
+    assert fb._depth is None  # a wireframe never needs it
+    assert fb.depth.shape == (30, 40) and np.all(np.isposinf(fb.depth))
+    fb.depth[3, 4] = 0.5
+    assert fb.depth[3, 4] == 0.5  # the same array from then on
+    fb.clear()
+    assert np.all(np.isposinf(fb.depth))
+    with pytest.raises(ValueError):
+        fb.depth = np.zeros((2, 2), np.float32)
+
+
+@pytest.mark.parametrize("width", [1, 7, 13, 64, 97])
+@pytest.mark.parametrize("background", [(1, 2, 3), (9, 8, 7, 6)])
+def test_wire_render_clears_every_pixel_to_an_uneven_background(width, background):
+    mesh = shapes.tetrahedron()
+    camera = Camera.frame(*mesh.bounding_sphere(), width=width, height=11)
+    for _ in range(2):  # the second frame reuses the first one's memory
+        fb = rasterkit.render(mesh, camera, mode="wire", background=background, line_color=(200, 201, 202))
+        line = np.all(fb.color[..., :3] == [200, 201, 202], axis=2)
+        assert np.all(fb.color[~line] == background[: fb.color.shape[2]])
+        fb.color[...] = 77
+
+
+def test_flat_packed_equals_normals_lambert_and_pack():
+    rng = np.random.default_rng(5)
+    positions = rng.normal(size=(60, 3))
+    faces = rng.integers(0, 60, size=(200, 3))
+    faces[:5, 1] = faces[:5, 0]  # degenerate faces: ambient only
+    base = rng.uniform(0, 1, size=(200, 3)).astype(np.float32)
+    light = np.array([0.48, -0.6, 0.64])
+    for two_sided in (False, True):
+        for colours in (base, base[:1]):
+            expected = pack_colors(lambert(face_normals(positions, faces), colours * np.float32(255), light,
+                                           np.zeros((0, 3)), False, 0.25, two_sided))
+            got = flat_packed(positions, faces, colours, np.float32(255), light, 0.25, two_sided)
+            np.testing.assert_array_equal(got, expected)
+    positions[faces[7, 2]] = np.nan  # a NaN corner: ambient only, like a degenerate face
+    got = flat_packed(positions, faces, base, np.float32(255), light, 0.25, False)
+    ambient = pack_colors(base[[0, 7]] * np.float32(255) * np.float32(0.25))
+    assert got[7] == ambient[1] and got[0] == ambient[0]
+
+
+def test_rasterize_triangles_takes_packed_face_colours():
+    clip = np.array([[1, 1, 0.5, 1], [9, 1, 0.5, 1], [1, 7, 0.5, 1]], np.float64)
+    faces = np.array([[0, 2, 1]], np.int64)  # counter-clockwise on screen (y down)
+    as_floats = np.zeros((8, 10, 3), np.uint8)
+    as_packed = np.zeros((8, 10, 3), np.uint8)
+    depth = np.full((8, 10), np.inf, np.float32)
+    rasterize_triangles(as_floats, depth.copy(), clip, faces, face_colors=np.array([[10, 20, 30]], np.float32), cull="none")
+    packed = np.array([10 | 20 << 8 | 30 << 16 | 255 << 24], np.uint32)
+    rasterize_triangles(as_packed, depth.copy(), clip, faces, face_colors=packed, cull="none")
+    assert as_floats.any() and np.array_equal(as_floats, as_packed)
+    with pytest.raises(ValueError):
+        rasterize_triangles(as_packed, depth.copy(), clip, faces, face_colors=np.zeros(2, np.uint32))
+
+
+def test_balanced_bands_cover_every_row_once_and_follow_the_work():
+    counts = np.zeros(100, np.int64)
+    counts[80:90] = 1000  # all the work in rows 640..719
+    bounds = line_kernels.balanced_bands(counts, 4, 800)
+    assert bounds[0] == 0 and bounds[-1] == 800 and np.all(np.diff(bounds) >= 0)
+    assert 640 <= bounds[1] <= bounds[2] <= bounds[3] <= 720
+    even = line_kernels.balanced_bands(np.zeros(10, np.int64), 3, 75)
+    assert even.tolist() == [0, 25, 50, 75]
+
+
+def test_plain_setup_records_match_the_general_path_on_random_edges():
+    """The per-edge records of the plain fast path draw exactly what the general path draws."""
+    rng = np.random.default_rng(17)
+    height, width = 60, 80
+    clip = np.empty((400, 4))
+    clip[:, 3] = rng.uniform(0.5, 2.0, 400)
+    clip[:, 0] = rng.uniform(-10, 90, 400) * clip[:, 3]
+    clip[:, 1] = rng.uniform(-10, 70, 400) * clip[:, 3]
+    clip[:, 2] = rng.uniform(0.0, 1.0, 400) * clip[:, 3]
+    edges = rng.integers(0, 400, size=(1500, 2))
+    rgba = np.array([255, 255, 255], np.uint8)
+    fast = np.zeros((height, width, 3), np.uint8)
+    line_kernels.draw_edges(fast, np.empty((0, 0), np.float32), clip, edges, rgba, line_kernels.MODE_PLAIN, 0.0, 3)
+    # The depth-test mode takes the general path for every edge; an infinitely far depth
+    # buffer lets every pixel through.
+    general = np.zeros((height, width, 3), np.uint8)
+    far = np.full((height, width), np.inf, np.float32)
+    line_kernels.draw_edges(general, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, 0.0, 3)
+    assert fast.any() and np.array_equal(fast, general)
