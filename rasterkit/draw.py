@@ -12,6 +12,7 @@ import numbers
 import numba
 import numpy as np
 
+from rasterkit import _memory
 from rasterkit.kernels import line as _line
 from rasterkit.kernels import triangle as _triangle
 from rasterkit.kernels.clip import GUARD_BAND as _TRIANGLE_LIMIT
@@ -173,8 +174,10 @@ def lines(image: np.ndarray, segments, color=(0, 0, 0), aa: bool = False) -> np.
     edges = np.arange(2 * count, dtype=np.int64).reshape(count, 2)
     rgba = np.ascontiguousarray(parse_color(color)[: image.shape[2]])
     mode = _line.MODE_ANTIALIAS if aa else _line.MODE_PLAIN
-    _line.draw_edges(image, np.empty((0, 0), np.float32), points, edges, rgba, mode, 0.0,
-                     numba.get_num_threads())
+    proj = _memory.take((len(points), 4), np.float64)
+    recs = _memory.take((count if mode == _line.MODE_PLAIN else 0, _line.REC_FIELDS), np.int32)
+    _line.draw_edges_cleared(image, np.empty((0, 0), np.float32), points, edges, rgba, mode, 0.0,
+                             numba.get_num_threads(), np.empty(0, np.uint8), proj, recs)
     return image
 
 _TRIANGLE_MAX_BOX = 2**26  # pixels in the bounding box: keeps the result under 1 GiB
