@@ -41,7 +41,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--quick", action="store_true", help="a small version (well under a minute)")
     parser.add_argument("--targets", action="store_true",
                         help="only the rasterization targets: 3 models at 1920x1080, the fill "
-                             "scene and 2 threads vs 1 (about two minutes; families render,fill,threads)")
+                             "scene and 2 threads vs 1 (about ten seconds; families render,fill,threads)")
     parser.add_argument("--tiny", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--out", type=Path, default=Path("benchmark-results"),
                         help="folder for results.json, results.md and the plots "

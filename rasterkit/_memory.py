@@ -51,6 +51,11 @@ _IDLE_REFS = _calibrate()
 ENABLED = _IDLE_REFS is not None
 
 
+def _idle(i: int) -> bool:
+    """Whether nothing but this module refers to block ``i``."""
+    return _refs(_blocks, i) == _IDLE_REFS
+
+
 def take(shape, dtype) -> np.ndarray:
     """An uninitialised C-contiguous array, on a recycled block when one is idle."""
     dtype = np.dtype(dtype)
@@ -61,7 +66,7 @@ def take(shape, dtype) -> np.ndarray:
     with _lock:
         block = None
         for i in range(len(_blocks) - 1, -1, -1):
-            if _blocks[i].size == nbytes and _refs(_blocks, i) == _IDLE_REFS:
+            if _blocks[i].size == nbytes and _idle(i):
                 block = _blocks.pop(i)
                 break
         if block is None:
@@ -73,20 +78,22 @@ def take(shape, dtype) -> np.ndarray:
 
 
 def _trim():
-    idle = [i for i in range(len(_blocks)) if _refs(_blocks, i) == _IDLE_REFS]
-    total = sum(_blocks[i].size for i in idle)
+    """Forget the oldest idle blocks while the idle ones hold more than MAX_IDLE_BYTES."""
+    idle = [i for i in range(len(_blocks)) if _idle(i)]
+    excess = sum(_blocks[i].size for i in idle) - MAX_IDLE_BYTES
+    dropped = set()
     for i in idle:  # oldest first
-        if total <= MAX_IDLE_BYTES:
+        if excess <= 0:
             break
-        total -= _blocks[i].size
-        _blocks[i] = None
-    _blocks[:] = [b for b in _blocks if b is not None]
+        excess -= _blocks[i].size
+        dropped.add(i)
+    _blocks[:] = [b for i, b in enumerate(_blocks) if i not in dropped]
 
 
 def idle_bytes() -> int:
     """Bytes held in blocks that nothing uses (ready to be handed out again)."""
     with _lock:
-        return sum(_blocks[i].size for i in range(len(_blocks)) if _refs(_blocks, i) == _IDLE_REFS)
+        return sum(_blocks[i].size for i in range(len(_blocks)) if _idle(i))
 
 
 def release() -> None:

@@ -174,11 +174,19 @@ def lines(image: np.ndarray, segments, color=(0, 0, 0), aa: bool = False) -> np.
     edges = np.arange(2 * count, dtype=np.int64).reshape(count, 2)
     rgba = np.ascontiguousarray(parse_color(color)[: image.shape[2]])
     mode = _line.MODE_ANTIALIAS if aa else _line.MODE_PLAIN
-    proj = _memory.take((len(points), 4), np.float64)
-    recs = _memory.take((count if mode == _line.MODE_PLAIN else 0, _line.REC_FIELDS), np.int32)
-    _line.draw_edges_cleared(image, np.empty((0, 0), np.float32), points, edges, rgba, mode, 0.0,
-                             numba.get_num_threads(), np.empty(0, np.uint8), proj, recs)
+    draw_edges_into(image, np.empty((0, 0), np.float32), points, edges, rgba, mode)
     return image
+
+
+def draw_edges_into(color, depth, clip, edges, rgba, mode, bias=0.0, background=None) -> int:
+    """:func:`rasterkit.kernels.line.draw_edges_cleared` with recycled scratch memory, on all
+    threads; the caller has validated the inputs (``edges`` index ``clip``'s rows).
+    ``background`` (C,) uint8 clears the colour buffer first. Returns the dropped edges."""
+    proj = _memory.take((len(clip), 4), np.float64)
+    recs = _memory.take((len(edges) if mode == _line.MODE_PLAIN else 0, _line.REC_FIELDS), np.int32)
+    background = np.empty(0, np.uint8) if background is None else background
+    return _line.draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, numba.get_num_threads(),
+                                    background, proj, recs)
 
 _TRIANGLE_MAX_BOX = 2**26  # pixels in the bounding box: keeps the result under 1 GiB
 

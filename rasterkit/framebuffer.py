@@ -29,8 +29,9 @@ class Framebuffer:
     ids : bool
         Also keep a primitive-id buffer.
     cleared : bool
-        False leaves the buffers uninitialised, for a renderer that clears them itself
-        (faster, in parallel); :meth:`clear` does it in NumPy.
+        False leaves the colour and id buffers uninitialised, for a renderer that clears
+        them itself (faster, in parallel); :meth:`clear` does it in NumPy. The depth buffer
+        is made on first use either way (by renderers through ``_uncleared_depth``).
 
     Attributes
     ----------
@@ -58,21 +59,15 @@ class Framebuffer:
         alpha = bool(alpha) or self.background[3] < 255
         self.width, self.height = int(width), int(height)
         self.color = _memory.take((self.height, self.width, 4 if alpha else 3), np.uint8)
-        self._depth = None  # None: not made yet, all farthest
+        self._depth = None  # not made yet: all farthest
         self.ids = _memory.take((self.height, self.width), np.int32) if ids else None
         if cleared:
             self.clear()
-        else:
-            self._depth = self._new_depth()
-
-    def _new_depth(self) -> np.ndarray:
-        return _memory.take((self.height, self.width), np.float32)
 
     @property
     def depth(self) -> np.ndarray:
         if self._depth is None:
-            self._depth = self._new_depth()
-            self._depth.fill(FARTHEST)
+            self._uncleared_depth().fill(FARTHEST)
         return self._depth
 
     @depth.setter
@@ -82,9 +77,12 @@ class Framebuffer:
             raise ValueError(f"depth must be a ({self.height}, {self.width}) float32 array")
         self._depth = value
 
-    def _clear_depth_lazily(self) -> None:
-        """Depth back to "farthest" without touching memory (for colour-only renderers)."""
-        self._depth = None
+    def _uncleared_depth(self) -> np.ndarray:
+        """The depth buffer for a renderer that clears it itself: made uninitialised when it
+        does not exist yet (reading :attr:`depth` would first fill it with +inf)."""
+        if self._depth is None:
+            self._depth = _memory.take((self.height, self.width), np.float32)
+        return self._depth
 
     @property
     def alpha(self) -> bool:

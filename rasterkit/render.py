@@ -11,19 +11,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
-from . import _memory
 from .camera import Camera
 from .colors import ColorLike, parse_color
+from .draw import draw_edges_into
 from .framebuffer import Framebuffer
 from .kernels import line as line_kernels
 from .kernels import shade as shade_kernels
 from .kernels.vertex import transform_points
 from .mesh import Mesh
 from .scene import Scene
-from .triangles import rasterize_triangles
+from .triangles import _indices_in_range, rasterize_triangles
 
 __all__ = ["LINE_DEPTH_BIAS", "MODES", "POLYGON_OFFSET", "render"]
 
@@ -132,8 +131,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     # Every buffer is cleared by the kernels, band by band in the threads that draw it.
     fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
     clip = transform_points(mesh.vertices, np.ascontiguousarray(camera.matrix()))
-    if options.mode == "wire":
-        fb._clear_depth_lazily()  # never read: left "farthest" until someone asks for it
+    if options.mode == "wire":  # no depth buffer: it stays "farthest" until someone asks
         if fb.ids is not None:
             fb.ids.fill(-1)
     else:
@@ -149,12 +147,12 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
     """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer."""
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     if options.mode == "hidden":  # the colour buffer is cleared by the edge pass
-        rasterize_triangles(None, fb.depth, clip, mesh.faces, ids=fb.ids, cull=options.cull,
-                            clear=(), depth_offset=offset)
+        rasterize_triangles(None, fb._uncleared_depth(), clip, mesh.faces, ids=fb.ids,
+                            cull=options.cull, clear=(), depth_offset=offset)
         return
     face_colors, vertex_colors = _shade(mesh, options)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
-    rasterize_triangles(fb.color, fb.depth, clip, mesh.faces, face_colors=face_colors,
+    rasterize_triangles(fb.color, fb._uncleared_depth(), clip, mesh.faces, face_colors=face_colors,
                         vertex_colors=vertex_colors, ids=fb.ids, cull=options.cull,
                         clear=background, depth_offset=offset)
 
@@ -169,12 +167,10 @@ def _shade(mesh: Mesh, options: _Options):
     two_sided = options.cull == "none"
     towards_light = options.light
     if options.shading == "flat":
-        if mesh.face_colors is not None:
+        if mesh.face_colors is not None:  # scaled in the kernel: no (M, 3) product per frame
             base, scale = mesh.face_colors, np.float32(255)
-        elif mesh.vertex_colors is not None:
-            base, scale = _base_colors(mesh, options, per_face=True), np.float32(1)
         else:
-            base, scale = options.color[None, :3].astype(np.float32), np.float32(1)
+            base, scale = _base_colors(mesh, options, per_face=True), np.float32(1)
         packed = shade_kernels.flat_packed(mesh.vertices, mesh.faces, base, scale, towards_light,
                                            AMBIENT, two_sided)
         return packed, None
@@ -205,9 +201,8 @@ def _lambert(normals, base, light, two_sided):
 
 
 def _base_colors(mesh: Mesh, options: _Options, per_face: bool):
-    """Surface colours 0..255 float32: the mesh's own (per face or vertex) or ``color``."""
-    if per_face and mesh.face_colors is not None:
-        return mesh.face_colors * np.float32(255)
+    """Surface colours 0..255 float32: the mesh's vertex colours (averaged over each face
+    when ``per_face``) or ``color``. (Face colours are scaled by the flat-shading kernel.)"""
     if mesh.vertex_colors is not None:
         rgb = mesh.vertex_colors * np.float32(255)
         return np.ascontiguousarray(rgb[mesh.faces].mean(axis=1, dtype=np.float32)) if per_face else rgb
@@ -221,12 +216,12 @@ def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options
         mode |= line_kernels.MODE_DEPTH_TEST
     if options.aa:
         mode |= line_kernels.MODE_ANTIALIAS
+    # Mesh checked its edges when it was made, but its arrays can be changed in place since:
+    # the kernel must never index outside clip.
+    if len(mesh.edges) and not _indices_in_range(mesh.edges, len(clip)):
+        raise ValueError(f"mesh edges must index vertices 0..{len(clip) - 1}")
     channels = fb.color.shape[2]
     rgba = np.ascontiguousarray(options.line_color[:channels])
-    background = np.ascontiguousarray(fb.background[:channels]) if clear else np.empty(0, np.uint8)
+    background = np.ascontiguousarray(fb.background[:channels]) if clear else None
     depth = fb.depth if depth_test else np.empty((0, 0), np.float32)
-    proj = _memory.take((clip.shape[0], 4), np.float64)
-    recs = _memory.take((len(mesh.edges) if mode == line_kernels.MODE_PLAIN else 0,
-                         line_kernels.REC_FIELDS), np.int32)
-    line_kernels.draw_edges_cleared(fb.color, depth, clip, mesh.edges, rgba, mode, LINE_DEPTH_BIAS,
-                                    numba.get_num_threads(), background, proj, recs)
+    draw_edges_into(fb.color, depth, clip, mesh.edges, rgba, mode, LINE_DEPTH_BIAS, background)

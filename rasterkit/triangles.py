@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.clip import MAX_IMAGE_SIZE
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.kernels.shade import (
@@ -346,11 +347,11 @@ def _records(ws, rows, keep=0):
     )
 
 
-def _clear_spec(background, color, width):
-    """``(clear, color_bytes, background_row)`` as draw_bands takes it."""
+def _clear_spec(background, color):
+    """``(clear, color_bytes, pattern)`` as draw_bands takes it."""
     if background is None or color is None:
-        return background is not None, np.empty((0, 0), np.uint8), np.empty(0, np.uint8)
-    return True, color.reshape(color.shape[0], -1), np.tile(background, width)
+        return background is not None, np.empty(0, np.uint8), np.empty(0, np.uint8)
+    return True, color.reshape(-1), np.resize(background, PATTERN_BYTES)
 
 
 def _set_up(ws, clip, faces, width, height, cull_mode):
@@ -413,7 +414,7 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
     shading = (mode, m, fan_face, packed, vertex_colors, faces, bary)
     color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
     target = (depth, color_target, ids is not None, ids if ids is not None else np.empty((0, 0), np.int32))
-    clear = _clear_spec(background, color, width)
+    clear = _clear_spec(background, color)
     fragments = draw_bands(
         band_start, items, records, shading, target, clear, ws.visibility(n_threads, width)
     )

@@ -140,3 +140,25 @@ def test_plain_setup_records_match_the_general_path_on_random_edges():
     far = np.full((height, width), np.inf, np.float32)
     line_kernels.draw_edges(general, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, 0.0, 3)
     assert fast.any() and np.array_equal(fast, general)
+
+
+def test_render_rejects_mesh_edges_changed_out_of_range_after_construction():
+    mesh = shapes.cube()
+    camera = Camera.frame(*mesh.bounding_sphere(), width=20, height=20)
+    mesh.edges[0, 1] = len(mesh.vertices)  # arrays stay writeable; the kernel must not see this
+    for mode in ("wire", "hidden", "solid+wire"):
+        with pytest.raises(ValueError, match="edges"):
+            rasterkit.render(mesh, camera, mode=mode)
+
+
+def test_solid_render_clears_colour_with_the_shared_pattern_fill():
+    """The triangle path clears through the same word-wide fill: every pixel the cube does
+    not cover is the (uneven) background, also on recycled memory at an odd width."""
+    mesh = shapes.cube()
+    camera = Camera.frame(*mesh.bounding_sphere(), width=37, height=23)
+    for _ in range(2):
+        fb = rasterkit.render(mesh, camera, mode="solid", background=(3, 5, 7), ids=True)
+        empty = fb.ids < 0
+        assert empty.any() and (~empty).any()
+        assert np.all(fb.color[empty] == [3, 5, 7]) and np.all(np.isposinf(fb.depth[empty]))
+        fb.color[...] = 99

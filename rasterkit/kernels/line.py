@@ -468,16 +468,8 @@ def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_te
             step = r >= 2 * n
             r -= 2 * n if step else 0
             pix += ustride + (sv * vstride if step else 0)
-    elif channels == 3:
-        _steps_rgb(cflat, pix * 3, thi - tlo + 1, r, 2 * a, 2 * n, 3 * ustride, 3 * sv * vstride,
-                   rgba[0], rgba[1], rgba[2])
     else:
-        for t in range(tlo, thi + 1):
-            _put(cflat, pix, channels, rgba)
-            r += 2 * a
-            step = r >= 2 * n
-            r -= 2 * n if step else 0
-            pix += ustride + (sv * vstride if step else 0)
+        _steps(cflat, channels, rgba, pix, thi - tlo + 1, r, 2 * a, 2 * n, ustride, sv * vstride)
 
 
 @kernel(inline="always")
@@ -488,18 +480,29 @@ def _put(cflat, pix, channels, rgba):
 
 
 @kernel(inline="always")
-def _steps_rgb(cflat, byte, count, r, two_a, two_n, ubytes, vbytes, red, green, blue):
-    """The Bresenham loop of an RGB buffer without a depth test: ``count`` pixels from byte
-    offset ``byte``, the minor step taken branch-free (the branch would be mispredicted
-    on about every other pixel of a diagonal line)."""
+def _steps(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride):
+    """The Bresenham loop without a depth test: ``count`` pixels from pixel index ``pix``,
+    ``ustride`` pixels per major step, ``vstride`` more on a minor step. The minor step is
+    taken branch-free (a branch would be mispredicted on about every other pixel of a
+    diagonal line), and an RGB buffer gets three byte stores per pixel, no channel loop."""
+    if channels == 3:
+        byte, ubytes, vbytes = 3 * pix, 3 * ustride, 3 * vstride
+        red, green, blue = rgba[0], rgba[1], rgba[2]
+        for _ in range(count):
+            cflat[byte] = red
+            cflat[byte + 1] = green
+            cflat[byte + 2] = blue
+            r += two_a
+            step = r >= two_n
+            r -= two_n if step else 0
+            byte += ubytes + (vbytes if step else 0)
+        return
     for _ in range(count):
-        cflat[byte] = red
-        cflat[byte + 1] = green
-        cflat[byte + 2] = blue
+        _put(cflat, pix, channels, rgba)
         r += two_a
         step = r >= two_n
         r -= two_n if step else 0
-        byte += ubytes + (vbytes if step else 0)
+        pix += ustride + (vstride if step else 0)
 
 
 @kernel(inline="always")
@@ -668,19 +671,9 @@ def _draw_record(cflat, width, channels, rgba, recs, e):
     sv = 1 - (code & 2)
     ustride = 1 + steep * (width - 1)
     vstride = sv * (width - steep * (width - 1))
-    pix = np.int64(recs[e, _REC_PIX])
-    count = np.int64(recs[e, _REC_N]) + 1
-    r, two_a, two_n = np.int64(recs[e, _REC_R]), np.int64(recs[e, _REC_A2]), np.int64(recs[e, _REC_N2])
-    if channels == 3:
-        _steps_rgb(cflat, pix * 3, count, r, two_a, two_n, 3 * ustride, 3 * vstride,
-                   rgba[0], rgba[1], rgba[2])
-        return
-    for _ in range(count):
-        _put(cflat, pix, channels, rgba)
-        r += two_a
-        step = r >= two_n
-        r -= two_n if step else 0
-        pix += ustride + (vstride if step else 0)
+    _steps(cflat, channels, rgba, np.int64(recs[e, _REC_PIX]), np.int64(recs[e, _REC_N]) + 1,
+           np.int64(recs[e, _REC_R]), np.int64(recs[e, _REC_A2]), np.int64(recs[e, _REC_N2]),
+           ustride, vstride)
 
 
 @kernel(parallel=True)

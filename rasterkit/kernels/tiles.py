@@ -25,6 +25,7 @@ import numpy as np
 from numba import prange
 
 from rasterkit._jit import kernel
+from rasterkit.kernels.clear import fill_bytes
 from rasterkit.kernels.shade import resolve_row
 from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
 
@@ -135,10 +136,11 @@ def draw_bands(band_start, items, records, shading, target, clear, lid):
         (H, W, C) uint8 (untouched in SHADE_NONE), and whether to write face indices into
         ids (H, W) int32.
     clear : tuple
-        ``(clear, color_bytes, background)``: when ``clear``, each band is cleared right
+        ``(clear, color_bytes, pattern)``: when ``clear``, each band is cleared right
         before it is drawn, while its rows are in this thread's cache anyway: depth +inf,
-        ids -1, and each row of ``color_bytes`` (the colour buffer seen as (H, W * C)
-        uint8; (0, 0) without one) set to ``background`` (W * C,) uint8.
+        ids -1, and the band's part of ``color_bytes`` (the colour buffer seen as 1-D
+        uint8; empty without one) set to the background, repeated in ``pattern`` (24,)
+        uint8 (:func:`rasterkit.kernels.clear.fill_bytes`).
     lid : (n_slots, BAND_HEIGHT, W) int32
         One visibility buffer per parallel slot, all -1 on entry, all -1 again on return
         (the resolve resets what it reads). The number of slots (normally the thread
@@ -153,22 +155,23 @@ def draw_bands(band_start, items, records, shading, target, clear, lid):
 
 @kernel(inline="always")
 def _clear_band(y0, y1, target, clear):
-    """Clear rows ``y0 .. y1 - 1``: depth +inf, ids -1, colour bytes = the background row.
+    """Clear rows ``y0 .. y1 - 1``: depth +inf, ids -1, colour to the background.
 
     Plain loops with unsigned indices: Numba's slice assignment is ten times slower here.
     """
     depth, _, write_ids, ids = target
-    _, color_bytes, background = clear
+    _, color_bytes, pattern = clear
+    width = depth.shape[1]
     for j in range(y0, y1):
         ju = np.uint64(j)
-        for i in range(depth.shape[1]):
+        for i in range(width):
             depth[ju, np.uint64(i)] = np.inf
         if write_ids:
-            for i in range(ids.shape[1]):
+            for i in range(width):
                 ids[ju, np.uint64(i)] = -1
-        if color_bytes.shape[0]:
-            for i in range(background.size):
-                color_bytes[ju, np.uint64(i)] = background[np.uint64(i)]
+    if color_bytes.size:
+        row_bytes = color_bytes.size // depth.shape[0]
+        fill_bytes(color_bytes, y0 * row_bytes, y1 * row_bytes, pattern)
 
 
 @kernel
