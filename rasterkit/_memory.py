@@ -16,6 +16,7 @@ import (another Python implementation).
 
 from __future__ import annotations
 
+import math
 import sys
 import threading
 
@@ -60,7 +61,7 @@ def take(shape, dtype) -> np.ndarray:
     """An uninitialised C-contiguous array, on a recycled block when one is idle."""
     dtype = np.dtype(dtype)
     shape = tuple(int(n) for n in shape)
-    nbytes = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
+    nbytes = math.prod(shape) * dtype.itemsize
     if not ENABLED or nbytes < MIN_BYTES:
         return np.empty(shape, dtype)
     with _lock:

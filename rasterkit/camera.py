@@ -684,7 +684,24 @@ class Camera:
 
     def matrix(self) -> np.ndarray:
         """K, the product of :meth:`chain`: world -> homogeneous raster space, (4, 4) float64."""
-        return compose(*(m for _, m in self.chain()))
+        return self._matrix().copy()
+
+    def _matrix(self) -> np.ndarray:
+        """:meth:`matrix`, computed once per camera (a camera never changes) and read-only:
+        a renderer drawing many frames with one camera does not compose the chain again."""
+        return self._cached("_cached_matrix", lambda: compose(*(m for _, m in self.chain())))
+
+    def _backward(self) -> np.ndarray:
+        """``w`` of :meth:`basis` (unit, from the target to the eye), once per camera, read-only."""
+        return self._cached("_cached_backward", lambda: self.basis()[2])
+
+    def _cached(self, name: str, compute) -> np.ndarray:
+        value = self.__dict__.get(name)
+        if value is None:
+            value = np.ascontiguousarray(compute(), np.float64)
+            value.flags.writeable = False
+            object.__setattr__(self, name, value)
+        return value
 
     def view_matrix(self) -> np.ndarray:
         """T then R: world -> camera space (eye at the origin, looking down -z), (4, 4) float64."""

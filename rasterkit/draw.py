@@ -184,9 +184,11 @@ def draw_edges_into(color, depth, clip, edges, rgba, mode, bias=0.0, background=
     ``background`` (C,) uint8 clears the colour buffer first. Returns the dropped edges."""
     proj = _memory.take((len(clip), 4), np.float64)
     recs = _memory.take((len(edges) if mode == _line.MODE_PLAIN else 0, _line.REC_FIELDS), np.int32)
+    marked = mode == _line.MODE_PLAIN and background is not None
+    mask = _memory.take((color.shape[0] * color.shape[1] if marked else 0,), np.uint8)
     background = np.empty(0, np.uint8) if background is None else background
     return _line.draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, numba.get_num_threads(),
-                                    background, proj, recs)
+                                    background, proj, recs, mask)
 
 _TRIANGLE_MAX_BOX = 2**26  # pixels in the bounding box: keeps the result under 1 GiB
 

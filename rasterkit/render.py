@@ -130,7 +130,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
                        parse_color(line_color), bool(aa), light)
     # Every buffer is cleared by the kernels, band by band in the threads that draw it.
     fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
-    clip = transform_points(mesh.vertices, np.ascontiguousarray(camera.matrix()))
+    clip = transform_points(mesh.vertices, camera._matrix())
     if options.mode == "wire":  # no depth buffer: it stays "farthest" until someone asks
         if fb.ids is not None:
             fb.ids.fill(-1)
@@ -187,7 +187,7 @@ def _shade(mesh: Mesh, options: _Options):
 def _light_direction(light, camera: Camera) -> np.ndarray:
     """Unit direction towards the light; None is the headlight (from the target to the eye)."""
     if light is None:
-        return np.ascontiguousarray(camera.basis()[2], np.float64)
+        return camera._backward()
     d = np.asarray(light, dtype=np.float64)
     if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.any(d):
         raise ValueError(f"light must be a non-zero direction of 3 finite numbers, got {light!r}")

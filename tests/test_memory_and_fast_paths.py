@@ -162,3 +162,63 @@ def test_solid_render_clears_colour_with_the_shared_pattern_fill():
         assert empty.any() and (~empty).any()
         assert np.all(fb.color[empty] == [3, 5, 7]) and np.all(np.isposinf(fb.depth[empty]))
         fb.color[...] = 99
+
+
+def _random_edges(rng, n_vertices, n_edges, height, width):
+    """Homogeneous vertices, some outside the image (general path), and random edges."""
+    clip = np.empty((n_vertices, 4))
+    clip[:, 3] = rng.uniform(0.5, 2.0, n_vertices)
+    clip[:, 0] = rng.uniform(-10, width + 10, n_vertices) * clip[:, 3]
+    clip[:, 1] = rng.uniform(-10, height + 10, n_vertices) * clip[:, 3]
+    clip[:, 2] = rng.uniform(0.0, 1.0, n_vertices) * clip[:, 3]
+    return clip, rng.integers(0, n_vertices, size=(n_edges, 2))
+
+
+@pytest.mark.parametrize("channels", [3, 4])
+@pytest.mark.parametrize("width", [80, 83])  # 83: mask words straddle the rows and bands
+def test_marked_wire_path_equals_drawing_into_colour(channels, width):
+    """Plain edges with a background go through the byte mask and the 8-pixel paint; the
+    image equals the general path drawn over a background-filled buffer."""
+    rng = np.random.default_rng(5)
+    height = 61
+    clip, edges = _random_edges(rng, 300, 1200, height, width)
+    rgba = np.array([10, 200, 30, 255][:channels], np.uint8)
+    background = np.array([250, 251, 252, 0][:channels], np.uint8)
+    far = np.full((height, width), np.inf, np.float32)
+    for n_bands in (1, 3):
+        marked = np.full((height, width, channels), 77, np.uint8)  # garbage: must be cleared
+        mask = np.full(height * width, 3, np.uint8)  # garbage too: each band clears its part
+        line_kernels.draw_edges_cleared(marked, np.empty((0, 0), np.float32), clip, edges, rgba,
+                                        line_kernels.MODE_PLAIN, 0.0, n_bands, background,
+                                        np.empty((len(clip), 4)),
+                                        np.empty((len(edges), line_kernels.REC_FIELDS), np.int32), mask)
+        expected = np.empty((height, width, channels), np.uint8)
+        expected[...] = background
+        line_kernels.draw_edges(expected, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, 0.0, 1)
+        assert (expected == rgba).all(axis=2).any()
+        assert np.array_equal(marked, expected)
+
+
+def test_record_work_counts_pixels_and_edges_by_middle_row():
+    proj = np.array([[2.5, 3.5, 0.5, 1.0], [12.5, 7.5, 0.5, 1.0], [4.5, 30.5, 0.5, 1.0],
+                     [-5.0, 1.0, 0.5, 1.0]])
+    edges = np.array([[0, 1], [1, 2], [0, 3]])  # the last one leaves the image: general path
+    recs = np.empty((3, line_kernels.REC_FIELDS), np.int32)
+    line_kernels.plain_setup(proj, edges, 20, 40, recs)
+    work = line_kernels.record_work(recs, 40)
+    expected = np.zeros_like(work)
+    per_edge = line_kernels._EDGE_WORK
+    expected[(3 + 7) // 2 // line_kernels._ROWS_PER_BIN] += 11 + per_edge  # 10 steps in x, 11 pixels
+    expected[(7 + 30) // 2 // line_kernels._ROWS_PER_BIN] += 24 + per_edge  # 23 steps in y
+    assert np.array_equal(work, expected)
+
+
+def test_camera_matrix_is_computed_once_and_cannot_be_changed_through_a_result():
+    camera = Camera.frame((0, 0, 0), 1.0, width=40, height=30)
+    first = camera.matrix()
+    first[...] = 0.0  # the caller's copy
+    again = camera.matrix()
+    assert np.array_equal(again, rasterkit.transform.compose(*(m for _, m in camera.chain())))
+    assert camera._matrix() is camera._matrix() and not camera._matrix().flags.writeable
+    other = camera.with_size(80, 30)  # a new camera has its own matrix
+    assert not np.array_equal(other.matrix(), again)
