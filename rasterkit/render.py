@@ -22,7 +22,7 @@ from .kernels import shade as shade_kernels
 from .kernels.vertex import transform_points
 from .mesh import Mesh
 from .scene import Scene
-from .triangles import _indices_in_range, rasterize_triangles
+from .triangles import FlatLambert, _indices_in_range, rasterize_triangles
 
 __all__ = ["LINE_DEPTH_BIAS", "MODES", "POLYGON_OFFSET", "render"]
 
@@ -158,8 +158,8 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
 
 
 def _shade(mesh: Mesh, options: _Options):
-    """Lambert colours lit by a distant light: per face (packed RGBA uint32) or per vertex
-    ((N, 3) float32 0..255).
+    """Lambert colours lit by a distant light: per face (a :class:`FlatLambert` that the
+    rasterizer evaluates) or per vertex ((N, 3) float32 0..255).
 
     The light has one direction for every face, so the triangles of one flat polygon get one
     colour.
@@ -171,9 +171,8 @@ def _shade(mesh: Mesh, options: _Options):
             base, scale = mesh.face_colors, np.float32(255)
         else:
             base, scale = _base_colors(mesh, options, per_face=True), np.float32(1)
-        packed = shade_kernels.flat_packed(mesh.vertices, mesh.faces, base, scale, towards_light,
-                                           AMBIENT, two_sided)
-        return packed, None
+        # Computed by the face setup, for the faces that are drawn only.
+        return FlatLambert(mesh.vertices, base, towards_light, AMBIENT, two_sided, scale), None
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
     # normals too, so they cannot spoil their neighbours' vertex normals.
     faces = mesh.faces

@@ -42,7 +42,7 @@ from rasterkit.kernels.triangle import (
     setup_vertices,
 )
 
-__all__ = ["TriangleStats", "rasterize_triangles"]
+__all__ = ["FlatLambert", "TriangleStats", "rasterize_triangles"]
 
 _CULL_MODES = {"none": CULL_NONE, "back": CULL_BACK, "front": CULL_FRONT}
 
@@ -146,6 +146,61 @@ def _check_depth(depth):
         raise ValueError(f"image size must be 1..{MAX_IMAGE_SIZE} pixels a side, got {width}x{height}")
 
 
+@dataclass(frozen=True, eq=False)
+class FlatLambert:
+    """Face colours for :func:`rasterize_triangles` that it computes itself: per face,
+    Lambert's law under a distant light, for the faces that can be seen only.
+
+    Equal, face for face, to ``face_colors=rasterkit.kernels.shade.flat_packed(...)`` with
+    the same arguments, but worked out during the face setup, while each face's corners are
+    being read anyway, and skipped for the faces culled, outside or empty (half of a closed
+    mesh is back-facing): a renderer saves a pass over every face.
+
+    Attributes
+    ----------
+    positions : (N, 3) float64
+        Vertex positions in the space of ``light`` (world space), one per row of ``clip``.
+    base : (1, 3) or (M, 3) float32
+        Surface colour(s), times ``scale`` in 0..255.
+    light : (3,) float64
+        Unit direction towards the light.
+    ambient : float
+        Fraction of the colour that unlit faces keep.
+    two_sided : bool
+        Light both sides of a face (``|cos|``), else only the front.
+    scale : float
+        Multiplies ``base`` (255 for colours in [0, 1]).
+    """
+
+    positions: np.ndarray
+    base: np.ndarray
+    light: np.ndarray
+    ambient: float = 0.25
+    two_sided: bool = False
+    scale: float = 1.0
+
+    def _lit(self, faces, clip, packed):
+        """The ``lit`` tuple of :func:`rasterkit.kernels.triangle.setup_faces`, validated."""
+        _check_array("positions", self.positions, np.float64, 2)
+        if self.positions.shape != (clip.shape[0], 3):
+            raise ValueError(f"positions must have shape ({clip.shape[0]}, 3), got {self.positions.shape}")
+        _check_array("base", self.base, np.float32, 2)
+        if self.base.shape not in ((1, 3), (faces.shape[0], 3)):
+            raise ValueError(f"base must have shape (1, 3) or ({faces.shape[0]}, 3), got {self.base.shape}")
+        light = np.ascontiguousarray(self.light, np.float64)
+        if light.shape != (3,) or not np.all(np.isfinite(light)):
+            raise ValueError(f"light must be 3 finite numbers, got {self.light!r}")
+        ambient, scale = float(self.ambient), float(self.scale)
+        if not (np.isfinite(ambient) and np.isfinite(scale)):
+            raise ValueError("ambient and scale must be finite")
+        return (True, self.positions, self.base, np.float32(scale), light, ambient, bool(self.two_sided), packed)
+
+
+def _no_light(packed):
+    """The ``lit`` tuple that computes nothing (same types as a FlatLambert's)."""
+    return (False, np.zeros((0, 3)), np.zeros((1, 3), np.float32), np.float32(1.0), np.zeros(3), 0.0, False, packed)
+
+
 def _shading(color, face_colors, vertex_colors, faces, clip):
     """Pick the resolve mode once for the draw; returns (mode, face_colors, vertex_colors)."""
     if face_colors is not None and vertex_colors is not None:
@@ -159,6 +214,8 @@ def _shading(color, face_colors, vertex_colors, faces, clip):
         return SHADE_SMOOTH, np.zeros((0, 3), np.float32), vertex_colors
     if face_colors is None:
         raise ValueError("color needs face_colors or vertex_colors (or pass color=None for depth only)")
+    if isinstance(face_colors, FlatLambert):
+        return SHADE_FLAT, face_colors, np.zeros((0, 3), np.float32)
     if isinstance(face_colors, np.ndarray) and face_colors.dtype == np.uint32:
         _check_array("face_colors", face_colors, np.uint32, 1)
         if face_colors.shape != (faces.shape[0],):
@@ -223,10 +280,11 @@ def rasterize_triangles(
         Faces using a NaN or infinite vertex are dropped (and counted).
     faces : (M, 3) int64
         Vertex indices, counter-clockwise seen from the front (right-handed world).
-    face_colors : (M, 3) float32 or (M,) uint32, optional
+    face_colors : (M, 3) float32, (M,) uint32 or FlatLambert, optional
         Flat shading: RGB 0..255 per face (rounded, clamped to 0..255), or packed opaque
         RGBA per face, R in the low byte (``R | G << 8 | B << 16 | A << 24``; A is written
-        only to an RGBA buffer).
+        only to an RGBA buffer), or a :class:`FlatLambert` to have the Lambert colours
+        computed during the setup, for the visible faces only.
     vertex_colors : (N, 3) float32, optional
         Smooth (Gouraud) shading: RGB 0..255 per vertex, interpolated perspective-correctly.
         Exactly one of ``face_colors`` and ``vertex_colors`` is needed when ``color`` is
@@ -354,7 +412,7 @@ def _clear_spec(background, color):
     return True, color.reshape(-1), np.resize(background, PATTERN_BYTES)
 
 
-def _set_up(ws, clip, faces, width, height, cull_mode):
+def _set_up(ws, clip, faces, width, height, cull_mode, lit):
     """Vertex pass, face pass and (when needed) the cut faces' fans; binning counted.
 
     Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts)`` for
@@ -370,7 +428,7 @@ def _set_up(ws, clip, faces, width, height, cull_mode):
     cut_mask, n_fan = ws.take("cut_mask", (m,), np.int8), ws.take("n_fan", (m,), np.int8)
     band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
     tally = np.zeros((N_CHUNKS, N_STATUS + 1), np.int64)
-    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_HEIGHT, band_counts, tally)
+    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_HEIGHT, band_counts, tally, lit)
     n_cut = setup_faces(faces, vcode, vxy, vz, width, height, cull_mode, *face_pass)
     fan_start = np.full(N_CHUNKS, m, np.int64)
     fan_face = np.empty(0, np.int32)
@@ -400,16 +458,21 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
     ws = _WORKSPACE
     height, width = depth.shape
     m = faces.shape[0]
+    if isinstance(face_colors, FlatLambert):  # colours made by the face setup
+        packed = ws.take("packed", (m,), np.uint32)
+        lit = face_colors._lit(faces, clip, packed)
+    else:
+        lit = _no_light(np.empty(0, np.uint32))
+        if mode != SHADE_FLAT:
+            packed = np.empty(0, np.uint32)
+        else:
+            packed = face_colors if face_colors.dtype == np.uint32 else pack_colors(face_colors)
     records, n_fan, fan_start, fan_face, band_counts, counts = _set_up(
-        ws, clip, faces, width, height, cull_mode
+        ws, clip, faces, width, height, cull_mode, lit
     )
     band_start, items, n_records = bin_records(m, n_fan, fan_start, records[2], band_counts)
     if offset != (0.0, 0.0):
         offset_depths(*records, records[0].shape[0], *offset)
-    if mode != SHADE_FLAT:
-        packed = np.empty(0, np.uint32)
-    else:
-        packed = face_colors if face_colors.dtype == np.uint32 else pack_colors(face_colors)
     bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
     shading = (mode, m, fan_face, packed, vertex_colors, faces, bary)
     color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)

@@ -9,7 +9,7 @@ from rasterkit import Camera, _memory, shapes
 from rasterkit.framebuffer import Framebuffer
 from rasterkit.kernels import line as line_kernels
 from rasterkit.kernels.shade import face_normals, flat_packed, lambert, pack_colors
-from rasterkit.triangles import rasterize_triangles
+from rasterkit.triangles import FlatLambert, rasterize_triangles
 
 BIG = (1024, 512)  # 2 MiB of RGBA: above _memory.MIN_BYTES, so recycled
 
@@ -222,3 +222,71 @@ def test_camera_matrix_is_computed_once_and_cannot_be_changed_through_a_result()
     assert camera._matrix() is camera._matrix() and not camera._matrix().flags.writeable
     other = camera.with_size(80, 30)  # a new camera has its own matrix
     assert not np.array_equal(other.matrix(), again)
+
+
+def _scene_with_cut_faces(rng, n_vertices=60, n_faces=150):
+    """World points around the camera of a 48x40 image (some behind the near plane and
+    the eye, so faces get cut), the clip coordinates and random faces."""
+    camera = Camera.look_at(eye=(0, 0, 3), target=(0, 0, 0), width=48, height=40, fov_y=60, near=1.0, far=20.0)
+    points = rng.uniform(-2.0, 2.0, (n_vertices, 3))
+    points[: n_vertices // 5, 2] = rng.uniform(1.5, 4.0, n_vertices // 5)  # near the eye / behind it
+    clip = np.hstack([points, np.ones((n_vertices, 1))]) @ camera.matrix().T
+    faces = rng.integers(0, n_vertices, (n_faces, 3))
+    return camera, points, np.ascontiguousarray(clip), faces
+
+
+@pytest.mark.parametrize("cull", ["back", "none"])
+@pytest.mark.parametrize("per_face", [False, True])
+def test_flat_lambert_in_the_setup_equals_precomputed_face_colours(cull, per_face):
+    """FlatLambert's colours, computed during the face setup for visible faces only (cut
+    faces included), give the image of the colours of flat_packed for every face."""
+    rng = np.random.default_rng(11)
+    camera, points, clip, faces = _scene_with_cut_faces(rng)
+    base = rng.uniform(0, 1, (len(faces) if per_face else 1, 3)).astype(np.float32)
+    light = np.array([0.48, 0.6, 0.64])
+    two_sided = cull == "none"
+    images = []
+    for face_colors in (flat_packed(points, faces, base, np.float32(255), light, 0.25, two_sided),
+                        FlatLambert(points, base, light, 0.25, two_sided, 255.0)):
+        color = np.zeros((40, 48, 3), np.uint8)
+        depth = np.full((40, 48), np.inf, np.float32)
+        stats = rasterize_triangles(color, depth, clip, faces, face_colors=face_colors, cull=cull)
+        images.append(color)
+    assert stats.clipped > 0 and stats.drawn > 0
+    assert images[0].any() and np.array_equal(images[0], images[1])
+
+
+def test_flat_lambert_is_checked_before_drawing():
+    rng = np.random.default_rng(2)
+    _, points, clip, faces = _scene_with_cut_faces(rng)
+    color = np.zeros((40, 48, 3), np.uint8)
+    depth = np.full((40, 48), np.inf, np.float32)
+    base = np.ones((1, 3), np.float32)
+    bad = [FlatLambert(points[:-1], base, np.array([0.0, 0.0, 1.0])),  # a row short
+           FlatLambert(points, np.ones((2, 3), np.float32), np.array([0.0, 0.0, 1.0])),
+           FlatLambert(points, base, np.array([0.0, np.nan, 1.0])),
+           FlatLambert(points.astype(np.float32), base, np.array([0.0, 0.0, 1.0]))]
+    for face_colors in bad:
+        with pytest.raises((TypeError, ValueError)):
+            rasterize_triangles(color, depth, clip, faces, face_colors=face_colors)
+    assert not color.any() and np.all(np.isinf(depth))
+
+
+def test_prefetch_row_changes_nothing_and_takes_c_arrays_only():
+    import numba
+
+    from rasterkit.kernels.prefetch import prefetch_row
+
+    @numba.njit
+    def total(rows, flat):
+        s = 0.0
+        for k in range(rows.shape[0]):
+            prefetch_row(rows, min(k + 4, rows.shape[0] - 1))
+            prefetch_row(flat, 10**9)  # far outside the array: a prefetch never faults
+            s += rows[k].sum()
+        return s
+
+    rows = np.arange(12.0).reshape(4, 3)
+    assert total(rows, np.zeros(3)) == rows.sum()
+    with pytest.raises(numba.core.errors.TypingError):
+        total(np.asfortranarray(rows), np.zeros(3))

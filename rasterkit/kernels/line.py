@@ -642,32 +642,38 @@ def plain_setup(proj, edges, width, height, recs):
     general path. Written without branches, so the loop is mostly arithmetic.
     """
     for e in prange(edges.shape[0]):
-        i, j = edges[e, 0], edges[e, 1]
-        x0f, y0f, x1f, y1f = proj[i, 0], proj[i, 1], proj[j, 0], proj[j, 1]
-        xi0, yi0 = np.int64(math.floor(x0f)), np.int64(math.floor(y0f))
-        xi1, yi1 = np.int64(math.floor(x1f)), np.int64(math.floor(y1f))
-        # 0/1 integers and products instead of if/else: edge directions are random, so
-        # branches on them would be mispredicted half the time.
-        ok = np.int64(proj[i, 3] > 0.0) & np.int64(proj[j, 3] > 0.0)
-        ok &= np.int64(min(xi0, xi1) >= 0) & np.int64(max(xi0, xi1) < width)
-        ok &= np.int64(min(yi0, yi1) >= 0) & np.int64(max(yi0, yi1) < height)
-        dx, dy = xi1 - xi0, yi1 - yi0
-        steep = np.int64(abs(dy) > abs(dx))
-        flat = 1 - steep
-        # As _draw_bresenham: step towards the larger major coordinate, decided on the
-        # real ends.
-        swap = steep * np.int64(y1f < y0f) + flat * np.int64(x1f < x0f)
-        sign = 1 - 2 * swap
-        n = sign * (steep * dy + flat * dx)
-        dv = sign * (steep * dx + flat * dy)
-        recs[e, _REC_PIX] = (yi0 + swap * dy) * width + xi0 + swap * dx
-        recs[e, _REC_N] = n
-        recs[e, _REC_R] = n - np.int64(dv <= 0)  # _tie_offset
-        recs[e, _REC_A2] = 2 * abs(dv)
-        recs[e, _REC_N2] = 2 * n
-        recs[e, _REC_CODE] = steep | (np.int64(dv < 0) << 1)
-        recs[e, _REC_JLO] = ok * (min(yi0, yi1) + 1) - 1
-        recs[e, _REC_JHI] = max(yi0, yi1)
+        _setup_record(proj, edges, width, height, recs, e)
+
+
+@kernel(inline="always")
+def _setup_record(proj, edges, width, height, recs, e):
+    """:func:`plain_setup` of edge ``e``."""
+    i, j = edges[e, 0], edges[e, 1]
+    x0f, y0f, x1f, y1f = proj[i, 0], proj[i, 1], proj[j, 0], proj[j, 1]
+    xi0, yi0 = np.int64(math.floor(x0f)), np.int64(math.floor(y0f))
+    xi1, yi1 = np.int64(math.floor(x1f)), np.int64(math.floor(y1f))
+    # 0/1 integers and products instead of if/else: edge directions are random, so
+    # branches on them would be mispredicted half the time.
+    ok = np.int64(proj[i, 3] > 0.0) & np.int64(proj[j, 3] > 0.0)
+    ok &= np.int64(min(xi0, xi1) >= 0) & np.int64(max(xi0, xi1) < width)
+    ok &= np.int64(min(yi0, yi1) >= 0) & np.int64(max(yi0, yi1) < height)
+    dx, dy = xi1 - xi0, yi1 - yi0
+    steep = np.int64(abs(dy) > abs(dx))
+    flat = 1 - steep
+    # As _draw_bresenham: step towards the larger major coordinate, decided on the
+    # real ends.
+    swap = steep * np.int64(y1f < y0f) + flat * np.int64(x1f < x0f)
+    sign = 1 - 2 * swap
+    n = sign * (steep * dy + flat * dx)
+    dv = sign * (steep * dx + flat * dy)
+    recs[e, _REC_PIX] = (yi0 + swap * dy) * width + xi0 + swap * dx
+    recs[e, _REC_N] = n
+    recs[e, _REC_R] = n - np.int64(dv <= 0)  # _tie_offset
+    recs[e, _REC_A2] = 2 * abs(dv)
+    recs[e, _REC_N2] = 2 * n
+    recs[e, _REC_CODE] = steep | (np.int64(dv < 0) << 1)
+    recs[e, _REC_JLO] = ok * (min(yi0, yi1) + 1) - 1
+    recs[e, _REC_JHI] = max(yi0, yi1)
 
 
 @kernel(parallel=True)

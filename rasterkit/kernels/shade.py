@@ -193,22 +193,26 @@ def flat_packed(positions, faces, base, scale, light, ambient, two_sided):
     """
     m = faces.shape[0]
     out = np.empty(m, np.uint32)
-    single = base.shape[0] == 1
-    lx, ly, lz = light[0], light[1], light[2]
     for f in prange(m):
-        nx, ny, nz = _face_cross(positions, faces, f)
-        length = np.sqrt(nx * nx + ny * ny + nz * nz)
-        cos = (nx * lx + ny * ly + nz * lz) / length
-        if not np.isfinite(cos):  # degenerate (0 / 0) or a non-finite corner
-            cos = 0.0
-        cos = abs(cos) if two_sided else max(cos, 0.0)
-        intensity = ambient + (1.0 - ambient) * cos
-        src = 0 if single else np.int64(f)
-        red = to_u8(np.float32(np.float32(base[src, 0] * scale) * intensity))
-        green = to_u8(np.float32(np.float32(base[src, 1] * scale) * intensity))
-        blue = to_u8(np.float32(np.float32(base[src, 2] * scale) * intensity))
-        out[f] = np.uint32(red | green << 8 | blue << 16 | 255 << 24)
+        out[f] = flat_color(positions, faces, f, base, scale, light, ambient, two_sided)
     return out
+
+
+@kernel(inline="always")
+def flat_color(positions, faces, f, base, scale, light, ambient, two_sided):
+    """Face ``f``'s packed Lambert colour: one face of :func:`flat_packed`."""
+    nx, ny, nz = _face_cross(positions, faces, f)
+    length = np.sqrt(nx * nx + ny * ny + nz * nz)
+    cos = (nx * light[0] + ny * light[1] + nz * light[2]) / length
+    if not np.isfinite(cos):  # degenerate (0 / 0) or a non-finite corner
+        cos = 0.0
+    cos = abs(cos) if two_sided else max(cos, 0.0)
+    intensity = ambient + (1.0 - ambient) * cos
+    src = 0 if base.shape[0] == 1 else np.int64(f)
+    red = to_u8(np.float32(np.float32(base[src, 0] * scale) * intensity))
+    green = to_u8(np.float32(np.float32(base[src, 1] * scale) * intensity))
+    blue = to_u8(np.float32(np.float32(base[src, 2] * scale) * intensity))
+    return np.uint32(red | green << 8 | blue << 16 | 255 << 24)
 
 
 @kernel(parallel=True)

@@ -26,13 +26,19 @@ from numba import prange
 
 from rasterkit._jit import kernel
 from rasterkit.kernels.clear import fill_bytes
-from rasterkit.kernels.shade import resolve_row
+from rasterkit.kernels.prefetch import prefetch_row
+from rasterkit.kernels.shade import SHADE_FLAT, resolve_row
 from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
 
 #: Rows per band. 32 rows of a 1920-pixel image keep the band's depth and visibility
 #: rows (2 x 240 KiB) in the L2 cache while its triangles are drawn; taller bands mean
 #: fewer triangles set up twice (once per band they cross) but coarser load balance.
 BAND_HEIGHT = 32
+
+#: How many records ahead a band asks for the next record's rows to be fetched
+#: (:func:`rasterkit.kernels.prefetch.prefetch_row`): a triangle takes some 60 ns, a miss
+#: to memory about 100, and 4-16 measured the same.
+PREFETCH_AHEAD = 8
 
 
 @kernel(inline="always")
@@ -174,6 +180,18 @@ def _clear_band(y0, y1, target, clear):
         fill_bytes(color_bytes, y0 * row_bytes, y1 * row_bytes, pattern)
 
 
+@kernel(inline="always")
+def _prefetch_record(t, records, shading):
+    """Ask for record ``t``'s rows and (flat shading, an uncut face) its face colour."""
+    tri_xy, tri_z, tri_box = records
+    mode, n_faces, _, packed, _, _, _ = shading
+    prefetch_row(tri_box, t)
+    prefetch_row(tri_xy, t)
+    prefetch_row(tri_z, t)
+    if mode == SHADE_FLAT and t < n_faces:
+        prefetch_row(packed, t)
+
+
 @kernel
 def _draw_slot(slot, band_start, items, records, shading, target, clear, lid):
     """:func:`draw_bands` for the bands of one slot; returns its fragment count."""
@@ -196,7 +214,10 @@ def _draw_slot(slot, band_start, items, records, shading, target, clear, lid):
             continue
         for r in range(BAND_HEIGHT):
             row_lo[r], row_hi[r] = width, -1
-        for k in range(band_start[b], band_start[b + 1]):
+        end = band_start[b + 1]
+        for k in range(band_start[b], end):
+            if k + PREFETCH_AHEAD < end:
+                _prefetch_record(items[k + PREFETCH_AHEAD], records, shading)
             t = items[k]
             face = t if t < n_faces else fan_face[t - n_faces]
             fragments += raster_band(t, face, tri_xy, tri_z, tri_box, y0, y1, depth, band_lid, row_lo, row_hi)

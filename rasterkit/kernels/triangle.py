@@ -63,6 +63,7 @@ from rasterkit.kernels.clip import (
     vertex_code,
 )
 from rasterkit.kernels.cull import is_culled
+from rasterkit.kernels.shade import flat_color
 
 SUBPIXEL_BITS = 8
 ONE = 1 << SUBPIXEL_BITS
@@ -555,6 +556,7 @@ def _setup_chunk(
     band_height,
     band_counts,
     tally,
+    lit,
 ):
     """:func:`setup_faces` for the faces of chunk ``ch``; returns how many need cutting.
 
@@ -572,12 +574,23 @@ def _setup_chunk(
             outcome = _setup_fast_face(faces, f, vxy, vz, width, height, cull_mode, tri_xy, tri_z, tri_box)
             if outcome == STATUS_DRAWN:
                 count_bands(f, tri_box, band_height, band_counts, ch)
+                _light_face(f, faces, lit)
         else:
             _empty_box(f, tri_box)
             outcome = STATUS_NONFINITE if cls == FACE_NONFINITE else STATUS_OUTSIDE
-            cut += cls == FACE_NEEDS_CUT
+            if cls == FACE_NEEDS_CUT:
+                cut += 1
+                _light_face(f, faces, lit)
         tally[ch, outcome] += 1
     return cut
+
+
+@kernel(inline="always")
+def _light_face(f, faces, lit):
+    """With ``lit`` on, face ``f``'s flat colour into ``lit``'s packed colours."""
+    on, positions, base, scale, light, ambient, two_sided, packed = lit
+    if on:
+        packed[f] = flat_color(positions, faces, f, base, scale, light, ambient, two_sided)
 
 
 @kernel(parallel=True)
@@ -597,6 +610,7 @@ def setup_faces(
     band_height,
     band_counts,
     tally,
+    lit,
 ):
     """Face pass: classify every face; set up the ones that need no cutting.
 
@@ -622,6 +636,12 @@ def setup_faces(
     tally : (N_CHUNKS, N_STATUS + 1) int64
         Zeros in; out: faces per chunk and STATUS_* (column N_STATUS: faces cut with
         something left, counted by :func:`setup_cut_faces`).
+    lit : tuple
+        ``(on, positions, base, scale, light, ambient, two_sided, packed)``: when ``on``,
+        each face that is drawn uncut or is to be cut gets its flat Lambert colour in
+        ``packed`` (M,) uint32 (:func:`rasterkit.kernels.shade.flat_color`), computed here
+        while the face is at hand and only for faces that can be seen; the other entries
+        are left as they were.
 
     Returns
     -------
@@ -647,6 +667,7 @@ def setup_faces(
             band_height,
             band_counts,
             tally,
+            lit,
         )
     return cut.sum()
 

@@ -1,0 +1,50 @@
+"""A software prefetch for kernels whose next memory access is known but irregular.
+
+The triangle bands visit their records through an index list (``items``): each record
+sits at an unpredictable place in three record arrays, and the hardware prefetchers cannot
+guess it, so every triangle began with up to three cache misses (about 15 % of the band
+pass on the bunny). :func:`prefetch_row` asks for a row a few iterations ahead, so it is in
+the cache when the loop gets there.
+
+A prefetch never faults, even for an address outside the array, and changes no result:
+it only moves memory into the cache earlier.
+"""
+
+from __future__ import annotations
+
+from llvmlite import ir
+from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
+
+__all__ = ["prefetch_row"]
+
+
+@intrinsic
+def prefetch_row(typingctx, array, row):
+    """Prefetch the first cache line of ``array[row]`` (1-D: of the element ``array[row]``)
+    for reading, into every cache level (LLVM's ``llvm.prefetch``, locality 3).
+
+    ``array`` is a C-contiguous NumPy array; ``row`` an integer (not checked: a prefetch
+    outside the array is harmless)."""
+    if not isinstance(array, types.Array) or array.layout != "C" or not isinstance(row, types.Integer):
+        return None
+
+    def codegen(context, builder, signature, args):
+        array_type = signature.args[0]
+        data = context.make_array(array_type)(context, builder, args[0])
+        index = context.cast(builder, args[1], signature.args[1], types.intp)
+        if array_type.ndim > 1:
+            stride = cgutils.unpack_tuple(builder, data.strides)[0]
+        else:
+            stride = context.get_constant(types.intp, context.get_abi_sizeof(context.get_data_type(array_type.dtype)))
+        byte_pointer = ir.IntType(8).as_pointer()
+        address = builder.gep(builder.bitcast(data.data, byte_pointer), [builder.mul(index, stride)])
+        i32 = ir.IntType(32)
+        function_type = ir.FunctionType(ir.VoidType(), [byte_pointer, i32, i32, i32])
+        function = cgutils.get_or_insert_function(builder.module, function_type, "llvm.prefetch.p0")
+        # read (0), high temporal locality (3), data cache (1)
+        builder.call(function, [address, ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)])
+        return context.get_dummy_value()
+
+    return types.void(array, row), codegen
