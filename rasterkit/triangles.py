@@ -193,12 +193,15 @@ class FlatLambert:
         ambient, scale = float(self.ambient), float(self.scale)
         if not (np.isfinite(ambient) and np.isfinite(scale)):
             raise ValueError("ambient and scale must be finite")
-        return (True, self.positions, self.base, np.float32(scale), light, ambient, bool(self.two_sided), packed)
+        seen = np.empty(faces.shape[0], np.int32)
+        return (True, self.positions, self.base, np.float32(scale), light, ambient, bool(self.two_sided), packed,
+                seen)
 
 
 def _no_light(packed):
     """The ``lit`` tuple that computes nothing (same types as a FlatLambert's)."""
-    return (False, np.zeros((0, 3)), np.zeros((1, 3), np.float32), np.float32(1.0), np.zeros(3), 0.0, False, packed)
+    return (False, np.zeros((0, 3)), np.zeros((1, 3), np.float32), np.float32(1.0), np.zeros(3), 0.0, False, packed,
+            np.empty(0, np.int32))
 
 
 def _shading(color, face_colors, vertex_colors, faces, clip):

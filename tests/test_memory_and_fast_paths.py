@@ -241,7 +241,7 @@ def test_flat_lambert_in_the_setup_equals_precomputed_face_colours(cull, per_fac
     """FlatLambert's colours, computed during the face setup for visible faces only (cut
     faces included), give the image of the colours of flat_packed for every face."""
     rng = np.random.default_rng(11)
-    camera, points, clip, faces = _scene_with_cut_faces(rng)
+    _, points, clip, faces = _scene_with_cut_faces(rng)
     base = rng.uniform(0, 1, (len(faces) if per_face else 1, 3)).astype(np.float32)
     light = np.array([0.48, 0.6, 0.64])
     two_sided = cull == "none"
@@ -275,7 +275,7 @@ def test_flat_lambert_is_checked_before_drawing():
 def test_prefetch_row_changes_nothing_and_takes_c_arrays_only():
     import numba
 
-    from rasterkit.kernels.prefetch import prefetch_row
+    from rasterkit.kernels.intrinsics import prefetch_row
 
     @numba.njit
     def total(rows, flat):
@@ -290,3 +290,22 @@ def test_prefetch_row_changes_nothing_and_takes_c_arrays_only():
     assert total(rows, np.zeros(3)) == rows.sum()
     with pytest.raises(numba.core.errors.TypingError):
         total(np.asfortranarray(rows), np.zeros(3))
+
+
+def test_fetch_add_returns_the_old_value_and_counts_every_call_from_all_threads():
+    import numba
+
+    from rasterkit.kernels.intrinsics import fetch_add
+
+    @numba.njit(parallel=True)
+    def claim(counter, n, taken):
+        for _ in numba.prange(n):
+            k = fetch_add(counter, 0, 1)
+            if k < taken.size:
+                taken[k] += 1
+
+    counter = np.zeros(1, np.int64)
+    taken = np.zeros(5000, np.int64)
+    claim(counter, 5000, taken)
+    assert counter[0] == 5000 and np.all(taken == 1)  # every ticket handed out exactly once
+    assert numba.njit(lambda a: fetch_add(a, 0, 5))(np.array([7], np.int64)) == 7

@@ -14,9 +14,10 @@ Order
     setup does (:func:`rasterkit.kernels.triangle.count_bands`).
 
 Scheduling
-    ``prange`` runs one iteration per thread *slot*; slot ``s`` of ``n`` owns the bands
-    ``s, s + n, s + 2n, ...``. Interleaving spreads a mesh in the middle of the image
-    over all threads, and each slot reuses one band-sized visibility buffer.
+    ``prange`` runs one iteration per thread *slot*; each slot takes the next band that no
+    slot has claimed yet (an atomic counter, :func:`rasterkit.kernels.intrinsics.fetch_add`)
+    until none are left, so a thread that is given more work, or less of the machine,
+    does not hold up the others, and each slot reuses one band-sized visibility buffer.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from numba import prange
 
 from rasterkit._jit import kernel
 from rasterkit.kernels.clear import fill_bytes
-from rasterkit.kernels.prefetch import prefetch_row
+from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
 from rasterkit.kernels.shade import SHADE_FLAT, resolve_row
 from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
 
@@ -36,7 +37,7 @@ from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
 BAND_HEIGHT = 32
 
 #: How many records ahead a band asks for the next record's rows to be fetched
-#: (:func:`rasterkit.kernels.prefetch.prefetch_row`): a triangle takes some 60 ns, a miss
+#: (:func:`rasterkit.kernels.intrinsics.prefetch_row`): a triangle takes some 60 ns, a miss
 #: to memory about 100, and 4-16 measured the same.
 PREFETCH_AHEAD = 8
 
@@ -154,8 +155,9 @@ def draw_bands(band_start, items, records, shading, target, clear, lid):
     """
     n_slots = lid.shape[0]
     fragments = np.zeros(n_slots, np.int64)
+    next_band = np.zeros(1, np.int64)  # the bands are handed out from this counter
     for slot in prange(n_slots):
-        fragments[slot] = _draw_slot(slot, band_start, items, records, shading, target, clear, lid)
+        fragments[slot] = _draw_slot(slot, band_start, items, records, shading, target, clear, lid, next_band)
     return fragments.sum()
 
 
@@ -193,19 +195,24 @@ def _prefetch_record(t, records, shading):
 
 
 @kernel
-def _draw_slot(slot, band_start, items, records, shading, target, clear, lid):
-    """:func:`draw_bands` for the bands of one slot; returns its fragment count."""
+def _draw_slot(slot, band_start, items, records, shading, target, clear, lid, next_band):
+    """:func:`draw_bands` for one slot: it draws bands, each the next one nobody has
+    claimed yet (``next_band[0]``, taken with an atomic add), until none are left; returns
+    its fragment count."""
     tri_xy, tri_z, tri_box = records
     mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
     depth, color, write_ids, ids = target
     do_clear = clear[0]
     height, width = depth.shape
-    n_slots = lid.shape[0]
     band_lid = lid[slot]
     row_lo = np.empty(BAND_HEIGHT, np.int64)
     row_hi = np.empty(BAND_HEIGHT, np.int64)
     fragments = 0
-    for b in range(slot, band_start.size - 1, n_slots):
+    n_bands_ = band_start.size - 1
+    while True:
+        b = fetch_add(next_band, 0, 1)
+        if b >= n_bands_:
+            break
         y0 = b * BAND_HEIGHT
         y1 = min(y0 + BAND_HEIGHT, height)
         if do_clear:

@@ -564,7 +564,9 @@ def _setup_chunk(
     :func:`setup_cut_faces` has cut it).
     """
     start, stop = chunk_range(faces.shape[0], ch)
+    on, positions, base, scale, light, ambient, two_sided, packed, seen = lit
     cut = 0
+    n_seen = 0
     for f in range(np.uint64(start), np.uint64(stop)):
         a, b, c = np.uint64(faces[f, 0]), np.uint64(faces[f, 1]), np.uint64(faces[f, 2])
         cls, mask = classify_face(vcode[a], vcode[b], vcode[c])
@@ -574,23 +576,24 @@ def _setup_chunk(
             outcome = _setup_fast_face(faces, f, vxy, vz, width, height, cull_mode, tri_xy, tri_z, tri_box)
             if outcome == STATUS_DRAWN:
                 count_bands(f, tri_box, band_height, band_counts, ch)
-                _light_face(f, faces, lit)
+                if on:
+                    seen[start + n_seen] = f
+                    n_seen += 1
         else:
             _empty_box(f, tri_box)
             outcome = STATUS_NONFINITE if cls == FACE_NONFINITE else STATUS_OUTSIDE
             if cls == FACE_NEEDS_CUT:
                 cut += 1
-                _light_face(f, faces, lit)
+                if on:
+                    seen[start + n_seen] = f
+                    n_seen += 1
         tally[ch, outcome] += 1
-    return cut
-
-
-@kernel(inline="always")
-def _light_face(f, faces, lit):
-    """With ``lit`` on, face ``f``'s flat colour into ``lit``'s packed colours."""
-    on, positions, base, scale, light, ambient, two_sided, packed = lit
-    if on:
+    # The colours in a loop of their own: inside the branches above they would wait on
+    # every mispredicted drawn / culled decision.
+    for k in range(np.uint64(start), np.uint64(start + n_seen)):
+        f = seen[k]
         packed[f] = flat_color(positions, faces, f, base, scale, light, ambient, two_sided)
+    return cut
 
 
 @kernel(parallel=True)
@@ -637,11 +640,11 @@ def setup_faces(
         Zeros in; out: faces per chunk and STATUS_* (column N_STATUS: faces cut with
         something left, counted by :func:`setup_cut_faces`).
     lit : tuple
-        ``(on, positions, base, scale, light, ambient, two_sided, packed)``: when ``on``,
-        each face that is drawn uncut or is to be cut gets its flat Lambert colour in
-        ``packed`` (M,) uint32 (:func:`rasterkit.kernels.shade.flat_color`), computed here
-        while the face is at hand and only for faces that can be seen; the other entries
-        are left as they were.
+        ``(on, positions, base, scale, light, ambient, two_sided, packed, seen)``: when
+        ``on``, each face that is drawn uncut or is to be cut gets its flat Lambert colour
+        in ``packed`` (M,) uint32 (:func:`rasterkit.kernels.shade.flat_color`), only for
+        the faces that can be seen (listed per chunk in the scratch ``seen`` (M,) int32
+        first); the other entries are left as they were.
 
     Returns
     -------

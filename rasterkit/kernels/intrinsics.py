@@ -1,5 +1,7 @@
-"""A software prefetch for kernels whose next memory access is known but irregular.
+"""Two LLVM operations that Numba does not expose: a software prefetch and an atomic add.
 
+Prefetch
+--------
 The triangle bands visit their records through an index list (``items``): each record
 sits at an unpredictable place in three record arrays, and the hardware prefetchers cannot
 guess it, so every triangle began with up to three cache misses (about 15 % of the band
@@ -8,6 +10,15 @@ the cache when the loop gets there.
 
 A prefetch never faults, even for an address outside the array, and changes no result:
 it only moves memory into the cache earlier.
+
+Atomic add
+----------
+``prange`` hands every thread a fixed share of the iterations. When the shares cost
+different amounts (bands of an image differ), or the machine takes a core away for a
+while, one thread idles at the end while the other finishes. With :func:`fetch_add` on a
+shared counter each thread takes the next unclaimed piece of work as it becomes free.
+Which thread draws a band never changes what is drawn into it, so images stay
+bit-identical.
 """
 
 from __future__ import annotations
@@ -17,7 +28,7 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-__all__ = ["prefetch_row"]
+__all__ = ["fetch_add", "prefetch_row"]
 
 
 @intrinsic
@@ -48,3 +59,22 @@ def prefetch_row(typingctx, array, row):
         return context.get_dummy_value()
 
     return types.void(array, row), codegen
+
+
+@intrinsic
+def fetch_add(typingctx, array, index, value):
+    """Atomically add ``value`` to ``array[index]`` (a 1-D C-contiguous int64 array) and
+    return the value it held before (sequentially consistent). ``index`` is not checked."""
+    if not (isinstance(array, types.Array) and array.ndim == 1 and array.layout == "C"
+            and array.dtype == types.int64 and isinstance(index, types.Integer)
+            and isinstance(value, types.Integer)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        data = context.make_array(signature.args[0])(context, builder, args[0])
+        index = context.cast(builder, args[1], signature.args[1], types.intp)
+        amount = context.cast(builder, args[2], signature.args[2], types.int64)
+        address = builder.gep(data.data, [index])
+        return builder.atomic_rmw("add", address, amount, "seq_cst")
+
+    return types.int64(array, index, value), codegen
