@@ -182,13 +182,14 @@ def draw_edges_into(color, depth, clip, edges, rgba, mode, bias=0.0, background=
     """:func:`rasterkit.kernels.line.draw_edges_cleared` with recycled scratch memory, on all
     threads; the caller has validated the inputs (``edges`` index ``clip``'s rows).
     ``background`` (C,) uint8 clears the colour buffer first. Returns the dropped edges."""
-    proj = _memory.take((len(clip), 4), np.float64)
-    recs = _memory.take((len(edges) if mode == _line.MODE_PLAIN else 0, _line.REC_FIELDS), np.int32)
-    marked = mode == _line.MODE_PLAIN and background is not None
-    mask = _memory.take((color.shape[0] * color.shape[1] if marked else 0,), np.uint8)
+    plain = mode == _line.MODE_PLAIN
+    scratch = (_memory.take((len(clip), 4), np.float64),
+               _memory.take((len(clip) if plain else 0,), np.int64),
+               _memory.take((_line.REC_FIELDS, len(edges) if plain else 0), np.int32),
+               _memory.take((color.shape[0] * color.shape[1] if plain and background is not None else 0,), np.uint8))
     background = np.empty(0, np.uint8) if background is None else background
     return _line.draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, numba.get_num_threads(),
-                                    background, proj, recs, mask)
+                                    background, scratch)
 
 _TRIANGLE_MAX_BOX = 2**26  # pixels in the bounding box: keeps the result under 1 GiB
 

@@ -187,11 +187,10 @@ def test_marked_wire_path_equals_drawing_into_colour(channels, width):
     far = np.full((height, width), np.inf, np.float32)
     for n_bands in (1, 3):
         marked = np.full((height, width, channels), 77, np.uint8)  # garbage: must be cleared
-        mask = np.full(height * width, 3, np.uint8)  # garbage too: each band clears its part
+        scratch = line_kernels.edge_scratch(len(clip), len(edges), height * width, line_kernels.MODE_PLAIN)
+        scratch[3][:] = 3  # garbage in the mask too: each band clears its part
         line_kernels.draw_edges_cleared(marked, np.empty((0, 0), np.float32), clip, edges, rgba,
-                                        line_kernels.MODE_PLAIN, 0.0, n_bands, background,
-                                        np.empty((len(clip), 4)),
-                                        np.empty((len(edges), line_kernels.REC_FIELDS), np.int32), mask)
+                                        line_kernels.MODE_PLAIN, 0.0, n_bands, background, scratch)
         expected = np.empty((height, width, channels), np.uint8)
         expected[...] = background
         line_kernels.draw_edges(expected, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, 0.0, 1)
@@ -200,11 +199,14 @@ def test_marked_wire_path_equals_drawing_into_colour(channels, width):
 
 
 def test_record_work_counts_pixels_and_edges_by_middle_row():
-    proj = np.array([[2.5, 3.5, 0.5, 1.0], [12.5, 7.5, 0.5, 1.0], [4.5, 30.5, 0.5, 1.0],
+    clip = np.array([[2.5, 3.5, 0.5, 1.0], [12.5, 7.5, 0.5, 1.0], [4.5, 30.5, 0.5, 1.0],
                      [-5.0, 1.0, 0.5, 1.0]])
     edges = np.array([[0, 1], [1, 2], [0, 3]])  # the last one leaves the image: general path
-    recs = np.empty((3, line_kernels.REC_FIELDS), np.int32)
-    line_kernels.plain_setup(proj, edges, 20, 40, recs)
+    proj, pixels, recs, _ = line_kernels.edge_scratch(4, 3, 0, line_kernels.MODE_PLAIN)
+    line_kernels.project_vertices(clip, proj, pixels, 20, 40)
+    assert pixels.tolist() == [2 | 3 << 32, 12 | 7 << 32, 4 | 30 << 32, -1]
+    line_kernels.plain_setup(pixels, edges, 20, 40, recs)
+    assert recs[2].tolist() == [3 | 7 << 16, 7 | 30 << 16, -1]  # rows jlo | jhi << 16
     work = line_kernels.record_work(recs, 40)
     expected = np.zeros_like(work)
     per_edge = line_kernels._EDGE_WORK
@@ -309,3 +311,19 @@ def test_fetch_add_returns_the_old_value_and_counts_every_call_from_all_threads(
     claim(counter, 5000, taken)
     assert counter[0] == 5000 and np.all(taken == 1)  # every ticket handed out exactly once
     assert numba.njit(lambda a: fetch_add(a, 0, 5))(np.array([7], np.int64)) == 7
+
+
+def test_images_wider_than_the_packed_records_take_the_general_path():
+    """Past 2**15 pixels a side the packed records cannot hold n and the rows: every edge is
+    drawn by the general path, with the same pixels as draw.line."""
+    from rasterkit.draw import line, lines
+
+    width = line_kernels._PACKED_LIMIT + 40
+    image = np.zeros((3, width, 3), np.uint8)
+    segments = np.array([[0, 0, width - 1, 2], [5, 2, 40000, 0], [32800, 0, 32770, 1]])
+    lines(image, segments, color="white")
+    expected = np.zeros((3, width), bool)
+    for x0, y0, x1, y1 in segments:
+        xy = line(x0, y0, x1, y1)
+        expected[xy[:, 1], xy[:, 0]] = True
+    assert np.array_equal(image[..., 0] == 255, expected)
