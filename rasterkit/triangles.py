@@ -7,6 +7,7 @@ renderer calls it with the vertices already in homogeneous raster space.
 
 from __future__ import annotations
 
+import math
 import threading
 from dataclasses import dataclass
 
@@ -233,12 +234,14 @@ def _background(clear, color):
     if clear is None:
         return None
     channels = 0 if color is None else color.shape[2]
-    values = np.asarray(clear)
-    if values.shape != (channels,) or (channels and not np.issubdtype(values.dtype, np.integer)):
+    values = tuple(clear) if isinstance(clear, (tuple, list)) else tuple(np.asarray(clear).reshape(-1)) \
+        if np.ndim(clear) == 1 else None
+    if values is None or len(values) != channels \
+            or not all(isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_)) for v in values):
         raise ValueError(f"clear must be {channels} integers 0..255 (one per colour channel), got {clear!r}")
-    if channels and (values.min() < 0 or values.max() > 255):
+    if not all(0 <= v <= 255 for v in values):
         raise ValueError(f"clear values must be in 0..255, got {clear!r}")
-    return values.astype(np.uint8)
+    return np.array(values, np.uint8)
 
 
 def _threads(threads):
@@ -412,7 +415,7 @@ def _clear_spec(background, color):
     """``(clear, color_bytes, pattern)`` as draw_bands takes it."""
     if background is None or color is None:
         return background is not None, np.empty(0, np.uint8), np.empty(0, np.uint8)
-    return True, color.reshape(-1), np.resize(background, PATTERN_BYTES)
+    return True, color.reshape(-1), np.tile(background, PATTERN_BYTES // background.size)
 
 
 def _set_up(ws, clip, faces, width, height, cull_mode, lit):
@@ -423,16 +426,15 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit):
     are the faces per STATUS_* and, last, the faces cut with something left.
     """
     n, m = clip.shape[0], faces.shape[0]
-    vcode = ws.take("vcode", (n,), np.int32)
-    vxy = ws.take("vxy", (n, 2), np.int32)
-    vz = ws.take("vz", (n,), np.float32)
-    setup_vertices(clip, width, height, vcode, vxy, vz)
+    corners = ws.take("corners", (n, 4), np.int32)
+    depths = corners.view(np.float32)  # the same rows: z as float32
+    setup_vertices(clip, width, height, corners, depths)
     tri_xy, tri_z, tri_box = _records(ws, m)
     cut_mask, n_fan = ws.take("cut_mask", (m,), np.int8), ws.take("n_fan", (m,), np.int8)
     band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
     tally = np.zeros((N_CHUNKS, N_STATUS + 1), np.int64)
     face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_HEIGHT, band_counts, tally, lit)
-    n_cut = setup_faces(faces, vcode, vxy, vz, width, height, cull_mode, *face_pass)
+    n_cut = setup_faces(faces, corners, depths, width, height, cull_mode, *face_pass)
     fan_start = np.full(N_CHUNKS, m, np.int64)
     fan_face = np.empty(0, np.int32)
     if n_cut:
@@ -451,7 +453,7 @@ def _depth_offset(value):
         factor, units = (float(v) for v in value)
     except (TypeError, ValueError):
         raise ValueError(f"depth_offset must be (factor, units), got {value!r}") from None
-    if not (np.isfinite(factor) and np.isfinite(units)):
+    if not (math.isfinite(factor) and math.isfinite(units)):
         raise ValueError(f"depth_offset must be finite, got {value!r}")
     return factor, units
 

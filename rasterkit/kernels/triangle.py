@@ -63,6 +63,7 @@ from rasterkit.kernels.clip import (
     vertex_code,
 )
 from rasterkit.kernels.cull import is_culled
+from rasterkit.kernels.intrinsics import prefetch_row
 from rasterkit.kernels.shade import flat_color
 
 SUBPIXEL_BITS = 8
@@ -476,22 +477,25 @@ def triangle_pixels(x0, y0, x1, y1, x2, y2):
     return out
 
 
+#: Columns of the per-vertex rows of :func:`setup_vertices` (z in the float32 view).
+_V_CODE, _V_X, _V_Y, _V_Z = range(4)
+
 @kernel
-def _setup_vertex_chunk(ch, clip, width, height, vcode, vxy, vz):
+def _setup_vertex_chunk(ch, clip, width, height, corners, depths):
     """:func:`setup_vertices` for the vertices of chunk ``ch``."""
     start, stop = chunk_range(clip.shape[0], ch)
     for i in range(np.uint64(start), np.uint64(stop)):
         code = vertex_code(clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3], width, height)
-        vcode[i] = code
+        corners[i, _V_CODE] = code
         if code & CUT_MASK or code & (NONFINITE_BIT | DEGENERATE_BIT):
-            vxy[i, 0], vxy[i, 1], vz[i] = 0, 0, 0.0
+            corners[i, _V_X], corners[i, _V_Y], depths[i, _V_Z] = 0, 0, 0.0
             continue
         x, y, z = project_vertex(clip, i)
-        vxy[i, 0], vxy[i, 1], vz[i] = snap(x), snap(y), z
+        corners[i, _V_X], corners[i, _V_Y], depths[i, _V_Z] = snap(x), snap(y), z
 
 
 @kernel(parallel=True)
-def setup_vertices(clip, width, height, vcode, vxy, vz):
+def setup_vertices(clip, width, height, corners, depths):
     """Vertex pass: classify every vertex once and, where it is safe, project and snap it.
 
     A vertex is shared by about six faces of a closed mesh, so doing this per vertex and
@@ -503,16 +507,17 @@ def setup_vertices(clip, width, height, vcode, vxy, vz):
         Homogeneous raster coordinates.
     width, height : int
         Image size.
-    vcode : (N,) int32
-        Out: :func:`rasterkit.kernels.clip.vertex_code` of each vertex.
-    vxy : (N, 2) int32
-        Out: fixed-point raster ``x, y`` (:func:`snap`), for vertices whose code has no
-        CUT_MASK, NONFINITE or DEGENERATE bit (0 otherwise).
-    vz : (N,) float32
-        Out: depth ``zh / w`` of the same vertices.
+    corners : (N, 4) int32
+        Out, one 16-byte row per vertex (what a face reads of each corner, in one cache
+        line): column ``_V_CODE`` the :func:`rasterkit.kernels.clip.vertex_code`;
+        ``_V_X, _V_Y`` the fixed-point raster ``x, y`` (:func:`snap`) of vertices whose code
+        has no CUT_MASK, NONFINITE or DEGENERATE bit (0 otherwise).
+    depths : (N, 4) float32
+        The same memory as ``corners`` seen as float32: out, column ``_V_Z`` the depth
+        ``zh / w`` of the same vertices.
     """
     for ch in prange(N_CHUNKS):
-        _setup_vertex_chunk(ch, clip, width, height, vcode, vxy, vz)
+        _setup_vertex_chunk(ch, clip, width, height, corners, depths)
 
 
 @kernel(inline="always")
@@ -527,24 +532,34 @@ def count_bands(t, tri_box, band_height, band_counts, ch):
 
 
 @kernel(inline="always")
-def _setup_fast_face(faces, f, vxy, vz, width, height, cull_mode, tri_xy, tri_z, tri_box):
+def _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, tri_xy, tri_z, tri_box):
     """Set up face ``f`` (FACE_INSIDE) into record ``f`` from the vertex pass; its status."""
     a, b, c = np.uint64(faces[f, 0]), np.uint64(faces[f, 1]), np.uint64(faces[f, 2])
     return setup_triangle(
-        np.int64(vxy[a, 0]), np.int64(vxy[a, 1]), vz[a],
-        np.int64(vxy[b, 0]), np.int64(vxy[b, 1]), vz[b],
-        np.int64(vxy[c, 0]), np.int64(vxy[c, 1]), vz[c],
+        np.int64(corners[a, _V_X]), np.int64(corners[a, _V_Y]), depths[a, _V_Z],
+        np.int64(corners[b, _V_X]), np.int64(corners[b, _V_Y]), depths[b, _V_Z],
+        np.int64(corners[c, _V_X]), np.int64(corners[c, _V_Y]), depths[c, _V_Z],
         width, height, cull_mode, f, tri_xy, tri_z, tri_box,
     )
+
+
+#: Faces ahead whose corners the face pass asks to be fetched: meshes whose vertices are
+#: not in surface order (the bunny) gather each corner from anywhere in memory.
+PREFETCH_AHEAD = 8
+
+
+@kernel(inline="always")
+def _prefetch_corners(faces, f, corners):
+    for k in range(3):
+        prefetch_row(corners, faces[f, k])
 
 
 @kernel
 def _setup_chunk(
     ch,
     faces,
-    vcode,
-    vxy,
-    vz,
+    corners,
+    depths,
     width,
     height,
     cull_mode,
@@ -568,12 +583,14 @@ def _setup_chunk(
     cut = 0
     n_seen = 0
     for f in range(np.uint64(start), np.uint64(stop)):
+        if f + PREFETCH_AHEAD < stop:
+            _prefetch_corners(faces, f + PREFETCH_AHEAD, corners)
         a, b, c = np.uint64(faces[f, 0]), np.uint64(faces[f, 1]), np.uint64(faces[f, 2])
-        cls, mask = classify_face(vcode[a], vcode[b], vcode[c])
+        cls, mask = classify_face(corners[a, _V_CODE], corners[b, _V_CODE], corners[c, _V_CODE])
         cut_mask[f] = mask
         n_fan[f] = 0
         if cls == FACE_INSIDE:
-            outcome = _setup_fast_face(faces, f, vxy, vz, width, height, cull_mode, tri_xy, tri_z, tri_box)
+            outcome = _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, tri_xy, tri_z, tri_box)
             if outcome == STATUS_DRAWN:
                 count_bands(f, tri_box, band_height, band_counts, ch)
                 if on:
@@ -599,9 +616,8 @@ def _setup_chunk(
 @kernel(parallel=True)
 def setup_faces(
     faces,
-    vcode,
-    vxy,
-    vz,
+    corners,
+    depths,
     width,
     height,
     cull_mode,
@@ -625,7 +641,7 @@ def setup_faces(
     ----------
     faces : (M, 3) int64
         Vertex indices in range.
-    vcode, vxy, vz
+    corners, depths
         From :func:`setup_vertices`.
     width, height, cull_mode : int
     tri_xy, tri_z, tri_box
@@ -656,9 +672,8 @@ def setup_faces(
         cut[ch] = _setup_chunk(
             ch,
             faces,
-            vcode,
-            vxy,
-            vz,
+            corners,
+            depths,
             width,
             height,
             cull_mode,
