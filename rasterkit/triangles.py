@@ -194,15 +194,12 @@ class FlatLambert:
         ambient, scale = float(self.ambient), float(self.scale)
         if not (np.isfinite(ambient) and np.isfinite(scale)):
             raise ValueError("ambient and scale must be finite")
-        seen = np.empty(faces.shape[0], np.int32)
-        return (True, self.positions, self.base, np.float32(scale), light, ambient, bool(self.two_sided), packed,
-                seen)
+        return (True, self.positions, self.base, np.float32(scale), light, ambient, bool(self.two_sided), packed)
 
 
 def _no_light(packed):
     """The ``lit`` tuple that computes nothing (same types as a FlatLambert's)."""
-    return (False, np.zeros((0, 3)), np.zeros((1, 3), np.float32), np.float32(1.0), np.zeros(3), 0.0, False, packed,
-            np.empty(0, np.int32))
+    return (False, np.zeros((0, 3)), np.zeros((1, 3), np.float32), np.float32(1.0), np.zeros(3), 0.0, False, packed)
 
 
 def _shading(color, face_colors, vertex_colors, faces, clip):
@@ -421,7 +418,7 @@ def _clear_spec(background, color):
 def _set_up(ws, clip, faces, width, height, cull_mode, lit):
     """Vertex pass, face pass and (when needed) the cut faces' fans; binning counted.
 
-    Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts)`` for
+    Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts, listed)`` for
     :func:`rasterkit.kernels.tiles.bin_records` and the resolve; ``counts`` (N_STATUS + 1,)
     are the faces per STATUS_* and, last, the faces cut with something left.
     """
@@ -433,7 +430,8 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit):
     cut_mask, n_fan = ws.take("cut_mask", (m,), np.int8), ws.take("n_fan", (m,), np.int8)
     band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
     tally = np.zeros((N_CHUNKS, N_STATUS + 1), np.int64)
-    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_HEIGHT, band_counts, tally, lit)
+    listed = (ws.take("listed", (m,), np.int32), np.zeros(N_CHUNKS, np.int64))
+    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_HEIGHT, band_counts, tally, lit, listed)
     n_cut = setup_faces(faces, corners, depths, width, height, cull_mode, *face_pass)
     fan_start = np.full(N_CHUNKS, m, np.int64)
     fan_face = np.empty(0, np.int32)
@@ -444,7 +442,7 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit):
         fan_face = ws.take("fan_face", (int(fans.sum()),), np.int32)
         fan_pass = (fan_start, fan_face, tri_xy, tri_z, tri_box, cut_mask, BAND_HEIGHT, band_counts, tally)
         setup_cut_faces(clip, faces, width, height, cull_mode, *fan_pass)
-    return (tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0)
+    return (tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0), listed
 
 
 def _depth_offset(value):
@@ -472,10 +470,10 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
             packed = np.empty(0, np.uint32)
         else:
             packed = face_colors if face_colors.dtype == np.uint32 else pack_colors(face_colors)
-    records, n_fan, fan_start, fan_face, band_counts, counts = _set_up(
+    records, n_fan, fan_start, fan_face, band_counts, counts, listed = _set_up(
         ws, clip, faces, width, height, cull_mode, lit
     )
-    band_start, items, n_records = bin_records(m, n_fan, fan_start, records[2], band_counts)
+    band_start, items, n_records = bin_records(m, n_fan, fan_start, records[2], band_counts, listed)
     if offset != (0.0, 0.0):
         offset_depths(*records, records[0].shape[0], *offset)
     bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))

@@ -61,16 +61,19 @@ def _bin_record(t, ch, tri_box, cursor, items):
 
 
 @kernel
-def _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, cursor, items):
+def _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, cursor, items, listed):
     """Bin the records of face chunk ``ch`` in submission order; returns how many are drawn.
 
     Record ``f`` is face ``f``'s, except for a cut face, whose ``n_fan[f]`` fan records
-    come next in the chunk's run of fan records from ``fan_start[ch]``.
+    come next in the chunk's run of fan records from ``fan_start[ch]``. Only the faces the
+    setup listed (drawn or cut, in order) are visited.
     """
-    start, stop = chunk_range(n_faces, ch)
+    faces_listed, n_listed = listed
+    start = chunk_range(n_faces, ch)[0]
     t_fan = fan_start[ch]
     drawn = 0
-    for f in range(np.uint64(start), np.uint64(stop)):
+    for k in range(np.uint64(start), np.uint64(start + n_listed[ch])):
+        f = faces_listed[k]
         if n_fan[f] == 0:
             drawn += _bin_record(f, ch, tri_box, cursor, items)
         else:
@@ -81,7 +84,7 @@ def _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, cursor, items):
 
 
 @kernel(parallel=True)
-def bin_records(n_faces, n_fan, fan_start, tri_box, band_counts):
+def bin_records(n_faces, n_fan, fan_start, tri_box, band_counts, listed):
     """Bin the records into bands, in submission order (a stable counting sort).
 
     Parameters
@@ -97,6 +100,9 @@ def bin_records(n_faces, n_fan, fan_start, tri_box, band_counts):
     band_counts : (N_CHUNKS, n_bands) int64
         Drawn records per face chunk and band, counted during setup
         (:func:`rasterkit.kernels.triangle.count_bands`). Used as scratch.
+    listed : tuple
+        ``(faces_listed, n_listed)`` from :func:`rasterkit.kernels.triangle.setup_faces`:
+        the faces that can have records; the others are skipped without being read.
 
     Returns
     -------
@@ -120,7 +126,7 @@ def bin_records(n_faces, n_fan, fan_start, tri_box, band_counts):
     items = np.empty(total, np.int32)
     drawn = np.zeros(N_CHUNKS, np.int64)
     for ch in prange(N_CHUNKS):
-        drawn[ch] = _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, band_counts, items)
+        drawn[ch] = _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, band_counts, items, listed)
     return band_start, items, drawn.sum()
 
 

@@ -548,6 +548,22 @@ def _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, tri_xy
 PREFETCH_AHEAD = 8
 
 
+#: Mean jump between the first corners of consecutive faces (vertex rows) above which the
+#: face pass prefetches; below it the rows come in order and the hardware fetches them.
+SCATTERED_JUMP = 64
+
+
+@kernel(inline="always")
+def _scattered(faces, start, stop):
+    """Whether the faces ``start .. stop - 1`` read their corners from scattered rows,
+    judged on the first 32: the prefetches pay off only then."""
+    n = min(stop - start, 33)
+    jump = 0
+    for f in range(start + 1, start + n):
+        jump += abs(faces[f, 0] - faces[f - 1, 0])
+    return jump > SCATTERED_JUMP * (n - 1)
+
+
 @kernel(inline="always")
 def _prefetch_corners(faces, f, corners):
     for k in range(3):
@@ -572,6 +588,7 @@ def _setup_chunk(
     band_counts,
     tally,
     lit,
+    listed,
 ):
     """:func:`setup_faces` for the faces of chunk ``ch``; returns how many need cutting.
 
@@ -579,11 +596,13 @@ def _setup_chunk(
     :func:`setup_cut_faces` has cut it).
     """
     start, stop = chunk_range(faces.shape[0], ch)
-    on, positions, base, scale, light, ambient, two_sided, packed, seen = lit
+    on, positions, base, scale, light, ambient, two_sided, packed = lit
+    seen, n_listed = listed
     cut = 0
     n_seen = 0
+    scattered = _scattered(faces, start, stop)
     for f in range(np.uint64(start), np.uint64(stop)):
-        if f + PREFETCH_AHEAD < stop:
+        if scattered and f + PREFETCH_AHEAD < stop:
             _prefetch_corners(faces, f + PREFETCH_AHEAD, corners)
         a, b, c = np.uint64(faces[f, 0]), np.uint64(faces[f, 1]), np.uint64(faces[f, 2])
         cls, mask = classify_face(corners[a, _V_CODE], corners[b, _V_CODE], corners[c, _V_CODE])
@@ -593,23 +612,23 @@ def _setup_chunk(
             outcome = _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, tri_xy, tri_z, tri_box)
             if outcome == STATUS_DRAWN:
                 count_bands(f, tri_box, band_height, band_counts, ch)
-                if on:
-                    seen[start + n_seen] = f
-                    n_seen += 1
+                seen[start + n_seen] = f
+                n_seen += 1
         else:
             _empty_box(f, tri_box)
             outcome = STATUS_NONFINITE if cls == FACE_NONFINITE else STATUS_OUTSIDE
             if cls == FACE_NEEDS_CUT:
                 cut += 1
-                if on:
-                    seen[start + n_seen] = f
-                    n_seen += 1
+                seen[start + n_seen] = f
+                n_seen += 1
         tally[ch, outcome] += 1
+    n_listed[ch] = n_seen
     # The colours in a loop of their own: inside the branches above they would wait on
     # every mispredicted drawn / culled decision.
-    for k in range(np.uint64(start), np.uint64(start + n_seen)):
-        f = seen[k]
-        packed[f] = flat_color(positions, faces, f, base, scale, light, ambient, two_sided)
+    if on:
+        for k in range(np.uint64(start), np.uint64(start + n_seen)):
+            f = seen[k]
+            packed[f] = flat_color(positions, faces, f, base, scale, light, ambient, two_sided)
     return cut
 
 
@@ -630,6 +649,7 @@ def setup_faces(
     band_counts,
     tally,
     lit,
+    listed,
 ):
     """Face pass: classify every face; set up the ones that need no cutting.
 
@@ -656,11 +676,14 @@ def setup_faces(
         Zeros in; out: faces per chunk and STATUS_* (column N_STATUS: faces cut with
         something left, counted by :func:`setup_cut_faces`).
     lit : tuple
-        ``(on, positions, base, scale, light, ambient, two_sided, packed, seen)``: when
-        ``on``, each face that is drawn uncut or is to be cut gets its flat Lambert colour
-        in ``packed`` (M,) uint32 (:func:`rasterkit.kernels.shade.flat_color`), only for
-        the faces that can be seen (listed per chunk in the scratch ``seen`` (M,) int32
-        first); the other entries are left as they were.
+        ``(on, positions, base, scale, light, ambient, two_sided, packed)``: when ``on``,
+        each face that is drawn uncut or is to be cut gets its flat Lambert colour in
+        ``packed`` (M,) uint32 (:func:`rasterkit.kernels.shade.flat_color`); the other
+        entries are left as they were.
+    listed : tuple
+        ``(faces_listed, n_listed)``: out, the faces drawn uncut or to be cut, in order,
+        chunk ``ch``'s from ``chunk_range(M, ch)[0]`` in ``faces_listed`` (M,) int32, their
+        number in ``n_listed`` (N_CHUNKS,) int64. Binning and shading visit only these.
 
     Returns
     -------
@@ -686,6 +709,7 @@ def setup_faces(
             band_counts,
             tally,
             lit,
+            listed,
         )
     return cut.sum()
 
