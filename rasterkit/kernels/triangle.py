@@ -64,7 +64,7 @@ from rasterkit.kernels.clip import (
 )
 from rasterkit.kernels.cull import is_culled
 from rasterkit.kernels.intrinsics import prefetch_row
-from rasterkit.kernels.shade import flat_color
+from rasterkit.kernels.shade import flat_colors
 
 SUBPIXEL_BITS = 8
 ONE = 1 << SUBPIXEL_BITS
@@ -626,9 +626,7 @@ def _setup_chunk(
     # The colours in a loop of their own: inside the branches above they would wait on
     # every mispredicted drawn / culled decision.
     if on:
-        for k in range(np.uint64(start), np.uint64(start + n_seen)):
-            f = seen[k]
-            packed[f] = flat_color(positions, faces, f, base, scale, light, ambient, two_sided)
+        flat_colors(positions, faces, seen, start, n_seen, base, scale, light, ambient, two_sided, packed)
     return cut
 
 
