@@ -378,7 +378,7 @@ class _Workspace(threading.local):
     def take(self, name, shape, dtype, keep=0):
         """A C-contiguous ``shape`` array of ``dtype``; its first ``keep`` rows are kept
         from the previous ``take`` of the same name (when the buffer has to grow)."""
-        size = int(np.prod(shape))
+        size = math.prod(shape)
         buffer = self._buffers.get(name)
         if buffer is None or buffer.dtype != dtype or buffer.size < size:
             grown = np.empty(size + size // 4, dtype)

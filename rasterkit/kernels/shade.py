@@ -31,6 +31,7 @@ import numpy as np
 from numba import prange
 
 from rasterkit._jit import kernel
+from rasterkit.kernels.intrinsics import prefetch_row
 
 # How resolve_row colours a pixel; chosen once per draw.
 SHADE_NONE = 0  # depth (and ids) only
@@ -203,22 +204,30 @@ def flat_packed(positions, faces, base, scale, light, ambient, two_sided):
 _COLOR_CHUNKS = 64
 #: Faces per block of :func:`flat_colors`.
 COLOR_BLOCK = 256
+_AHEAD = 8
 
 
 @kernel
-def flat_colors(positions, faces, listed, start, count, base, scale, light, ambient, two_sided, packed):
+def flat_colors(positions, faces, listed, start, count, base, scale, light, ambient, two_sided, packed,
+                scattered=False):
     """:func:`flat_color` of ``count`` faces, into ``packed[f]``: the faces ``listed[start:
     start + count]``, or ``start .. start + count - 1`` when ``listed`` is empty.
 
     In blocks of COLOR_BLOCK faces: the corners' differences are gathered first, then the
     normals and Lambert factors are computed over the block without a branch (LLVM turns
     that loop into vector instructions), then the colours are packed; the same
-    operations in the same order as :func:`flat_color`, so the same bits."""
+    operations in the same order as :func:`flat_color`, so the same bits. With
+    ``scattered`` (corners far apart in memory) the corners of a later face are
+    prefetched."""
     work = np.empty(7 * COLOR_BLOCK)
     for first in range(0, count, COLOR_BLOCK):
         n = min(COLOR_BLOCK, count - first)
         for k in range(n):
             f = listed[start + first + k] if listed.size else start + first + k
+            if scattered and k + _AHEAD < n:
+                g = listed[start + first + k + _AHEAD] if listed.size else f + _AHEAD
+                for q in range(3):
+                    prefetch_row(positions, faces[g, q])
             a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
             for q in range(3):
                 work[q * COLOR_BLOCK + k] = positions[b, q] - positions[a, q]
@@ -247,7 +256,7 @@ def _intensity(nx, ny, nz, lx, ly, lz, ambient, two_sided):
     length = np.sqrt(nx * nx + ny * ny + nz * nz)
     cos = (nx * lx + ny * ly + nz * lz) / length
     cos = cos if np.isfinite(cos) else 0.0  # degenerate (0 / 0) or a non-finite corner
-    cos = abs(cos) if two_sided else (cos if cos > 0.0 else 0.0)
+    cos = abs(cos) if two_sided else max(cos, 0.0)
     return ambient + (1.0 - ambient) * cos
 
 

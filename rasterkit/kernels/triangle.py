@@ -626,7 +626,7 @@ def _setup_chunk(
     # The colours in a loop of their own: inside the branches above they would wait on
     # every mispredicted drawn / culled decision.
     if on:
-        flat_colors(positions, faces, seen, start, n_seen, base, scale, light, ambient, two_sided, packed)
+        flat_colors(positions, faces, seen, start, n_seen, base, scale, light, ambient, two_sided, packed, scattered)
     return cut
 
 
