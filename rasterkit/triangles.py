@@ -21,6 +21,7 @@ from rasterkit.kernels.shade import (
     SHADE_FLAT,
     SHADE_NONE,
     SHADE_SMOOTH,
+    SHADE_TAGGED,
     all_finite,
     bary_matrices,
     pack_colors,
@@ -477,7 +478,9 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
     if offset != (0.0, 0.0):
         offset_depths(*records, records[0].shape[0], *offset)
     bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
-    shading = (mode, m, fan_face, packed, vertex_colors, faces, bary)
+    # Flat colours without ids: the visibility buffer carries the colour itself.
+    resolve = SHADE_TAGGED if mode == SHADE_FLAT and ids is None else mode
+    shading = (resolve, m, fan_face, packed, vertex_colors, faces, bary)
     color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
     target = (depth, color_target, ids is not None, ids if ids is not None else np.empty((0, 0), np.int32))
     clear = _clear_spec(background, color)

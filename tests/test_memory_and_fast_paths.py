@@ -327,3 +327,20 @@ def test_images_wider_than_the_packed_records_take_the_general_path():
         xy = line(x0, y0, x1, y1)
         expected[xy[:, 1], xy[:, 0]] = True
     assert np.array_equal(image[..., 0] == 255, expected)
+
+
+@pytest.mark.parametrize("background", ["white", "transparent"])
+def test_colours_carried_in_the_visibility_buffer_equal_the_looked_up_ones(background):
+    """Without ids the visibility buffer holds each face's colour (SHADE_TAGGED), with ids
+    it holds the face and the colour is looked up (SHADE_FLAT): the same image, white
+    faces (colour bits all 1) included."""
+    mesh = shapes.torus()
+    colours = np.random.default_rng(4).uniform(0, 1, (len(mesh.faces), 3)).astype(np.float32)
+    colours[::3] = 1.0  # white
+    mesh = rasterkit.Mesh(mesh.vertices, mesh.faces, face_colors=colours)
+    camera = Camera.frame(*mesh.bounding_sphere(), width=64, height=48)
+    tagged = rasterkit.render(mesh, camera, mode="solid", background=background, light=(0, 0, 1))
+    looked_up = rasterkit.render(mesh, camera, mode="solid", background=background, light=(0, 0, 1), ids=True)
+    assert (tagged.color == 255).all(axis=2).any()  # some white pixels drawn
+    assert np.array_equal(tagged.color, looked_up.color)
+    assert np.array_equal(tagged.depth, looked_up.depth)

@@ -31,6 +31,14 @@ Bresenham steps inside the band and step only those, so a segment costs its visi
 however long it is (clipping a segment again in every band it crosses). Each thread owns a
 band of rows, so no two threads write the same pixel, and since every per-pixel value is computed in
 closed form the image does not depend on the number of bands or threads.
+
+Plain edges (a wireframe: no depth test, no anti-aliasing) whose ends are both inside the
+image take a faster road to the same pixels. The vertex pass also records each such
+vertex's pixel; :func:`plain_setup` turns every edge into a 12-byte record (first pixel,
+packed ``n``, ``a`` and direction bits, rows spanned) with branch-free arithmetic that
+vectorises; :func:`record_work` counts pixels per row so the bands get equal work; each
+band marks its edges' pixels in a byte mask, then clears its colour rows and paints the
+marked pixels 8 at a time (:func:`_paint_marked`).
 """
 
 from __future__ import annotations

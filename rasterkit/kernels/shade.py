@@ -37,6 +37,7 @@ from rasterkit.kernels.intrinsics import prefetch_row
 SHADE_NONE = 0  # depth (and ids) only
 SHADE_FLAT = 1  # per-face colour
 SHADE_SMOOTH = 2  # per-vertex colour, perspective-correct
+SHADE_TAGGED = 3  # per-face colour carried in the visibility buffer itself (no ids wanted)
 
 
 @kernel(inline="always")
@@ -399,13 +400,14 @@ def _smooth_rgba(f, px, py, vertex_colors, faces, bary):
 def resolve_row(mode, lid, r, j, lo, hi, packed, vertex_colors, faces, bary, color, write_ids, ids):
     """Colour (and id) the pixels ``lo..hi`` of image row ``j`` that a triangle won.
 
-    Reads the band's visibility buffer row ``lid[r]`` (the visible face, -1 for none) and
-    resets what it reads to -1 for the next band.
+    Reads the band's visibility buffer row ``lid[r]`` (the visible face, -1 for none; in
+    SHADE_TAGGED the visible face's RGB colour, ``R | G << 8 | B << 16``) and resets what
+    it reads to -1 for the next band.
 
     Parameters
     ----------
     mode : int
-        SHADE_NONE, SHADE_FLAT or SHADE_SMOOTH (a loop-invariant branch).
+        SHADE_NONE, SHADE_FLAT, SHADE_TAGGED or SHADE_SMOOTH (a loop-invariant branch).
     lid : (BAND_HEIGHT, W) int32
         The band's visibility buffer.
     r, j : int
@@ -431,6 +433,8 @@ def resolve_row(mode, lid, r, j, lo, hi, packed, vertex_colors, faces, bary, col
         lid[ru, i] = -1
         if mode == SHADE_FLAT:
             _put(color, ju, i, packed[f])
+        elif mode == SHADE_TAGGED:
+            _put(color, ju, i, np.int64(f) | 0xFF000000)
         elif mode == SHADE_SMOOTH:
             _put(color, ju, i, _smooth_rgba(f, lo + k + 0.5, py, vertex_colors, faces, bary))
         if write_ids:

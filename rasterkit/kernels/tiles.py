@@ -28,7 +28,7 @@ from numba import prange
 from rasterkit._jit import kernel
 from rasterkit.kernels.clear import fill_bytes
 from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
-from rasterkit.kernels.shade import SHADE_FLAT, resolve_row
+from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
 from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
 
 #: Rows per band. 32 rows of a 1920-pixel image keep the band's depth and visibility
@@ -143,7 +143,9 @@ def draw_bands(band_start, items, records, shading, target, clear, lid):
     shading : tuple
         ``(mode, n_faces, fan_face, packed, vertex_colors, faces, bary)``: how to colour
         a visible pixel (:func:`rasterkit.kernels.shade.resolve_row`); record ``t`` is
-        face ``t`` below ``n_faces``, else face ``fan_face[t - n_faces]``.
+        face ``t`` below ``n_faces``, else face ``fan_face[t - n_faces]``. In
+        SHADE_TAGGED (flat colours, no ids) the visibility buffer holds the face's colour
+        instead of its index.
     target : tuple
         ``(depth, color, write_ids, ids)``: depth (H, W) float32 (less-than test), colour
         (H, W, C) uint8 (untouched in SHADE_NONE), and whether to write face indices into
@@ -196,7 +198,7 @@ def _prefetch_record(t, records, shading):
     prefetch_row(tri_box, t)
     prefetch_row(tri_xy, t)
     prefetch_row(tri_z, t)
-    if mode == SHADE_FLAT and t < n_faces:
+    if (mode == SHADE_FLAT or mode == SHADE_TAGGED) and t < n_faces:
         prefetch_row(packed, t)
 
 
@@ -233,7 +235,10 @@ def _draw_slot(slot, band_start, items, records, shading, target, clear, lid, ne
                 _prefetch_record(items[k + PREFETCH_AHEAD], records, shading)
             t = items[k]
             face = t if t < n_faces else fan_face[t - n_faces]
-            fragments += raster_band(t, face, tri_xy, tri_z, tri_box, y0, y1, depth, band_lid, row_lo, row_hi)
+            # what the visibility buffer holds: the face, or (SHADE_TAGGED) its colour, so
+            # the resolve need not look each pixel's colour up
+            tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
+            fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, band_lid, row_lo, row_hi)
         for r in range(y1 - y0):
             resolve_row(
                 mode,
