@@ -329,18 +329,20 @@ def test_images_wider_than_the_packed_records_take_the_general_path():
     assert np.array_equal(image[..., 0] == 255, expected)
 
 
-@pytest.mark.parametrize("background", ["white", "transparent"])
-def test_colours_carried_in_the_visibility_buffer_equal_the_looked_up_ones(background):
+@pytest.mark.parametrize("channels", [3, 4])
+def test_colours_carried_in_the_visibility_buffer_equal_the_looked_up_ones(channels):
     """Without ids the visibility buffer holds each face's colour (SHADE_TAGGED), with ids
     it holds the face and the colour is looked up (SHADE_FLAT): the same image, white
-    faces (colour bits all 1) included."""
-    mesh = shapes.torus()
-    colours = np.random.default_rng(4).uniform(0, 1, (len(mesh.faces), 3)).astype(np.float32)
-    colours[::3] = 1.0  # white
-    mesh = rasterkit.Mesh(mesh.vertices, mesh.faces, face_colors=colours)
-    camera = Camera.frame(*mesh.bounding_sphere(), width=64, height=48)
-    tagged = rasterkit.render(mesh, camera, mode="solid", background=background, light=(0, 0, 1))
-    looked_up = rasterkit.render(mesh, camera, mode="solid", background=background, light=(0, 0, 1), ids=True)
-    assert (tagged.color == 255).all(axis=2).any()  # some white pixels drawn
-    assert np.array_equal(tagged.color, looked_up.color)
-    assert np.array_equal(tagged.depth, looked_up.depth)
+    faces (every colour bit 1, like the empty marker -1) included."""
+    rng = np.random.default_rng(4)
+    _, _, clip, faces = _scene_with_cut_faces(rng, n_faces=300)
+    packed = rng.integers(0, 2**24, len(faces)).astype(np.uint32) | np.uint32(255 << 24)
+    packed[::3] = 0xFFFFFFFF  # white
+    images = []
+    for ids in (None, np.full((40, 48), -1, np.int32)):
+        color = np.full((40, 48, channels), 7, np.uint8)
+        depth = np.full((40, 48), np.inf, np.float32)
+        rasterize_triangles(color, depth, clip, faces, face_colors=packed, ids=ids, cull="none")
+        images.append(color)
+    assert (images[0] == 255).all(axis=2).any()  # white pixels drawn
+    assert np.array_equal(images[0], images[1])
