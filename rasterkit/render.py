@@ -176,6 +176,10 @@ def _shade(mesh: Mesh, options: _Options):
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
     # normals too, so they cannot spoil their neighbours' vertex normals.
     faces = mesh.faces
+    # Mesh checked its faces when it was made, but its arrays can be changed in place since:
+    # the normals kernel must never index outside the vertices.
+    if len(faces) and not _indices_in_range(faces, len(mesh.vertices)):
+        raise ValueError(f"mesh faces must index vertices 0..{len(mesh.vertices) - 1}")
     if not np.isfinite(mesh.vertices).all():
         faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
     normals = mesh.normals if mesh.normals is not None else shade_kernels.vertex_normals(mesh.vertices, faces)

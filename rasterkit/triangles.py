@@ -130,8 +130,8 @@ def _check_geometry(clip, faces):
         raise ValueError(f"faces must have shape (M, 3), got {faces.shape}")
     if faces.shape[0] > _MAX_FACES:
         raise ValueError(f"at most {_MAX_FACES} faces per call, got {faces.shape[0]}")
-    if faces.size and not _indices_in_range(faces, clip.shape[0]):
-        raise ValueError(f"faces must index vertices 0..{clip.shape[0] - 1}")
+    # The vertex indices are checked by the face pass (setup_faces), which reads them all
+    # anyway, before anything is drawn or read through them.
 
 
 def _indices_in_range(faces, n):
@@ -434,6 +434,8 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit):
     listed = (ws.take("listed", (m,), np.int32), np.zeros(N_CHUNKS, np.int64))
     face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_HEIGHT, band_counts, tally, lit, listed)
     n_cut = setup_faces(faces, corners, depths, width, height, cull_mode, *face_pass)
+    if n_cut < 0:
+        raise ValueError(f"faces must index vertices 0..{n - 1}")
     fan_start = np.full(N_CHUNKS, m, np.int64)
     fan_face = np.empty(0, np.int32)
     if n_cut:

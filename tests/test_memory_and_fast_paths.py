@@ -346,3 +346,26 @@ def test_colours_carried_in_the_visibility_buffer_equal_the_looked_up_ones(chann
         images.append(color)
     assert (images[0] == 255).all(axis=2).any()  # white pixels drawn
     assert np.array_equal(images[0], images[1])
+
+
+@pytest.mark.parametrize("bad", [-1, 60, 2**40])
+def test_face_pass_rejects_out_of_range_indices_before_drawing(bad):
+    """The vertex indices are checked by the face pass itself: an index out of range (or
+    negative) in any chunk raises, and the buffers are left untouched."""
+    rng = np.random.default_rng(8)
+    _, _, clip, faces = _scene_with_cut_faces(rng, n_faces=5000)  # 60 vertices
+    faces[4321, 1] = bad
+    color = np.full((40, 48, 3), 9, np.uint8)
+    depth = np.full((40, 48), 0.5, np.float32)
+    with pytest.raises(ValueError, match="index vertices 0..59"):
+        rasterize_triangles(color, depth, clip, faces, face_colors=np.zeros(len(faces), np.uint32), clear=(1, 2, 3))
+    assert np.all(color == 9) and np.all(depth == 0.5)
+
+
+def test_smooth_render_rejects_mesh_faces_changed_out_of_range_after_construction():
+    mesh = shapes.cube()
+    camera = Camera.frame(*mesh.bounding_sphere(), width=20, height=20)
+    mesh.faces[3, 2] = len(mesh.vertices) + 5  # arrays stay writeable; no kernel may see this
+    for shading in ("flat", "smooth"):
+        with pytest.raises(ValueError, match="index vertices"):
+            rasterkit.render(mesh, camera, mode="solid", shading=shading)

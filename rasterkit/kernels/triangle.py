@@ -590,7 +590,8 @@ def _setup_chunk(
     lit,
     listed,
 ):
-    """:func:`setup_faces` for the faces of chunk ``ch``; returns how many need cutting.
+    """:func:`setup_faces` for the faces of chunk ``ch``; returns how many need cutting,
+    or -1 (and stops) at a vertex index out of range.
 
     A face to cut only gets its mask here (and counts as STATUS_OUTSIDE until
     :func:`setup_cut_faces` has cut it).
@@ -600,11 +601,14 @@ def _setup_chunk(
     seen, n_listed = listed
     cut = 0
     n_seen = 0
+    n_vertices = np.uint64(corners.shape[0])
     scattered = _scattered(faces, start, stop)
     for f in range(np.uint64(start), np.uint64(stop)):
         if scattered and f + PREFETCH_AHEAD < stop:
-            _prefetch_corners(faces, f + PREFETCH_AHEAD, corners)
+            _prefetch_corners(faces, f + PREFETCH_AHEAD, corners)  # never faults, even out of range
         a, b, c = np.uint64(faces[f, 0]), np.uint64(faces[f, 1]), np.uint64(faces[f, 2])
+        if a >= n_vertices or b >= n_vertices or c >= n_vertices:  # a negative index too
+            return -1  # the caller raises before anything is drawn
         cls, mask = classify_face(corners[a, _V_CODE], corners[b, _V_CODE], corners[c, _V_CODE])
         cut_mask[f] = mask
         n_fan[f] = 0
@@ -658,7 +662,7 @@ def setup_faces(
     Parameters
     ----------
     faces : (M, 3) int64
-        Vertex indices in range.
+        Vertex indices (a face out of range makes the call return -1).
     corners, depths
         From :func:`setup_vertices`.
     width, height, cull_mode : int
@@ -686,7 +690,10 @@ def setup_faces(
     Returns
     -------
     int
-        Number of faces to cut.
+        Number of faces to cut, or -1 when a face has a vertex index outside
+        ``0 .. N - 1`` (checked here, where every index is read anyway, instead of in a
+        pass of its own; nothing is read through such an index, and the records are then
+        incomplete: the caller must not go on).
     """
     cut = np.zeros(N_CHUNKS, np.int64)
     for ch in prange(N_CHUNKS):
@@ -709,7 +716,7 @@ def setup_faces(
             lit,
             listed,
         )
-    return cut.sum()
+    return -1 if cut.min() < 0 else cut.sum()
 
 
 @kernel
