@@ -873,7 +873,8 @@ def draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands, bac
     clear = background.size == channels
     pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
     marked = plain and clear and mask.size >= height * width
-    select, paint = _paint_tables(rgba)
+    # the 8-pixel paint tables, only for the marked (mask) path
+    select, paint = _paint_tables(rgba if marked else rgba[:0])
     one = np.ones(1, np.uint8)
     zeros = np.zeros(PATTERN_BYTES, np.uint8)
     for band in prange(n_bands):

@@ -211,13 +211,13 @@ _AHEAD = 8
 @kernel
 def flat_colors(positions, faces, listed, start, count, base, scale, light, ambient, two_sided, packed,
                 scattered=False):
-    """:func:`flat_color` of ``count`` faces, into ``packed[f]``: the faces ``listed[start:
-    start + count]``, or ``start .. start + count - 1`` when ``listed`` is empty.
+    """The packed Lambert colours of ``count`` faces (as :func:`flat_packed`), into
+    ``packed[f]``: the faces ``listed[start: start + count]``, or
+    ``start .. start + count - 1`` when ``listed`` is empty.
 
     In blocks of COLOR_BLOCK faces: the corners' differences are gathered first, then the
     normals and Lambert factors are computed over the block without a branch (LLVM turns
-    that loop into vector instructions), then the colours are packed; the same
-    operations in the same order as :func:`flat_color`, so the same bits. With
+    that loop into vector instructions), then the colours are packed. With
     ``scattered`` (corners far apart in memory) the corners of a later face are
     prefetched."""
     work = np.empty(7 * COLOR_BLOCK)
@@ -242,8 +242,8 @@ def flat_colors(positions, faces, listed, start, count, base, scale, light, ambi
 
 @kernel
 def _lambert_block(work, n, lx, ly, lz, ambient, two_sided):
-    """Row 6 of ``work`` (rows of COLOR_BLOCK) gets :func:`flat_color`'s intensity of the
-    faces whose edge vectors ``v1 - v0`` and ``v2 - v0`` are in rows 0-2 and 3-5."""
+    """Row 6 of ``work`` (rows of COLOR_BLOCK) gets the Lambert intensity (:func:`_intensity`)
+    of the faces whose edge vectors ``v1 - v0`` and ``v2 - v0`` are in rows 0-2 and 3-5."""
     for k in range(np.uint64(n)):
         nx, ny, nz = _cross(work[k], work[COLOR_BLOCK + k], work[2 * COLOR_BLOCK + k],
                             work[3 * COLOR_BLOCK + k], work[4 * COLOR_BLOCK + k], work[5 * COLOR_BLOCK + k])
@@ -268,14 +268,6 @@ def _pack_lit(base, src, scale, intensity):
     green = to_u8(np.float32(np.float32(base[src, 1] * scale) * intensity))
     blue = to_u8(np.float32(np.float32(base[src, 2] * scale) * intensity))
     return np.uint32(red | green << 8 | blue << 16 | 255 << 24)
-
-
-@kernel(inline="always")
-def flat_color(positions, faces, f, base, scale, light, ambient, two_sided):
-    """Face ``f``'s packed Lambert colour: one face of :func:`flat_packed`."""
-    nx, ny, nz = _face_cross(positions, faces, f)
-    intensity = _intensity(nx, ny, nz, light[0], light[1], light[2], ambient, two_sided)
-    return _pack_lit(base, 0 if base.shape[0] == 1 else np.int64(f), scale, intensity)
 
 
 @kernel(parallel=True)

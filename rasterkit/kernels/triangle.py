@@ -680,7 +680,7 @@ def setup_faces(
     lit : tuple
         ``(on, positions, base, scale, light, ambient, two_sided, packed)``: when ``on``,
         each face that is drawn uncut or is to be cut gets its flat Lambert colour in
-        ``packed`` (M,) uint32 (:func:`rasterkit.kernels.shade.flat_color`); the other
+        ``packed`` (M,) uint32 (:func:`rasterkit.kernels.shade.flat_colors`); the other
         entries are left as they were.
     listed : tuple
         ``(faces_listed, n_listed)``: out, the faces drawn uncut or to be cut, in order,
