@@ -2,11 +2,16 @@
 
 A Mesh never holds an index out of range, a face with repeated shape errors or arrays of the
 wrong dtype: the constructor checks everything once, so the kernels can trust its arrays.
+They are the Mesh's own and read-only (an array passed in is copied when the Mesh would
+otherwise share it), so what was checked stays true, and what is worked out from them once
+(:attr:`Mesh.face_normals`) stays valid. To move a mesh, make a new one
+(``dataclasses.replace(mesh, vertices=...)`` keeps its edges).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -41,6 +46,18 @@ def _array(a, dtype, shape_tail, name, n_rows=None):
         raise ValueError(f"{name} must have shape ({want}), got {arr.shape}")
     if n_rows is not None and len(arr) != n_rows:
         raise ValueError(f"{name} must have {n_rows} rows, got {len(arr)}")
+    return arr
+
+
+def _own(arr, source) -> np.ndarray:
+    """``arr`` (made from ``source``, what the caller passed) made read-only; copied first
+    unless it is a fresh array or ``source`` itself already frozen (another Mesh's array):
+    the caller's arrays stay writeable, and writing to them cannot change the Mesh."""
+    fresh = arr is not source and arr.base is None
+    frozen = arr is source and not arr.flags.writeable and arr.flags.owndata
+    if not (fresh or frozen):
+        arr = arr.copy()
+    arr.flags.writeable = False
     return arr
 
 
@@ -83,6 +100,8 @@ class Mesh:
     material_names : tuple of str
     warnings : tuple of str
         What the loader noticed but accepted.
+
+    The arrays are read-only; the Mesh does not share them with the arrays it was made from.
     """
 
     vertices: np.ndarray
@@ -99,6 +118,9 @@ class Mesh:
     warnings: tuple = field(default=())
 
     def __post_init__(self):
+        vertices_in, faces_in, edges_in, lines_in = self.vertices, self.faces, self.edges, self.lines
+        given = {name: getattr(self, name) for name in
+                 ("vertex_colors", "normals", "texcoords", "face_colors", "face_groups")}
         v = _array(self.vertices, np.float64, (3,), "vertices")
         n = len(v)
         f = _indices(self.faces, n, 3, "faces")
@@ -130,6 +152,23 @@ class Mesh:
         set_(self, "group_names", tuple(self.group_names))
         set_(self, "material_names", tuple(self.material_names))
         set_(self, "warnings", tuple(self.warnings))
+        sources = {"vertices": vertices_in, "faces": faces_in, "edges": edges_in, "lines": lines_in,
+                   **{name: given[name] for name in (*optional, "face_groups")}}
+        for name, source in sources.items():
+            value = getattr(self, name)
+            if value is not None:
+                set_(self, name, _own(value, source))
+
+    @cached_property
+    def face_normals(self) -> np.ndarray:
+        """(M, 3) float32, read-only: unit face normals (right-hand rule: counter-clockwise
+        seen from the front points out), zero for a degenerate face, NaN for a face with a
+        non-finite corner. Worked out on first use and kept: flat shading needs them in every
+        frame, and they do not depend on the camera."""
+        from .kernels.shade import face_normals
+        normals = face_normals(self.vertices, self.faces).astype(np.float32)
+        normals.flags.writeable = False
+        return normals
 
     @property
     def bounds(self) -> np.ndarray:

@@ -22,7 +22,7 @@ from .kernels import shade as shade_kernels
 from .kernels.vertex import transform_points
 from .mesh import Mesh
 from .scene import Scene
-from .triangles import FlatLambert, _indices_in_range, rasterize_triangles
+from .triangles import FlatLambert, rasterize_triangles
 
 __all__ = ["LINE_DEPTH_BIAS", "MODES", "POLYGON_OFFSET", "render"]
 
@@ -172,14 +172,11 @@ def _shade(mesh: Mesh, options: _Options):
         else:
             base, scale = _base_colors(mesh, options, per_face=True), np.float32(1)
         # Computed by the face setup, for the faces that are drawn only.
-        return FlatLambert(mesh.vertices, base, towards_light, AMBIENT, two_sided, scale), None
+        return FlatLambert(mesh.face_normals, base, towards_light, AMBIENT, two_sided, scale), None
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
-    # normals too, so they cannot spoil their neighbours' vertex normals.
+    # normals too, so they cannot spoil their neighbours' vertex normals. (A Mesh's faces
+    # index its vertices: checked when it was made, and its arrays are read-only.)
     faces = mesh.faces
-    # Mesh checked its faces when it was made, but its arrays can be changed in place since:
-    # the normals kernel must never index outside the vertices.
-    if len(faces) and not _indices_in_range(faces, len(mesh.vertices)):
-        raise ValueError(f"mesh faces must index vertices 0..{len(mesh.vertices) - 1}")
     if not np.isfinite(mesh.vertices).all():
         faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
     normals = mesh.normals if mesh.normals is not None else shade_kernels.vertex_normals(mesh.vertices, faces)
@@ -219,10 +216,6 @@ def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options
         mode |= line_kernels.MODE_DEPTH_TEST
     if options.aa:
         mode |= line_kernels.MODE_ANTIALIAS
-    # Mesh checked its edges when it was made, but its arrays can be changed in place since:
-    # the kernel must never index outside clip.
-    if len(mesh.edges) and not _indices_in_range(mesh.edges, len(clip)):
-        raise ValueError(f"mesh edges must index vertices 0..{len(clip) - 1}")
     channels = fb.color.shape[2]
     rgba = np.ascontiguousarray(options.line_color[:channels])
     background = np.ascontiguousarray(fb.background[:channels]) if clear else None

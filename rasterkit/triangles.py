@@ -153,15 +153,18 @@ class FlatLambert:
     """Face colours for :func:`rasterize_triangles` that it computes itself: per face,
     Lambert's law under a distant light, for the faces that can be seen only.
 
-    Equal, face for face, to ``face_colors=rasterkit.kernels.shade.flat_packed(...)`` with
-    the same arguments, but worked out during the face setup, while each face's corners are
-    being read anyway, and skipped for the faces culled, outside or empty (half of a closed
-    mesh is back-facing): a renderer saves a pass over every face.
+    Equal, face for face, to ``face_colors=rasterkit.kernels.shade.flat_packed(...)`` of the
+    positions the normals come from, but worked out during the face setup and skipped for
+    the faces culled, outside or empty (half of a closed mesh is back-facing): a renderer
+    saves a pass over every face. The normals depend on the mesh only, not on the camera:
+    :attr:`rasterkit.Mesh.face_normals` works them out once per mesh.
 
     Attributes
     ----------
-    positions : (N, 3) float64
-        Vertex positions in the space of ``light`` (world space), one per row of ``clip``.
+    normals : (M, 3) float32
+        Unit face normals in the space of ``light`` (world space), one per face
+        (:attr:`rasterkit.Mesh.face_normals`); a zero or non-finite one gets the ambient
+        term only.
     base : (1, 3) or (M, 3) float32
         Surface colour(s), times ``scale`` in 0..255.
     light : (3,) float64
@@ -174,33 +177,49 @@ class FlatLambert:
         Multiplies ``base`` (255 for colours in [0, 1]).
     """
 
-    positions: np.ndarray
+    normals: np.ndarray
     base: np.ndarray
     light: np.ndarray
     ambient: float = 0.25
     two_sided: bool = False
     scale: float = 1.0
 
-    def _lit(self, faces, clip, packed):
+    def _lit(self, faces, packed):
         """The ``lit`` tuple of :func:`rasterkit.kernels.triangle.setup_faces`, validated."""
-        _check_array("positions", self.positions, np.float64, 2)
-        if self.positions.shape != (clip.shape[0], 3):
-            raise ValueError(f"positions must have shape ({clip.shape[0]}, 3), got {self.positions.shape}")
+        m = faces.shape[0]
+        _check_array("normals", self.normals, np.float32, 2)
+        if self.normals.shape != (m, 3):
+            raise ValueError(f"normals must have shape ({m}, 3), got {self.normals.shape}")
         _check_array("base", self.base, np.float32, 2)
-        if self.base.shape not in ((1, 3), (faces.shape[0], 3)):
-            raise ValueError(f"base must have shape (1, 3) or ({faces.shape[0]}, 3), got {self.base.shape}")
+        if self.base.shape not in ((1, 3), (m, 3)):
+            raise ValueError(f"base must have shape (1, 3) or ({m}, 3), got {self.base.shape}")
         light = np.ascontiguousarray(self.light, np.float64)
         if light.shape != (3,) or not np.all(np.isfinite(light)):
             raise ValueError(f"light must be 3 finite numbers, got {self.light!r}")
         ambient, scale = float(self.ambient), float(self.scale)
         if not (np.isfinite(ambient) and np.isfinite(scale)):
             raise ValueError("ambient and scale must be finite")
-        return (True, self.positions, self.base, np.float32(scale), light, ambient, bool(self.two_sided), packed)
+        return (True, _readonly(self.normals), _readonly(self.base), np.float32(scale), light, ambient,
+                bool(self.two_sided), packed)
 
 
 def _no_light(packed):
     """The ``lit`` tuple that computes nothing (same types as a FlatLambert's)."""
-    return (False, np.zeros((0, 3)), np.zeros((1, 3), np.float32), np.float32(1.0), np.zeros(3), 0.0, False, packed)
+    return (False, _NO_NORMALS, _NO_BASE, np.float32(1.0), np.zeros(3), 0.0, False, packed)
+
+
+def _readonly(a):
+    """``a``, or a read-only view of it: the kernels are compiled for read-only inputs only
+    (a Mesh's arrays are read-only), not once more for writeable ones."""
+    if not a.flags.writeable:
+        return a
+    view = a.view()
+    view.flags.writeable = False
+    return view
+
+
+_NO_NORMALS = _readonly(np.zeros((0, 3), np.float32))
+_NO_BASE = _readonly(np.zeros((1, 3), np.float32))
 
 
 def _shading(color, face_colors, vertex_colors, faces, clip):
@@ -466,7 +485,7 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
     m = faces.shape[0]
     if isinstance(face_colors, FlatLambert):  # colours made by the face setup
         packed = ws.take("packed", (m,), np.uint32)
-        lit = face_colors._lit(faces, clip, packed)
+        lit = face_colors._lit(faces, packed)
     else:
         lit = _no_light(np.empty(0, np.uint32))
         if mode != SHADE_FLAT:

@@ -1,11 +1,13 @@
 """Recycled framebuffer memory, the lazy depth buffer, and the fast paths added for speed,
 each against the slower path it replaces (bit for bit) or a hand-made expectation."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 import rasterkit
-from rasterkit import Camera, _memory, shapes
+from rasterkit import Camera, Mesh, _memory, shapes
 from rasterkit.framebuffer import Framebuffer
 from rasterkit.kernels import line as line_kernels
 from rasterkit.kernels.shade import face_normals, flat_packed, lambert, pack_colors
@@ -87,14 +89,17 @@ def test_flat_packed_equals_normals_lambert_and_pack():
     light = np.array([0.48, -0.6, 0.64])
     for two_sided in (False, True):
         for colours in (base, base[:1]):
-            expected = pack_colors(lambert(face_normals(positions, faces), colours * np.float32(255), light,
+            normals = face_normals(positions, faces).astype(np.float32).astype(np.float64)
+            expected = pack_colors(lambert(normals, colours * np.float32(255), light,
                                            np.zeros((0, 3)), False, 0.25, two_sided))
             got = flat_packed(positions, faces, colours, np.float32(255), light, 0.25, two_sided)
             np.testing.assert_array_equal(got, expected)
     positions[faces[7, 2]] = np.nan  # a NaN corner: ambient only, like a degenerate face
-    got = flat_packed(positions, faces, base, np.float32(255), light, 0.25, False)
-    ambient = pack_colors(base[[0, 7]] * np.float32(255) * np.float32(0.25))
-    assert got[7] == ambient[1] and got[0] == ambient[0]
+    positions[faces[9, 1]] = np.inf  # an infinite one too
+    ambient = pack_colors(base * np.float32(255) * np.float32(0.25))
+    for two_sided in (False, True):
+        got = flat_packed(positions, faces, base, np.float32(255), light, 0.25, two_sided)
+        assert got[7] == ambient[7] and got[9] == ambient[9] and got[0] == ambient[0]
 
 
 def test_rasterize_triangles_takes_packed_face_colours():
@@ -142,13 +147,37 @@ def test_plain_setup_records_match_the_general_path_on_random_edges():
     assert fast.any() and np.array_equal(fast, general)
 
 
-def test_render_rejects_mesh_edges_changed_out_of_range_after_construction():
-    mesh = shapes.cube()
-    camera = Camera.frame(*mesh.bounding_sphere(), width=20, height=20)
-    mesh.edges[0, 1] = len(mesh.vertices)  # arrays stay writeable; the kernel must not see this
-    for mode in ("wire", "hidden", "solid+wire"):
-        with pytest.raises(ValueError, match="edges"):
-            rasterkit.render(mesh, camera, mode=mode)
+def test_mesh_arrays_are_read_only_and_not_shared_with_the_callers():
+    """What Mesh checked stays true: its arrays cannot be written, and writing to the arrays
+    it was made from does not reach it (the renderer trusts a Mesh's indices and keeps its
+    face normals)."""
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], np.float64)
+    faces = np.array([[0, 1, 2], [0, 3, 1]], np.int64)
+    mesh = Mesh(vertices, faces, vertex_colors=np.ones((4, 3), np.float32))
+    for name in ("vertices", "faces", "edges", "lines", "vertex_colors"):
+        with pytest.raises(ValueError, match="read-only"):
+            getattr(mesh, name)[0] = 0
+    faces[0, 2] = 99
+    vertices[0, 0] = np.nan
+    assert mesh.faces[0, 2] == 2 and mesh.vertices[0, 0] == 0
+    assert vertices.flags.writeable and faces.flags.writeable
+    moved = dataclasses.replace(mesh, vertices=mesh.vertices + 1)  # how to move a mesh
+    assert np.array_equal(moved.edges, mesh.edges) and moved.vertices[0, 0] == 1
+
+
+def test_mesh_face_normals_are_unit_right_hand_normals_kept_per_mesh():
+    vertices = np.array([[0, 0, 0], [2, 0, 0], [0, 3, 0], [0, 0, 1], [5, 5, 5]], np.float64)
+    faces = np.array([[0, 1, 2], [0, 3, 1], [0, 1, 1]], np.int64)  # last: degenerate
+    mesh = Mesh(vertices, faces)
+    expected = np.array([[0, 0, 1], [0, 1, 0], [0, 0, 0]], np.float32)
+    assert mesh.face_normals.dtype == np.float32
+    assert np.array_equal(mesh.face_normals, expected)
+    assert mesh.face_normals is mesh.face_normals and not mesh.face_normals.flags.writeable
+    torus = shapes.torus()
+    corners = [torus.vertices[torus.faces[:, k]] for k in range(3)]
+    cross = np.cross(corners[1] - corners[0], corners[2] - corners[0])
+    want = cross / np.linalg.norm(cross, axis=1, keepdims=True)
+    assert np.allclose(torus.face_normals, want, atol=1e-6)
 
 
 def test_solid_render_clears_colour_with_the_shared_pattern_fill():
@@ -249,7 +278,7 @@ def test_flat_lambert_in_the_setup_equals_precomputed_face_colours(cull, per_fac
     two_sided = cull == "none"
     images = []
     for face_colors in (flat_packed(points, faces, base, np.float32(255), light, 0.25, two_sided),
-                        FlatLambert(points, base, light, 0.25, two_sided, 255.0)):
+                        FlatLambert(Mesh(points, faces).face_normals, base, light, 0.25, two_sided, 255.0)):
         color = np.zeros((40, 48, 3), np.uint8)
         depth = np.full((40, 48), np.inf, np.float32)
         stats = rasterize_triangles(color, depth, clip, faces, face_colors=face_colors, cull=cull)
@@ -264,10 +293,14 @@ def test_flat_lambert_is_checked_before_drawing():
     color = np.zeros((40, 48, 3), np.uint8)
     depth = np.full((40, 48), np.inf, np.float32)
     base = np.ones((1, 3), np.float32)
-    bad = [FlatLambert(points[:-1], base, np.array([0.0, 0.0, 1.0])),  # a row short
-           FlatLambert(points, np.ones((2, 3), np.float32), np.array([0.0, 0.0, 1.0])),
-           FlatLambert(points, base, np.array([0.0, np.nan, 1.0])),
-           FlatLambert(points.astype(np.float32), base, np.array([0.0, 0.0, 1.0]))]
+    normals = Mesh(points, faces).face_normals
+    up = np.array([0.0, 0.0, 1.0])
+    bad = [FlatLambert(normals[:-1], base, up),  # a row short
+           FlatLambert(normals, np.ones((2, 3), np.float32), up),
+           FlatLambert(normals, base, np.array([0.0, np.nan, 1.0])),
+           FlatLambert(normals.astype(np.float64), base, up),
+           FlatLambert(normals[:, :2], base, up),
+           FlatLambert(np.asfortranarray(np.repeat(normals, 2, axis=0)[::2]), base, up)]
     for face_colors in bad:
         with pytest.raises((TypeError, ValueError)):
             rasterize_triangles(color, depth, clip, faces, face_colors=face_colors)
@@ -360,12 +393,3 @@ def test_face_pass_rejects_out_of_range_indices_before_drawing(bad):
     with pytest.raises(ValueError, match="index vertices 0..59"):
         rasterize_triangles(color, depth, clip, faces, face_colors=np.zeros(len(faces), np.uint32), clear=(1, 2, 3))
     assert np.all(color == 9) and np.all(depth == 0.5)
-
-
-def test_smooth_render_rejects_mesh_faces_changed_out_of_range_after_construction():
-    mesh = shapes.cube()
-    camera = Camera.frame(*mesh.bounding_sphere(), width=20, height=20)
-    mesh.faces[3, 2] = len(mesh.vertices) + 5  # arrays stay writeable; no kernel may see this
-    for shading in ("flat", "smooth"):
-        with pytest.raises(ValueError, match="index vertices"):
-            rasterkit.render(mesh, camera, mode="solid", shading=shading)

@@ -597,7 +597,7 @@ def _setup_chunk(
     :func:`setup_cut_faces` has cut it).
     """
     start, stop = chunk_range(faces.shape[0], ch)
-    on, positions, base, scale, light, ambient, two_sided, packed = lit
+    on, normals, base, scale, light, ambient, two_sided, packed = lit
     seen, n_listed = listed
     cut = 0
     n_seen = 0
@@ -630,7 +630,7 @@ def _setup_chunk(
     # The colours in a loop of their own: inside the branches above they would wait on
     # every mispredicted drawn / culled decision.
     if on:
-        flat_colors(positions, faces, seen, start, n_seen, base, scale, light, ambient, two_sided, packed, scattered)
+        flat_colors(normals, seen, start, n_seen, base, scale, light, ambient, two_sided, packed)
     return cut
 
 
@@ -678,7 +678,7 @@ def setup_faces(
         Zeros in; out: faces per chunk and STATUS_* (column N_STATUS: faces cut with
         something left, counted by :func:`setup_cut_faces`).
     lit : tuple
-        ``(on, positions, base, scale, light, ambient, two_sided, packed)``: when ``on``,
+        ``(on, normals, base, scale, light, ambient, two_sided, packed)``: when ``on``,
         each face that is drawn uncut or is to be cut gets its flat Lambert colour in
         ``packed`` (M,) uint32 (:func:`rasterkit.kernels.shade.flat_colors`); the other
         entries are left as they were.
