@@ -227,6 +227,30 @@ def test_marked_wire_path_equals_drawing_into_colour(channels, width):
         assert np.array_equal(marked, expected)
 
 
+def test_record_work_samples_every_stride_th_record_of_a_large_draw():
+    """Beyond _WORK_SAMPLES records, every s-th record of each setup chunk counts s times."""
+    rng = np.random.default_rng(4)
+    height = 700
+    m = 3 * line_kernels._WORK_SAMPLES + 5
+    stride = m // line_kernels._WORK_SAMPLES
+    jlo = rng.integers(0, height, m)
+    jhi = np.minimum(jlo + rng.integers(0, 40, m), height - 1)
+    recs = np.zeros((line_kernels.REC_FIELDS, m), np.int32)
+    recs[2] = np.where(rng.random(m) < 0.1, -1, jlo | jhi << 16)  # some general-path edges
+    recs[1] = rng.integers(0, 300, m) | rng.integers(0, 300, m) << 15
+    expected = np.zeros((height + line_kernels._ROWS_PER_BIN - 1) // line_kernels._ROWS_PER_BIN, np.int64)
+    chunks = line_kernels._SETUP_CHUNKS
+    for ch in range(chunks):
+        for e in range(m * ch // chunks, m * (ch + 1) // chunks, stride):
+            rows = int(recs[2, e])
+            if rows >= 0:
+                middle = ((rows & 0xFFFF) + (rows >> 16)) // 2
+                expected[middle // line_kernels._ROWS_PER_BIN] += stride * ((int(recs[1, e]) & 0x7FFF) + 1
+                                                                             + line_kernels._EDGE_WORK)
+    assert stride == 3
+    assert np.array_equal(line_kernels.record_work(recs, height), expected)
+
+
 def test_record_work_counts_pixels_and_edges_by_middle_row():
     clip = np.array([[2.5, 3.5, 0.5, 1.0], [12.5, 7.5, 0.5, 1.0], [4.5, 30.5, 0.5, 1.0],
                      [-5.0, 1.0, 0.5, 1.0]])

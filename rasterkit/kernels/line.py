@@ -658,7 +658,9 @@ _PACKED_LIMIT = 1 << 15
 _EDGE_WORK = 4
 _SETUP_CHUNKS = 16
 _SETUP_BLOCK = 512
-_WORK_LANES = 4
+_WORK_LANES = 4  # a power of two
+#: Records that :func:`record_work` counts at most (about; it samples beyond).
+_WORK_SAMPLES = 1 << 15
 
 
 @kernel(parallel=True)
@@ -731,17 +733,24 @@ def record_work(recs, height):
     60 % of the work on some models.) Records of the general path are not counted.
 
     Counted in four interleaved lanes: consecutive edges mostly fall into the same bin,
-    and one counter would make every addition wait for the previous one."""
+    and one counter would make every addition wait for the previous one. Beyond
+    ``_WORK_SAMPLES`` records only every ``s``-th is counted, ``s`` times over
+    (``s = E // _WORK_SAMPLES``): an estimate is all the balance needs, and counting every
+    record cost more than the balance won on the largest models."""
     n_bins = (height + _ROWS_PER_BIN - 1) // _ROWS_PER_BIN
     work = np.zeros((_SETUP_CHUNKS, _WORK_LANES, n_bins), np.int64)
     m = recs.shape[1]
+    stride = max(m // _WORK_SAMPLES, 1)
     for ch in prange(_SETUP_CHUNKS):
-        for e in range(np.uint64(m * ch // _SETUP_CHUNKS), np.uint64(m * (ch + 1) // _SETUP_CHUNKS)):
-            rows = np.int64(recs[_REC_ROWS, e])
+        lane = 0
+        for e in range(m * ch // _SETUP_CHUNKS, m * (ch + 1) // _SETUP_CHUNKS, stride):
+            u = np.uint64(e)
+            rows = np.int64(recs[_REC_ROWS, u])
             ok = np.int64(rows >= 0)
             middle = ((rows & 0xFFFF) + (rows >> 16)) >> 1
-            n = np.int64(recs[_REC_STEPS, e]) & 0x7FFF
-            work[ch, e % np.uint64(_WORK_LANES), ok * (middle // _ROWS_PER_BIN)] += ok * (n + 1 + _EDGE_WORK)
+            n = np.int64(recs[_REC_STEPS, u]) & 0x7FFF
+            work[ch, lane, ok * (middle // _ROWS_PER_BIN)] += ok * stride * (n + 1 + _EDGE_WORK)
+            lane = (lane + 1) & (_WORK_LANES - 1)
     return work.sum(axis=0).sum(axis=0)
 
 
