@@ -338,7 +338,9 @@ def project_vertices(clip, proj, pixels, width, height):
     other vertex (what :func:`plain_setup` reads).
 
     Returns the number of projected vertices in each ``_ROWS_PER_BIN`` rows of an image
-    ``height`` rows tall, a cheap estimate of where the drawing work lies.
+    ``height`` rows tall, a cheap estimate of where the drawing work lies; all zero when
+    ``pixels`` is given (the plain path balances its bands by :func:`record_work`, and the
+    count cost a sixth of this pass).
     """
     n_bins = (height + _ROWS_PER_BIN - 1) // _ROWS_PER_BIN
     counts = np.zeros((_VERTEX_CHUNKS, n_bins), np.int64)
@@ -361,7 +363,8 @@ def project_vertices(clip, proj, pixels, width, height):
                 proj[i, 2] = p[2] * inv
                 proj[i, 3] = 1.0
                 if 0.0 <= y < height:
-                    counts[ch, np.int64(y) // _ROWS_PER_BIN] += 1
+                    if not with_pixels:
+                        counts[ch, np.int64(y) // _ROWS_PER_BIN] += 1
                     if 0.0 <= x < width:
                         pixel = np.int64(math.floor(x)) | (np.int64(math.floor(y)) << 32)
             if with_pixels:
