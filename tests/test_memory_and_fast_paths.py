@@ -227,6 +227,31 @@ def test_marked_wire_path_equals_drawing_into_colour(channels, width):
         assert np.array_equal(marked, expected)
 
 
+def test_short_edges_in_every_octant_mark_the_same_pixels_as_the_general_path():
+    """Lines of 1 to 10 pixels take the unrolled steps of the mask (4 and 8 steps, the last
+    pixel marked again); each is drawn alone, from a pixel centre and from off-centre ends,
+    and must equal the general path's pixels."""
+    width, height = 40, 30
+    offsets = [(dx, dy) for dx in range(-9, 10) for dy in range(-9, 10)]
+    rgba = np.array([10, 200, 30], np.uint8)
+    background = np.array([250, 251, 252], np.uint8)
+    far = np.full((height, width), np.inf, np.float32)
+    for centre in ((20.5, 15.5), (20.3, 15.8), (19.9, 14.6)):
+        for dx, dy in offsets:
+            clip = np.array([[centre[0], centre[1], 0.5, 1.0], [centre[0] + dx, centre[1] + dy, 0.5, 1.0]])
+            edges = np.array([[0, 1]])
+            marked = np.zeros((height, width, 3), np.uint8)
+            scratch = line_kernels.edge_scratch(2, 1, height * width, line_kernels.MODE_PLAIN)
+            line_kernels.draw_edges_cleared(marked, np.empty((0, 0), np.float32), clip, edges, rgba,
+                                            line_kernels.MODE_PLAIN, 0.0, 1, background, scratch)
+            expected = np.empty((height, width, 3), np.uint8)
+            expected[...] = background
+            line_kernels.draw_edges(expected, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, 0.0, 1)
+            drawn = (expected == rgba).all(axis=2).sum()
+            assert drawn == max(abs(dx), abs(dy)) + 1 or centre != (20.5, 15.5)
+            assert np.array_equal(marked, expected), (centre, dx, dy)
+
+
 def test_record_work_samples_every_stride_th_record_of_a_large_draw():
     """Beyond _WORK_SAMPLES records, every s-th record of each setup chunk counts s times."""
     rng = np.random.default_rng(4)
