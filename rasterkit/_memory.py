@@ -72,8 +72,10 @@ def take(shape, dtype) -> np.ndarray:
                 break
         if block is None:
             block = np.empty(nbytes, np.uint8)
-        _blocks.append(block)
-        _trim()
+            _blocks.append(block)
+            _trim()  # the memory held grows only here: bound the idle blocks now
+        else:
+            _blocks.append(block)
         # A view of the block (its base), so the block is busy while the array lives.
         return block.view(dtype).reshape(shape)
 

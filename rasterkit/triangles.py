@@ -7,6 +7,7 @@ renderer calls it with the vertices already in homogeneous raster space.
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 from dataclasses import dataclass
@@ -263,8 +264,6 @@ def _background(clear, color):
 
 def _threads(threads):
     limit = numba.config.NUMBA_NUM_THREADS
-    if threads is None:
-        return numba.get_num_threads()
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= limit:
         raise ValueError(f"threads must be an int in 1..{limit} or None, got {threads!r}")
     return int(threads)
@@ -362,24 +361,15 @@ def rasterize_triangles(
     mode, face_colors, vertex_colors = _shading(color, face_colors, vertex_colors, faces, clip)
     offset = _depth_offset(depth_offset)
     background = _background(clear, color)
-    n_threads = _threads(threads)
     previous = numba.get_num_threads()
+    n_threads = previous if threads is None else _threads(threads)
+    run = (color, depth, clip, faces, mode, face_colors, vertex_colors, ids, _CULL_MODES[cull], background, offset,
+           n_threads)
+    if n_threads == previous:  # nothing to set (and to set back)
+        return _run(*run)
     numba.set_num_threads(n_threads)
     try:
-        return _run(
-            color,
-            depth,
-            clip,
-            faces,
-            mode,
-            face_colors,
-            vertex_colors,
-            ids,
-            _CULL_MODES[cull],
-            background,
-            offset,
-            n_threads,
-        )
+        return _run(*run)
     finally:
         numba.set_num_threads(previous)
 
@@ -431,8 +421,19 @@ def _records(ws, rows, keep=0):
 def _clear_spec(background, color):
     """``(clear, color_bytes, pattern)`` as draw_bands takes it."""
     if background is None or color is None:
-        return background is not None, np.empty(0, np.uint8), np.empty(0, np.uint8)
-    return True, color.reshape(-1), np.tile(background, PATTERN_BYTES // background.size)
+        return background is not None, _NO_BYTES, _NO_BYTES
+    return True, color.reshape(-1), _pattern(background.tobytes())
+
+
+_NO_BYTES = np.empty(0, np.uint8)
+
+
+@functools.lru_cache(maxsize=64)
+def _pattern(background: bytes) -> np.ndarray:
+    """The background colour repeated over PATTERN_BYTES bytes (read-only, kept per colour)."""
+    pattern = np.tile(np.frombuffer(background, np.uint8), PATTERN_BYTES // len(background))
+    pattern.flags.writeable = False
+    return pattern
 
 
 def _set_up(ws, clip, faces, width, height, cull_mode, lit):
