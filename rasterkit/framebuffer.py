@@ -39,7 +39,9 @@ class Framebuffer:
         Cleared to the background.
     depth : (H, W) float32
         Cleared to +inf ("farthest"); drawn depths lie in [0, 1], 0 at the near plane.
-        Made on first use: a wireframe render never needs it.
+        Made on first use: a wireframe render never needs it, and a solid render draws
+        with a band-sized depth buffer per thread and leaves a recipe that makes this one
+        (the same depths, by a depth-only pass over the same triangles) when it is read.
     ids : (H, W) int32 or None
         Index of the triangle seen at each pixel, -1 where none.
 
@@ -59,7 +61,8 @@ class Framebuffer:
         alpha = bool(alpha) or self.background[3] < 255
         self.width, self.height = int(width), int(height)
         self.color = _memory.take((self.height, self.width, 4 if alpha else 3), np.uint8)
-        self._depth = None  # not made yet: all farthest
+        self._depth = None  # not made yet: all farthest, or what _depth_source draws
+        self._depth_source = None
         self.ids = _memory.take((self.height, self.width), np.int32) if ids else None
         if cleared:
             self.clear()
@@ -68,6 +71,9 @@ class Framebuffer:
     def depth(self) -> np.ndarray:
         if self._depth is None:
             self._uncleared_depth().fill(FARTHEST)
+            source, self._depth_source = self._depth_source, None
+            if source is not None:
+                source(self._depth)
         return self._depth
 
     @depth.setter
@@ -76,6 +82,7 @@ class Framebuffer:
         if value.shape != (self.height, self.width) or value.dtype != np.float32:
             raise ValueError(f"depth must be a ({self.height}, {self.width}) float32 array")
         self._depth = value
+        self._depth_source = None
 
     def _uncleared_depth(self) -> np.ndarray:
         """The depth buffer for a renderer that clears it itself: made uninitialised when it
@@ -91,6 +98,7 @@ class Framebuffer:
     def clear(self) -> None:
         """Colour to the background, depth to +inf, ids to -1."""
         self.color[...] = self.background[: self.color.shape[2]]
+        self._depth_source = None
         if self._depth is not None:
             self._depth.fill(FARTHEST)
         if self.ids is not None:

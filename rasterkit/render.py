@@ -10,6 +10,7 @@ The pipeline, in the spaces its variables are named after::
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -152,9 +153,20 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
         return
     face_colors, vertex_colors = _shade(mesh, options)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
-    rasterize_triangles(fb.color, fb._uncleared_depth(), clip, mesh.faces, face_colors=face_colors,
+    if options.mode == "solid":  # nothing is drawn after: keep the depth only if it is read
+        depth = None
+        fb._depth_source = partial(_depth_pass, clip, mesh.faces, options.cull)
+    else:
+        depth = fb._uncleared_depth()
+    rasterize_triangles(fb.color, depth, clip, mesh.faces, face_colors=face_colors,
                         vertex_colors=vertex_colors, ids=fb.ids, cull=options.cull,
                         clear=background, depth_offset=offset)
+
+
+def _depth_pass(clip, faces, cull, depth):
+    """The depth buffer of a solid render, made when it is first read: the same triangles,
+    depth only (the depths are those the colour pass tested, to the bit)."""
+    rasterize_triangles(None, depth, clip, faces, cull=cull, clear=())
 
 
 def _shade(mesh: Mesh, options: _Options):

@@ -144,7 +144,10 @@ def _check_depth(depth):
     _check_array("depth", depth, np.float32, 2)
     if not depth.flags.writeable:
         raise ValueError("depth must be writeable")
-    height, width = depth.shape
+    _check_size(*depth.shape)
+
+
+def _check_size(height, width):
     if not (1 <= width <= MAX_IMAGE_SIZE and 1 <= height <= MAX_IMAGE_SIZE):
         raise ValueError(f"image size must be 1..{MAX_IMAGE_SIZE} pixels a side, got {width}x{height}")
 
@@ -293,9 +296,11 @@ def rasterize_triangles(
     color : (H, W, C) uint8 or None
         Colour buffer, C = 3 (RGB) or 4 (RGBA: drawn pixels get alpha 255). None draws
         depth (and ids) only.
-    depth : (H, W) float32
+    depth : (H, W) float32 or None
         Depth buffer (cleared to +inf); a pixel is drawn when its depth ``z = zh / w`` is
-        less than the stored one, which it then replaces.
+        less than the stored one, which it then replaces. None (with ``color``): the depth
+        test runs in a band-sized buffer per thread and no depth is kept, which saves
+        writing an image-sized buffer to memory; the colours are the same.
     clip : (N, 4) float64
         Vertices in homogeneous raster space ``(xh, yh, zh, w)``: ``xh / w, yh / w`` are
         raster pixels, ``zh / w`` is the depth; inside the view volume ``0 <= zh <= w``.
@@ -346,8 +351,15 @@ def rasterize_triangles(
     thread count. Per-face scratch arrays are kept between calls (per Python thread), so
     that repeated draws do not pay for fresh memory.
     """
-    _check_depth(depth)
-    height, width = depth.shape
+    if depth is None:
+        if color is None:
+            raise ValueError("depth can be None only when color is given")
+        _check_array("color", color, np.uint8, 3)
+        height, width = color.shape[:2]
+        _check_size(height, width)
+    else:
+        _check_depth(depth)
+        height, width = depth.shape
     if color is not None:
         _check_array("color", color, np.uint8, 3)
         if color.shape[2] not in (3, 4):
@@ -482,7 +494,7 @@ def _depth_offset(value):
 def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_mode, background, offset, n_threads):
     """The pipeline itself, on validated inputs."""
     ws = _WORKSPACE
-    height, width = depth.shape
+    height, width = (depth if depth is not None else color).shape[:2]
     m = faces.shape[0]
     if isinstance(face_colors, FlatLambert):  # colours made by the face setup
         packed = ws.take("packed", (m,), np.uint32)
@@ -504,7 +516,12 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
     resolve = SHADE_TAGGED if mode == SHADE_FLAT and ids is None else mode
     shading = (resolve, m, fan_face, packed, vertex_colors, faces, bary)
     color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
-    target = (depth, color_target, ids is not None, ids if ids is not None else np.empty((0, 0), np.int32))
+    ids_target = ids if ids is not None else np.empty((0, 0), np.int32)
+    if depth is None:  # a band-sized depth scratch per thread, never written to memory whole
+        target = (ws.take("band_depth", (n_threads * BAND_HEIGHT, width), np.float32), False, height, color_target,
+                  ids is not None, ids_target)
+    else:
+        target = (depth, True, height, color_target, ids is not None, ids_target)
     clear = _clear_spec(background, color)
     fragments = draw_bands(
         band_start, items, records, shading, target, clear, ws.visibility(n_threads, width)

@@ -3,6 +3,7 @@ each against the slower path it replaces (bit for bit) or a hand-made expectatio
 
 import dataclasses
 
+import numba
 import numpy as np
 import pytest
 
@@ -11,6 +12,7 @@ from rasterkit import Camera, Mesh, _memory, shapes
 from rasterkit.framebuffer import Framebuffer
 from rasterkit.kernels import line as line_kernels
 from rasterkit.kernels.shade import face_normals, flat_packed, lambert, pack_colors
+from rasterkit.kernels.vertex import transform_points
 from rasterkit.triangles import FlatLambert, rasterize_triangles
 
 BIG = (1024, 512)  # 2 MiB of RGBA: above _memory.MIN_BYTES, so recycled
@@ -442,3 +444,44 @@ def test_face_pass_rejects_out_of_range_indices_before_drawing(bad):
     with pytest.raises(ValueError, match="index vertices 0..59"):
         rasterize_triangles(color, depth, clip, faces, face_colors=np.zeros(len(faces), np.uint32), clear=(1, 2, 3))
     assert np.all(color == 9) and np.all(depth == 0.5)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_draw_without_a_depth_buffer_gives_the_same_colours_and_ids(threads):
+    """depth=None: the depth test runs in a band-sized scratch per thread (cleared per band,
+    also on garbage), and colours and ids equal those of a draw with a full depth buffer."""
+    threads = min(threads, numba.config.NUMBA_NUM_THREADS)
+    rng = np.random.default_rng(12)
+    _, _, clip, faces = _scene_with_cut_faces(rng)
+    colours = rng.integers(0, 2**32, len(faces), dtype=np.uint64).astype(np.uint32)
+    results = []
+    for depth in (np.full((40, 48), 7.0, np.float32), None):
+        color = np.full((40, 48, 3), 9, np.uint8)
+        ids = np.full((40, 48), 5, np.int32)
+        stats = rasterize_triangles(color, depth, clip, faces, face_colors=colours, ids=ids, clear=(1, 2, 3),
+                                    threads=threads)
+        results.append((color, ids, stats))
+    (c1, i1, s1), (c2, i2, s2) = results
+    assert s1.drawn > 0 and s1.clipped > 0 and (i1 >= 0).any() and (i1 < 0).any()
+    assert np.array_equal(c1, c2) and np.array_equal(i1, i2) and s1 == s2
+    with pytest.raises(ValueError, match="depth can be None only"):
+        rasterize_triangles(None, None, clip, faces)
+
+
+def test_solid_render_makes_its_depth_when_read_and_forgets_the_recipe_when_cleared():
+    mesh = shapes.torus()
+    camera = Camera.frame(*mesh.bounding_sphere(), width=64, height=48)
+    hidden = rasterkit.render(mesh, camera, mode="hidden")  # keeps a depth buffer as it draws
+    solid = rasterkit.render(mesh, camera, mode="solid")
+    assert solid._depth is None  # nothing image-sized written by the draw
+    expected = np.full((48, 64), np.inf, np.float32)
+    rasterize_triangles(None, expected, transform_points(mesh.vertices, camera.matrix()), mesh.faces, clear=())
+    assert np.isfinite(solid.depth).any() and np.array_equal(solid.depth, expected)
+    covered = np.isfinite(hidden.depth)
+    assert np.array_equal(np.isfinite(solid.depth), covered)  # hidden's depths carry the polygon offset
+    cleared = rasterkit.render(mesh, camera, mode="solid")
+    cleared.clear()
+    assert np.all(np.isposinf(cleared.depth))
+    replaced = rasterkit.render(mesh, camera, mode="solid")
+    replaced.depth = np.zeros((48, 64), np.float32)
+    assert not replaced.depth.any()

@@ -147,15 +147,19 @@ def draw_bands(band_start, items, records, shading, target, clear, lid):
         SHADE_TAGGED (flat colours, no ids) the visibility buffer holds the face's colour
         instead of its index.
     target : tuple
-        ``(depth, color, write_ids, ids)``: depth (H, W) float32 (less-than test), colour
-        (H, W, C) uint8 (untouched in SHADE_NONE), and whether to write face indices into
-        ids (H, W) int32.
+        ``(depth, keep_depth, height, color, write_ids, ids)``: the depth buffer (less-than
+        test), (H, W) float32 when ``keep_depth``, else a scratch of ``BAND_HEIGHT`` rows
+        per slot, (n_slots * BAND_HEIGHT, W) float32, cleared per band, so that a draw
+        whose depth nobody reads never writes an image-sized depth buffer to memory; the
+        image height H; colour (H, W, C) uint8 (untouched in SHADE_NONE); and whether to
+        write face indices into ids (H, W) int32.
     clear : tuple
         ``(clear, color_bytes, pattern)``: when ``clear``, each band is cleared right
         before it is drawn, while its rows are in this thread's cache anyway: depth +inf,
         ids -1, and the band's part of ``color_bytes`` (the colour buffer seen as 1-D
         uint8; empty without one) set to the background, repeated in ``pattern`` (24,)
-        uint8 (:func:`rasterkit.kernels.clear.fill_bytes`).
+        uint8 (:func:`rasterkit.kernels.clear.fill_bytes`). A depth scratch (not
+        ``keep_depth``) is cleared in any case.
     lid : (n_slots, BAND_HEIGHT, W) int32
         One visibility buffer per parallel slot, all -1 on entry, all -1 again on return
         (the resolve resets what it reads). The number of slots (normally the thread
@@ -170,23 +174,27 @@ def draw_bands(band_start, items, records, shading, target, clear, lid):
 
 
 @kernel(inline="always")
-def _clear_band(y0, y1, target, clear):
-    """Clear rows ``y0 .. y1 - 1``: depth +inf, ids -1, colour to the background.
+def _clear_depth(band_depth):
+    """Every depth of a band's rows to +inf (a plain loop with unsigned indices: Numba's
+    slice assignment is ten times slower here)."""
+    for r in range(band_depth.shape[0]):
+        ru = np.uint64(r)
+        for i in range(band_depth.shape[1]):
+            band_depth[ru, np.uint64(i)] = np.inf
 
-    Plain loops with unsigned indices: Numba's slice assignment is ten times slower here.
-    """
-    depth, _, write_ids, ids = target
+
+@kernel(inline="always")
+def _clear_band(y0, y1, target, clear):
+    """Clear image rows ``y0 .. y1 - 1`` of the ids (-1) and the colour (background)."""
+    _, _, height, _, write_ids, ids = target
     _, color_bytes, pattern = clear
-    width = depth.shape[1]
-    for j in range(y0, y1):
-        ju = np.uint64(j)
-        for i in range(width):
-            depth[ju, np.uint64(i)] = np.inf
-        if write_ids:
-            for i in range(width):
+    if write_ids:
+        for j in range(y0, y1):
+            ju = np.uint64(j)
+            for i in range(ids.shape[1]):
                 ids[ju, np.uint64(i)] = -1
     if color_bytes.size:
-        row_bytes = color_bytes.size // depth.shape[0]
+        row_bytes = color_bytes.size // height
         fill_bytes(color_bytes, y0 * row_bytes, y1 * row_bytes, pattern)
 
 
@@ -209,9 +217,9 @@ def _draw_slot(slot, band_start, items, records, shading, target, clear, lid, ne
     its fragment count."""
     tri_xy, tri_z, tri_box = records
     mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
-    depth, color, write_ids, ids = target
+    depth, keep_depth, height, color, write_ids, ids = target
     do_clear = clear[0]
-    height, width = depth.shape
+    width = lid.shape[2]
     band_lid = lid[slot]
     row_lo = np.empty(BAND_HEIGHT, np.int64)
     row_hi = np.empty(BAND_HEIGHT, np.int64)
@@ -223,10 +231,16 @@ def _draw_slot(slot, band_start, items, records, shading, target, clear, lid, ne
             break
         y0 = b * BAND_HEIGHT
         y1 = min(y0 + BAND_HEIGHT, height)
+        first_row = y0 if keep_depth else slot * BAND_HEIGHT
+        band_depth = depth[first_row: first_row + y1 - y0]
         if do_clear:
+            if keep_depth:
+                _clear_depth(band_depth)
             _clear_band(y0, y1, target, clear)
         if band_start[b] == band_start[b + 1]:
             continue
+        if not keep_depth:
+            _clear_depth(band_depth)
         for r in range(BAND_HEIGHT):
             row_lo[r], row_hi[r] = width, -1
         end = band_start[b + 1]
@@ -238,7 +252,7 @@ def _draw_slot(slot, band_start, items, records, shading, target, clear, lid, ne
             # what the visibility buffer holds: the face, or (SHADE_TAGGED) its colour, so
             # the resolve need not look each pixel's colour up
             tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
-            fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, band_lid, row_lo, row_hi)
+            fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
         for r in range(y1 - y0):
             resolve_row(
                 mode,

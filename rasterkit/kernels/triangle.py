@@ -275,21 +275,21 @@ def depth_plane(x0, y0, x1, y1, x2, y2, z0, z1, z2):
 
 
 @kernel(inline="always")
-def _depth_test_span(depth, lid, j, r, lo, hi, zs, gx, t):
-    """Less-than depth test of the covered pixels ``lo..hi`` of image row ``j``.
+def _depth_test_span(depth, lid, r, lo, hi, zs, gx, t):
+    """Less-than depth test of the covered pixels ``lo..hi`` of band row ``r``.
 
-    Pixel ``lo + k`` has depth ``zs + gx * k``; winners go to ``depth[j]`` and ``lid[r]``.
+    Pixel ``lo + k`` has depth ``zs + gx * k``; winners go to ``depth[r]`` and ``lid[r]``.
     Written so that LLVM vectorises it: compare, then select-and-store, nothing else in
     the loop, and unsigned indices (a signed index makes Numba handle negative indices,
     which keeps LLVM from vectorising). Returns the number of pixels tested.
     """
-    ju, ru, base = np.uint64(j), np.uint64(r), np.uint64(lo)
+    ru, base = np.uint64(r), np.uint64(lo)
     for k in range(hi - lo + 1):
         i = base + np.uint64(k)
         z = zs + gx * np.float32(k)
-        old = depth[ju, i]
+        old = depth[ru, i]
         closer = z < old
-        depth[ju, i] = z if closer else old
+        depth[ru, i] = z if closer else old
         lid[ru, i] = t if closer else lid[ru, i]
     return hi - lo + 1
 
@@ -299,8 +299,8 @@ BLOCK = 16
 
 
 @kernel(inline="always")
-def _depth_test_block(depth, lid, j, r, start, c0, s0, c1, s1, c2, s2, zs, gx, t):
-    """Depth test the pixels ``start .. start + BLOCK - 1`` of row ``j`` that are covered.
+def _depth_test_block(depth, lid, r, start, c0, s0, c1, s1, c2, s2, zs, gx, t):
+    """Depth test the pixels ``start .. start + BLOCK - 1`` of band row ``r`` that are covered.
 
     Pixel ``i`` is covered when every ``c_k + s_k * i >= 0``; its depth is
     ``zs + gx * (i - start)``, in float64: the block may start outside the triangle, where
@@ -309,15 +309,15 @@ def _depth_test_block(depth, lid, j, r, start, c0, s0, c1, s1, c2, s2, zs, gx, t
     the block inside the image. Returns the number of covered pixels.
     """
     covered = 0
-    ju, ru, base = np.uint64(j), np.uint64(r), np.uint64(start)
+    ru, base = np.uint64(r), np.uint64(start)
     for k in range(BLOCK):
         i = start + k
         inside = (c0 + s0 * i >= 0) & (c1 + s1 * i >= 0) & (c2 + s2 * i >= 0)
         u = base + np.uint64(k)
         z = np.float32(zs + gx * k)
-        old = depth[ju, u]
+        old = depth[ru, u]
         win = inside & (z < old)
-        depth[ju, u] = z if win else old
+        depth[ru, u] = z if win else old
         lid[ru, u] = t if win else lid[ru, u]
         covered += inside
     return covered
@@ -338,7 +338,7 @@ def _raster_masked(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, g
     for j in range(j_lo, j_hi + 1):
         r = j - y0
         zs = zc + gx * start + gy * j
-        covered += _depth_test_block(depth, lid, j, r, start, c0, e0[2], c1, e1[2], c2, e2[2], zs, gx, t)
+        covered += _depth_test_block(depth, lid, r, start, c0, e0[2], c1, e1[2], c2, e2[2], zs, gx, t)
         c0, c1, c2 = c0 + e0[1], c1 + e1[1], c2 + e2[1]
         row_lo[r] = min(row_lo[r], i_lo)
         row_hi[r] = max(row_hi[r], i_hi)
@@ -358,7 +358,7 @@ def _raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy
             continue
         r = j - y0
         zs = np.float32(zc + gx * lo + gy * j)
-        covered += _depth_test_span(depth, lid, j, r, lo, hi, zs, gx32, t)
+        covered += _depth_test_span(depth, lid, r, lo, hi, zs, gx32, t)
         row_lo[r] = min(row_lo[r], lo)
         row_hi[r] = max(row_hi[r], hi)
     return covered
@@ -405,8 +405,9 @@ def raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, lid, row_lo, row_
         Record arrays.
     y0, y1 : int
         The band's rows.
-    depth : (H, W) float32
-        Depth buffer (the band's rows are owned by the calling thread).
+    depth : (>= y1 - y0, W) float32
+        The band's depth rows, row ``j - y0`` for image row ``j`` (rows of the image's depth
+        buffer, or a thread's band-sized scratch when the depth is not kept).
     lid : (>= y1 - y0, W) int32
         The band's visibility buffer, row ``j - y0`` for image row ``j``.
     row_lo, row_hi : (>= y1 - y0,) int64
