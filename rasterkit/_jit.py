@@ -51,3 +51,14 @@ def set_threads(n: int | None) -> int:
         raise ValueError(f"threads must be between 1 and {limit}, got {n}")
     numba.set_num_threads(int(n))
     return int(n)
+
+
+def readonly(a):
+    """``a``, or a read-only view of it. A Mesh's arrays are read-only, and Numba compiles a
+    kernel once per argument type, read-only or not: kernels that take mesh arrays get them
+    read-only always, so they compile once, not once more for a writeable array."""
+    if not a.flags.writeable:
+        return a
+    view = a.view()
+    view.flags.writeable = False
+    return view

@@ -13,6 +13,7 @@ import numba
 import numpy as np
 
 from rasterkit import _memory
+from rasterkit._jit import readonly
 from rasterkit.kernels import line as _line
 from rasterkit.kernels import triangle as _triangle
 from rasterkit.kernels.clip import GUARD_BAND as _TRIANGLE_LIMIT
@@ -188,6 +189,7 @@ def draw_edges_into(color, depth, clip, edges, rgba, mode, bias=0.0, background=
                _memory.take((_line.REC_FIELDS, len(edges) if plain else 0), np.int32),
                _memory.take((color.shape[0] * color.shape[1] if plain and background is not None else 0,), np.uint8))
     background = np.empty(0, np.uint8) if background is None else background
+    edges = readonly(edges)  # as a Mesh's: one compiled kernel for both
     return _line.draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, numba.get_num_threads(),
                                     background, scratch)
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from rasterkit._jit import readonly
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.clip import MAX_IMAGE_SIZE
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
@@ -197,33 +198,24 @@ class FlatLambert:
         _check_array("base", self.base, np.float32, 2)
         if self.base.shape not in ((1, 3), (m, 3)):
             raise ValueError(f"base must have shape (1, 3) or ({m}, 3), got {self.base.shape}")
-        light = np.ascontiguousarray(self.light, np.float64)
+        light = readonly(np.ascontiguousarray(self.light, np.float64))
         if light.shape != (3,) or not np.all(np.isfinite(light)):
             raise ValueError(f"light must be 3 finite numbers, got {self.light!r}")
         ambient, scale = float(self.ambient), float(self.scale)
         if not (np.isfinite(ambient) and np.isfinite(scale)):
             raise ValueError("ambient and scale must be finite")
-        return (True, _readonly(self.normals), _readonly(self.base), np.float32(scale), light, ambient,
+        return (True, readonly(self.normals), readonly(self.base), np.float32(scale), light, ambient,
                 bool(self.two_sided), packed)
 
 
 def _no_light(packed):
     """The ``lit`` tuple that computes nothing (same types as a FlatLambert's)."""
-    return (False, _NO_NORMALS, _NO_BASE, np.float32(1.0), np.zeros(3), 0.0, False, packed)
+    return (False, _NO_NORMALS, _NO_BASE, np.float32(1.0), _NO_LIGHT, 0.0, False, packed)
 
 
-def _readonly(a):
-    """``a``, or a read-only view of it: the kernels are compiled for read-only inputs only
-    (a Mesh's arrays are read-only), not once more for writeable ones."""
-    if not a.flags.writeable:
-        return a
-    view = a.view()
-    view.flags.writeable = False
-    return view
-
-
-_NO_NORMALS = _readonly(np.zeros((0, 3), np.float32))
-_NO_BASE = _readonly(np.zeros((1, 3), np.float32))
+_NO_NORMALS = readonly(np.zeros((0, 3), np.float32))
+_NO_BASE = readonly(np.zeros((1, 3), np.float32))
+_NO_LIGHT = readonly(np.zeros(3))
 
 
 def _shading(color, face_colors, vertex_colors, faces, clip):
@@ -368,6 +360,7 @@ def rasterize_triangles(
     if ids is not None:
         _check_buffer("ids", ids, np.int32, (height, width))
     _check_geometry(clip, faces)
+    faces = readonly(faces)  # as a Mesh's: one compiled kernel for both
     if cull not in _CULL_MODES:
         raise ValueError(f"cull must be one of {sorted(_CULL_MODES)}, got {cull!r}")
     mode, face_colors, vertex_colors = _shading(color, face_colors, vertex_colors, faces, clip)
@@ -433,11 +426,12 @@ def _records(ws, rows, keep=0):
 def _clear_spec(background, color):
     """``(clear, color_bytes, pattern)`` as draw_bands takes it."""
     if background is None or color is None:
-        return background is not None, _NO_BYTES, _NO_BYTES
+        return background is not None, _NO_BYTES, _NO_PATTERN
     return True, color.reshape(-1), _pattern(background.tobytes())
 
 
 _NO_BYTES = np.empty(0, np.uint8)
+_NO_PATTERN = readonly(np.empty(0, np.uint8))
 
 
 @functools.lru_cache(maxsize=64)

@@ -9,6 +9,7 @@ import pytest
 
 import rasterkit
 from rasterkit import Camera, Mesh, _memory, shapes
+from rasterkit._jit import readonly
 from rasterkit.framebuffer import Framebuffer
 from rasterkit.kernels import line as line_kernels
 from rasterkit.kernels.shade import face_normals, flat_packed, lambert, pack_colors
@@ -163,6 +164,8 @@ def test_mesh_arrays_are_read_only_and_not_shared_with_the_callers():
     vertices[0, 0] = np.nan
     assert mesh.faces[0, 2] == 2 and mesh.vertices[0, 0] == 0
     assert vertices.flags.writeable and faces.flags.writeable
+    view = readonly(faces)  # how the renderer hands arrays to the kernels
+    assert not view.flags.writeable and faces.flags.writeable and np.shares_memory(view, faces)
     moved = dataclasses.replace(mesh, vertices=mesh.vertices + 1)  # how to move a mesh
     assert np.array_equal(moved.edges, mesh.edges) and moved.vertices[0, 0] == 1
 
@@ -220,7 +223,7 @@ def test_marked_wire_path_equals_drawing_into_colour(channels, width):
         marked = np.full((height, width, channels), 77, np.uint8)  # garbage: must be cleared
         scratch = line_kernels.edge_scratch(len(clip), len(edges), height * width, line_kernels.MODE_PLAIN)
         scratch[3][:] = 3  # garbage in the mask too: each band clears its part
-        line_kernels.draw_edges_cleared(marked, np.empty((0, 0), np.float32), clip, edges, rgba,
+        line_kernels.draw_edges_cleared(marked, np.empty((0, 0), np.float32), clip, readonly(edges), rgba,
                                         line_kernels.MODE_PLAIN, 0.0, n_bands, background, scratch)
         expected = np.empty((height, width, channels), np.uint8)
         expected[...] = background
@@ -244,7 +247,7 @@ def test_short_edges_in_every_octant_mark_the_same_pixels_as_the_general_path():
             edges = np.array([[0, 1]])
             marked = np.zeros((height, width, 3), np.uint8)
             scratch = line_kernels.edge_scratch(2, 1, height * width, line_kernels.MODE_PLAIN)
-            line_kernels.draw_edges_cleared(marked, np.empty((0, 0), np.float32), clip, edges, rgba,
+            line_kernels.draw_edges_cleared(marked, np.empty((0, 0), np.float32), clip, readonly(edges), rgba,
                                             line_kernels.MODE_PLAIN, 0.0, 1, background, scratch)
             expected = np.empty((height, width, 3), np.uint8)
             expected[...] = background
