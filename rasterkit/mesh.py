@@ -118,9 +118,6 @@ class Mesh:
     warnings: tuple = field(default=())
 
     def __post_init__(self):
-        vertices_in, faces_in, edges_in, lines_in = self.vertices, self.faces, self.edges, self.lines
-        given = {name: getattr(self, name) for name in
-                 ("vertex_colors", "normals", "texcoords", "face_colors", "face_groups")}
         v = _array(self.vertices, np.float64, (3,), "vertices")
         n = len(v)
         f = _indices(self.faces, n, 3, "faces")
@@ -130,10 +127,11 @@ class Mesh:
         else:
             edges = _indices(self.edges, n, 2, "edges")
         set_ = object.__setattr__
-        set_(self, "vertices", v)
-        set_(self, "faces", f)
-        set_(self, "lines", lines)
-        set_(self, "edges", edges)
+        # each array the Mesh's own and read-only (self.<name> is still what was passed)
+        set_(self, "vertices", _own(v, self.vertices))
+        set_(self, "faces", _own(f, self.faces))
+        set_(self, "lines", _own(lines, self.lines))
+        set_(self, "edges", _own(edges, self.edges))
         optional = {
             "vertex_colors": (np.float32, (3,), n),
             "normals": (np.float64, (3,), n),
@@ -143,21 +141,15 @@ class Mesh:
         for name, (dtype, tail, rows) in optional.items():
             value = getattr(self, name)
             if value is not None:
-                set_(self, name, _array(value, dtype, tail, name, rows))
+                set_(self, name, _own(_array(value, dtype, tail, name, rows), value))
         if self.face_groups is not None:
             g = np.ascontiguousarray(np.asarray(self.face_groups, dtype=np.int32))
             if g.shape != (len(f),) or (len(g) and (g.min() < 0 or g.max() >= len(self.group_names))):
                 raise ValueError("face_groups must be (M,) indices into group_names")
-            set_(self, "face_groups", g)
+            set_(self, "face_groups", _own(g, self.face_groups))
         set_(self, "group_names", tuple(self.group_names))
         set_(self, "material_names", tuple(self.material_names))
         set_(self, "warnings", tuple(self.warnings))
-        sources = {"vertices": vertices_in, "faces": faces_in, "edges": edges_in, "lines": lines_in,
-                   **{name: given[name] for name in (*optional, "face_groups")}}
-        for name, source in sources.items():
-            value = getattr(self, name)
-            if value is not None:
-                set_(self, name, _own(value, source))
 
     @cached_property
     def face_normals(self) -> np.ndarray:

@@ -28,7 +28,13 @@ from rasterkit.kernels.shade import (
     bary_matrices,
     pack_colors,
 )
-from rasterkit.kernels.tiles import BAND_HEIGHT, bin_records, draw_bands, n_bands
+from rasterkit.kernels.tiles import (
+    BAND_HEIGHT,
+    BAND_SHIFT,
+    bin_records,
+    draw_bands,
+    n_bands,
+)
 from rasterkit.kernels.triangle import (
     MAX_FAN,
     N_CHUNKS,
@@ -39,7 +45,6 @@ from rasterkit.kernels.triangle import (
     STATUS_NONFINITE,
     STATUS_OUTSIDE,
     count_fans,
-    face_index_range,
     offset_depths,
     setup_cut_faces,
     setup_faces,
@@ -134,11 +139,6 @@ def _check_geometry(clip, faces):
         raise ValueError(f"at most {_MAX_FACES} faces per call, got {faces.shape[0]}")
     # The vertex indices are checked by the face pass (setup_faces), which reads them all
     # anyway, before anything is drawn or read through them.
-
-
-def _indices_in_range(faces, n):
-    lo, hi = face_index_range(faces)
-    return lo >= 0 and hi < n
 
 
 def _check_depth(depth):
@@ -247,8 +247,12 @@ def _background(clear, color):
     if clear is None:
         return None
     channels = 0 if color is None else color.shape[2]
-    values = tuple(clear) if isinstance(clear, (tuple, list)) else tuple(np.asarray(clear).reshape(-1)) \
-        if np.ndim(clear) == 1 else None
+    if isinstance(clear, (tuple, list)):  # the common case, without a NumPy round trip
+        values = tuple(clear)
+    elif np.ndim(clear) == 1:
+        values = tuple(np.asarray(clear))
+    else:
+        values = None
     if values is None or len(values) != channels \
             or not all(isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_)) for v in values):
         raise ValueError(f"clear must be {channels} integers 0..255 (one per colour channel), got {clear!r}")
@@ -343,19 +347,18 @@ def rasterize_triangles(
     thread count. Per-face scratch arrays are kept between calls (per Python thread), so
     that repeated draws do not pay for fresh memory.
     """
-    if depth is None:
-        if color is None:
-            raise ValueError("depth can be None only when color is given")
-        _check_array("color", color, np.uint8, 3)
-        height, width = color.shape[:2]
-        _check_size(height, width)
-    else:
+    if depth is not None:
         _check_depth(depth)
         height, width = depth.shape
+    elif color is None:
+        raise ValueError("depth can be None only when color is given")
     if color is not None:
         _check_array("color", color, np.uint8, 3)
         if color.shape[2] not in (3, 4):
             raise ValueError(f"color must have 3 or 4 channels, got shape {color.shape}")
+        if depth is None:  # the image size comes from the colour buffer
+            height, width = color.shape[:2]
+            _check_size(height, width)
         _check_buffer("color", color, np.uint8, (height, width, color.shape[2]))
     if ids is not None:
         _check_buffer("ids", ids, np.int32, (height, width))
@@ -458,7 +461,7 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit):
     band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
     tally = np.zeros((N_CHUNKS, N_STATUS + 1), np.int64)
     listed = (ws.take("listed", (m,), np.int32), np.zeros(N_CHUNKS, np.int64))
-    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_HEIGHT, band_counts, tally, lit, listed)
+    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_SHIFT, band_counts, tally, lit, listed)
     n_cut = setup_faces(faces, corners, depths, width, height, cull_mode, *face_pass)
     if n_cut < 0:
         raise ValueError(f"faces must index vertices 0..{n - 1}")
@@ -469,7 +472,7 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit):
         fan_start += np.cumsum(fans) - fans
         tri_xy, tri_z, tri_box = _records(ws, m + int(fans.sum()), keep=m)
         fan_face = ws.take("fan_face", (int(fans.sum()),), np.int32)
-        fan_pass = (fan_start, fan_face, tri_xy, tri_z, tri_box, cut_mask, BAND_HEIGHT, band_counts, tally)
+        fan_pass = (fan_start, fan_face, tri_xy, tri_z, tri_box, cut_mask, BAND_SHIFT, band_counts, tally)
         setup_cut_faces(clip, faces, width, height, cull_mode, *fan_pass)
     return (tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0), listed
 

@@ -31,10 +31,12 @@ from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
 from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
 
-#: Rows per band (a power of two). 32 rows of a 1920-pixel image keep the band's depth and visibility
-#: rows (2 x 240 KiB) in the L2 cache while its triangles are drawn; taller bands mean
-#: fewer triangles set up twice (once per band they cross) but coarser load balance.
-BAND_HEIGHT = 32
+#: Rows per band, ``1 << BAND_SHIFT`` (a shift: the face pass counts bands per face, and a
+#: division there cost 10 %). 32 rows of a 1920-pixel image keep the band's depth and
+#: visibility rows (2 x 240 KiB) in the L2 cache while its triangles are drawn; taller bands
+#: mean fewer triangles set up twice (once per band they cross) but coarser load balance.
+BAND_SHIFT = 5
+BAND_HEIGHT = 1 << BAND_SHIFT
 
 #: How many records ahead a band asks for the next record's rows to be fetched
 #: (:func:`rasterkit.kernels.intrinsics.prefetch_row`): a triangle takes some 60 ns, a miss

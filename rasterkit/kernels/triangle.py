@@ -481,6 +481,7 @@ def triangle_pixels(x0, y0, x1, y1, x2, y2):
 #: Columns of the per-vertex rows of :func:`setup_vertices` (z in the float32 view).
 _V_CODE, _V_X, _V_Y, _V_Z = range(4)
 
+
 @kernel
 def _setup_vertex_chunk(ch, clip, width, height, corners, depths):
     """:func:`setup_vertices` for the vertices of chunk ``ch``."""
@@ -532,15 +533,6 @@ def count_bands(t, tri_box, band_shift, band_counts, ch):
     """
     for b in range(tri_box[t, 2] >> band_shift, (tri_box[t, 3] >> band_shift) + 1):
         band_counts[ch, b] += 1
-
-
-@kernel(inline="always")
-def band_shift_of(band_height):
-    """log2 of ``band_height`` (a power of two)."""
-    shift = 0
-    while (1 << shift) < band_height:
-        shift += 1
-    return shift
 
 
 @kernel(inline="always")
@@ -596,7 +588,7 @@ def _setup_chunk(
     tri_box,
     cut_mask,
     n_fan,
-    band_height,
+    band_shift,
     band_counts,
     tally,
     lit,
@@ -611,7 +603,6 @@ def _setup_chunk(
     start, stop = chunk_range(faces.shape[0], ch)
     on, normals, base, scale, light, ambient, two_sided, packed = lit
     seen, n_listed = listed
-    band_shift = band_shift_of(band_height)
     cut = 0
     n_seen = 0
     n_vertices = np.uint64(corners.shape[0])
@@ -660,7 +651,7 @@ def setup_faces(
     tri_box,
     cut_mask,
     n_fan,
-    band_height,
+    band_shift,
     band_counts,
     tally,
     lit,
@@ -683,8 +674,8 @@ def setup_faces(
         Record arrays with at least M records.
     cut_mask, n_fan : (M,) int8
         Out: the planes cutting each face (0: none); 0 (filled in by :func:`count_fans`).
-    band_height : int
-        Rows per band of the binning, a power of two (:data:`rasterkit.kernels.tiles.BAND_HEIGHT`).
+    band_shift : int
+        log2 of the rows per band of the binning (:data:`rasterkit.kernels.tiles.BAND_SHIFT`).
     band_counts : (N_CHUNKS, n_bands) int64
         Zeros in; out: drawn records per chunk and band (:func:`count_bands`).
     tally : (N_CHUNKS, N_STATUS + 1) int64
@@ -723,7 +714,7 @@ def setup_faces(
             tri_box,
             cut_mask,
             n_fan,
-            band_height,
+            band_shift,
             band_counts,
             tally,
             lit,
@@ -785,7 +776,7 @@ def _setup_fan_chunk(
     tri_z,
     tri_box,
     cut_mask,
-    band_height,
+    band_shift,
     band_counts,
     tally,
 ):
@@ -793,7 +784,6 @@ def _setup_fan_chunk(
     p = np.empty((MAX_POLYGON, 3))
     start, stop = chunk_range(faces.shape[0], ch)
     m = faces.shape[0]
-    band_shift = band_shift_of(band_height)
     for f in range(start, stop):
         if cut_mask[f] == 0:
             continue
@@ -843,7 +833,7 @@ def setup_cut_faces(
     tri_z,
     tri_box,
     cut_mask,
-    band_height,
+    band_shift,
     band_counts,
     tally,
 ):
@@ -872,22 +862,7 @@ def setup_cut_faces(
             tri_z,
             tri_box,
             cut_mask,
-            band_height,
+            band_shift,
             band_counts,
             tally,
         )
-
-
-@kernel
-def face_index_range(faces):
-    """Smallest and largest vertex index in ``faces (M >= 1, 3) int64``.
-
-    Serial on purpose, like :func:`tally_faces`: a parallel region costs a thread
-    hand-off, which is more than this pass saves on a busy machine.
-    """
-    flat = faces.reshape(faces.size)
-    lo, hi = flat[0], flat[0]
-    for k in range(flat.size):
-        value = flat[np.uint64(k)]
-        lo, hi = min(lo, value), max(hi, value)
-    return lo, hi
