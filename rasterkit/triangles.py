@@ -29,11 +29,11 @@ from rasterkit.kernels.shade import (
     pack_colors,
 )
 from rasterkit.kernels.tiles import (
-    BAND_HEIGHT,
     BAND_SHIFT,
     bin_records,
     draw_bands,
     n_bands,
+    slot_rows,
 )
 from rasterkit.kernels.triangle import (
     MAX_FAN,
@@ -407,11 +407,14 @@ class _Workspace(threading.local):
         return buffer[:size].reshape(shape)
 
     def visibility(self, slots, width):
-        """(slots, BAND_HEIGHT, width) int32, all -1 (draw_bands leaves it so)."""
+        """(slots, slot_rows(width), width) int32, all -1 (draw_bands leaves it so). A
+        buffer of more slots is kept, and its first ``slots`` handed out: a caller that
+        changes the thread count between draws does not fill a new one each time."""
+        rows = slot_rows(width)
         lid = self._buffers.get("lid")
-        if lid is None or lid.shape != (slots, BAND_HEIGHT, width):
-            self._buffers["lid"] = lid = np.full((slots, BAND_HEIGHT, width), -1, np.int32)
-        return lid
+        if lid is None or lid.shape[0] < slots or lid.shape[1:] != (rows, width):
+            self._buffers["lid"] = lid = np.full((slots, rows, width), -1, np.int32)
+        return lid[:slots]
 
 
 _WORKSPACE = _Workspace()
@@ -515,7 +518,7 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
     color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
     ids_target = ids if ids is not None else np.empty((0, 0), np.int32)
     if depth is None:  # a band-sized depth scratch per thread, never written to memory whole
-        target = (ws.take("band_depth", (n_threads * BAND_HEIGHT, width), np.float32), False, height, color_target,
+        target = (ws.take("band_depth", (n_threads * slot_rows(width), width), np.float32), False, height, color_target,
                   ids is not None, ids_target)
     else:
         target = (depth, True, height, color_target, ids is not None, ids_target)

@@ -471,6 +471,44 @@ def test_draw_without_a_depth_buffer_gives_the_same_colours_and_ids(threads):
         rasterize_triangles(None, None, clip, faces)
 
 
+def test_slot_band_buffers_lie_apart_and_draws_write_only_their_band_rows():
+    """Each slot's visibility rows and depth scratch rows begin at least SLOT_GUARD_BYTES
+    after the previous slot's (and after the buffer's start); a draw writes only the band
+    rows (the guard rows keep a sentinel), leaves the visibility rows all -1, and a buffer
+    of more slots is reused, not refilled, by a draw on fewer threads."""
+    from rasterkit.kernels.tiles import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
+    from rasterkit.triangles import _WORKSPACE
+
+    for width in (1, 7, 48, 1920, 40000):
+        rows = slot_rows(width)
+        assert (rows - BAND_HEIGHT) * 4 * width >= SLOT_GUARD_BYTES > (rows - BAND_HEIGHT - 1) * 4 * width
+    threads = min(2, numba.config.NUMBA_NUM_THREADS)
+    rng = np.random.default_rng(13)
+    _, _, clip, faces = _scene_with_cut_faces(rng)
+    colours = rng.integers(0, 2**32, len(faces), dtype=np.uint64).astype(np.uint32)
+
+    def draw(n):
+        color = np.zeros((40, 48, 3), np.uint8)
+        rasterize_triangles(color, None, clip, faces, face_colors=colours, clear=(1, 2, 3), threads=n)
+        return color
+
+    expected = draw(1)
+    draw(threads)
+    rows = slot_rows(48)
+    lid = _WORKSPACE._buffers["lid"]
+    scratch = _WORKSPACE._buffers["band_depth"][: threads * rows * 48].reshape(threads, rows, 48)
+    assert lid.shape[1:] == (rows, 48) and lid.shape[0] >= threads
+    guard = np.zeros(rows, bool)
+    guard[: rows - BAND_HEIGHT] = True
+    lid[:, guard] = 7
+    scratch[:, guard] = np.nan
+    for n in (threads, 1, threads):
+        assert np.array_equal(draw(n), expected)
+        assert _WORKSPACE._buffers["lid"] is lid  # kept, not refilled, when the slots change
+        assert np.all(lid[:, guard] == 7) and np.all(lid[:, ~guard] == -1)
+        assert np.all(np.isnan(scratch[:, guard])) and np.isfinite(scratch[:, ~guard]).any()
+
+
 def test_solid_render_makes_its_depth_when_read_and_forgets_the_recipe_when_cleared():
     mesh = shapes.torus()
     camera = Camera.frame(*mesh.bounding_sphere(), width=64, height=48)
