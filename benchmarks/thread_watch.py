@@ -28,12 +28,19 @@ _RUN = """
 import sys, time
 sys.path.insert(0, {root!r})
 import rasterkit
-from benchmarks import fill
-scene = fill.scene(fill.TARGET_COUNT, 1920, 1080)
+from benchmarks import fill, render, settings
+if {scene!r} == "fill":
+    scene = fill.scene(fill.TARGET_COUNT, 1920, 1080)
+    draw = lambda: fill.draw_rasterkit(scene)
+else:
+    mode, model = {scene!r}.split(":")
+    mesh = rasterkit.load_obj(settings.model_path(model))
+    camera = render.frame(mesh, 1920, 1080)
+    draw = lambda: rasterkit.render(mesh, camera, mode=mode)
 def frame(n):
     rasterkit.set_threads(n)
     start = time.perf_counter()
-    fill.draw_rasterkit(scene)
+    draw()
     return time.perf_counter() - start
 for _ in range(5):
     frame(1), frame(2)
@@ -46,10 +53,11 @@ print(one[len(one) // 2], two[len(two) // 2])
 """
 
 
-def measure(root: Path, rounds: int) -> tuple[float, float]:
-    """Median 1-thread and 2-thread fill frame (seconds) of the checkout at ``root``."""
-    out = subprocess.run([sys.executable, "-c", _RUN.format(root=str(root), rounds=rounds)],
-                         capture_output=True, text=True, check=True).stdout.split()
+def measure(root: Path, rounds: int, scene: str = "fill") -> tuple[float, float]:
+    """Median 1-thread and 2-thread frame (seconds) of the checkout at ``root``: the fill
+    scene, or ``"MODE:MODEL"`` (a shared model at 1920x1080, ``rasterkit.render`` mode)."""
+    code = _RUN.format(root=str(root), rounds=rounds, scene=scene)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     return float(out[0]), float(out[1])
 
 
@@ -59,6 +67,8 @@ def main(argv=None) -> int:
                         help="checkouts of rasterkit to compare (default: this one)")
     parser.add_argument("--minutes", type=float, default=5.0)
     parser.add_argument("--rounds", type=int, default=60, help="frames per thread count in one run")
+    parser.add_argument("--scene", default="fill",
+                        help="'fill' (the fill-rate scene) or MODE:MODEL, e.g. hidden:sportsCar")
     args = parser.parse_args(argv)
     roots = [root.resolve() for root in args.roots]
     for root in roots:
@@ -66,12 +76,14 @@ def main(argv=None) -> int:
             parser.error(f"{root}: not a rasterkit checkout")
     speedups = {root: [] for root in roots}
     end = time.monotonic() + 60 * args.minutes
-    while time.monotonic() < end:
+    while True:  # at least one run per checkout
         for root in roots:
-            one, two = measure(root, args.rounds)
+            one, two = measure(root, args.rounds, args.scene)
             speedups[root].append(one / two)
             print(f"{time.strftime('%H:%M:%S')} {root}: 1 thread {one * 1e3:.2f} ms, "
                   f"2 threads {two * 1e3:.2f} ms, {one / two:.2f}x", flush=True)
+        if time.monotonic() >= end:
+            break
     for root, values in speedups.items():
         below = sum(v < TARGET for v in values)
         print(f"{root}: {len(values)} runs, median {statistics.median(values):.2f}x, "

@@ -28,7 +28,7 @@ RECORD_KEYS = {"family", "name", "peer", "sizes", "quantity", "rasterkit", "peer
 def suite(tmp_path_factory):
     out = tmp_path_factory.mktemp("bench")
     done = subprocess.run([sys.executable, "-m", "benchmarks", "--quick", "--tiny", "--out", str(out)],
-                          cwd=ROOT, capture_output=True, text=True, timeout=600,
+                          check=False, cwd=ROOT, capture_output=True, text=True, timeout=600,
                           env={**os.environ, "PYTHONPATH": os.pathsep.join(
                               [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])})
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
@@ -66,3 +66,18 @@ def test_peers_measured_when_installed(suite):
     assert {"llvmpipe", "cv2.polylines", "trimesh"} <= peers
     fill = [r for r in results["records"] if r["family"] == "fill" and r["peer"] == "llvmpipe"]
     assert fill and fill[0]["throughput"]["unit"] == "pixel/s"
+
+
+def test_thread_watch_runs_each_checkout_and_rejects_other_folders(tmp_path):
+    """``python -m benchmarks.thread_watch``: one run per checkout at least, a summary line per
+    checkout; a folder that is not a rasterkit checkout is a one-line usage error (exit 2)."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
+    done = subprocess.run([sys.executable, "-m", "benchmarks.thread_watch", "--minutes", "0", "--rounds", "2", "."],
+                          check=False, cwd=ROOT, capture_output=True, text=True, timeout=300, env=env)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    lines = done.stdout.splitlines()
+    assert len(lines) == 2 and lines[0].endswith("x") and "1 thread" in lines[0]
+    assert lines[1].startswith(f"{ROOT}: 1 runs, median ") and "below 1.7x" in lines[1]
+    bad = subprocess.run([sys.executable, "-m", "benchmarks.thread_watch", str(tmp_path)],
+                         check=False, cwd=ROOT, capture_output=True, text=True, timeout=60, env=env)
+    assert bad.returncode == 2 and "not a rasterkit checkout" in bad.stderr and "Traceback" not in bad.stderr
