@@ -24,6 +24,8 @@ from pathlib import Path
 
 TARGET = 1.7
 
+# The child uses only what older checkouts have too (set_threads, benchmarks.fill), so that
+# a checkout from before this script can be compared.
 _RUN = """
 import sys, time
 sys.path.insert(0, {root!r})

@@ -248,7 +248,7 @@ def _draw_slot(slot, band_start, items, records, shading, target, clear, lid, ne
     depth, keep_depth, height, color, write_ids, ids = target
     do_clear = clear[0]
     width = lid.shape[2]
-    guard = lid.shape[1] - BAND_HEIGHT  # rows kept unused before each slot's
+    guard = lid.shape[1] - BAND_HEIGHT  # unused rows before each slot's band rows
     band_lid = lid[slot, guard:]
     scratch_row = np.int64(slot) * lid.shape[1] + guard  # this slot's depth scratch rows
     row_lo = np.empty(BAND_HEIGHT, np.int64)
