@@ -49,7 +49,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from rasterkit.kernels.shade import face_normals, lambert
-from rasterkit.kernels.vertex import transform_points
+from rasterkit._vertex import transform_points
 from rasterkit.triangles import rasterize_triangles
 
 WIDTH, HEIGHT = 1920, 1080

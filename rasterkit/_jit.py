@@ -1,10 +1,18 @@
-"""The one place that decides how kernels are compiled.
+"""The one place that decides how kernels are compiled and how they run in parallel.
 
-Every kernel in :mod:`rasterkit.kernels` is decorated with :func:`kernel` so that the
-compilation policy (on-disk cache, fast-math flags, error model) is the same everywhere.
+Compiling
+---------
+Every kernel in :mod:`rasterkit.kernels` is decorated with :func:`kernel`, so the policy is
+the same everywhere:
 
 - ``cache=True``: the second process that runs a kernel loads it from ``__pycache__``
   instead of compiling it again.
+- ``nogil=True``: a kernel releases the GIL, so the threads of :func:`run_parallel` (and a
+  caller's own threads) run kernels at the same time.
+- No ``parallel=True``: Numba's parfor passes took most of the compile time (a minute for
+  the first wire render) and its OpenMP threads spin while they wait, which made two
+  rasterkit processes on one machine 3-45x slower. Parallel work is run by
+  :func:`run_parallel` instead.
 - ``error_model="numpy"``: division by zero gives inf/nan instead of raising, so no
   exception machinery sits in the inner loops. Inputs are validated before any kernel runs.
 - fast-math: the flags that let LLVM reorder and fuse float arithmetic, *without* ``nnan``
@@ -14,9 +22,21 @@ compilation policy (on-disk cache, fast-math flags, error model) is the same eve
   runs every kernel with bounds checking on. That pass needs a cache of its own
   (``NUMBA_CACHE_DIR``): the on-disk cache does not tell checked from unchecked code, so a
   warm cache would hand back the unchecked kernels.
+
+Running in parallel
+-------------------
+A parallel kernel is a *worker*: ``worker(slot, *args)``, called at once on ``n`` threads
+with slots ``0 .. n - 1`` (the caller's thread is slot 0). Workers share the work by
+claiming pieces from a counter (:func:`rasterkit.kernels.intrinsics.claims`), so a thread
+that gets less of the machine simply claims fewer pieces, and the result never depends on
+the number of threads. The threads wait for work on a lock, asleep, never spinning: beside
+other busy processes they give their core away.
 """
 
 from __future__ import annotations
+
+import os
+import threading
 
 import numba
 
@@ -24,33 +44,148 @@ FASTMATH = frozenset({"nsz", "arcp", "contract", "afn", "reassoc"})
 
 _OPTIONS = dict(cache=True, nogil=True, error_model="numpy", fastmath=set(FASTMATH))
 
+#: Most threads a parallel kernel may use: Numba's ``NUMBA_NUM_THREADS`` (the environment
+#: variable, else the number of CPUs).
+MAX_THREADS = max(1, int(numba.config.NUMBA_NUM_THREADS))
 
-def kernel(fn=None, *, parallel: bool = False, inline: str = "never"):
+
+def kernel(fn=None, *, inline: str = "never"):
     """Compile ``fn`` with rasterkit's jit policy.
 
-    Use as ``@kernel`` or ``@kernel(parallel=True)``. ``parallel=True`` enables ``prange``;
-    ``inline="always"`` inlines a small helper into its callers at the Numba IR level.
+    Use as ``@kernel`` or ``@kernel(inline="always")``; ``inline="always"`` inlines a small
+    helper into its callers at the Numba IR level (keep it for a few lines in a hot loop:
+    inlined code is compiled again in every caller).
     """
 
     def wrap(f):
-        return numba.njit(parallel=parallel, inline=inline, **_OPTIONS)(f)
+        return numba.njit(inline=inline, **_OPTIONS)(f)
 
     return wrap if fn is None else wrap(fn)
 
 
-def set_threads(n: int | None) -> int:
-    """Set the number of threads used by parallel kernels; ``None`` means all cores.
+def _default_threads() -> int:
+    try:
+        available = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        available = os.cpu_count() or 1
+    return max(1, min(MAX_THREADS, available))
 
-    Returns the number in effect. Raises ``ValueError`` for n < 1 or more than the
-    machine's ``numba.config.NUMBA_NUM_THREADS``.
+
+_threads = _default_threads()
+
+
+def set_threads(n: int | None) -> int:
+    """Set the number of threads used by parallel kernels; ``None`` means all available cores.
+
+    Returns the number in effect. Raises ``ValueError`` for n < 1 or more than
+    :data:`MAX_THREADS`. Images do not depend on it.
     """
-    limit = numba.config.NUMBA_NUM_THREADS
+    global _threads
     if n is None:
-        n = limit
-    if not 1 <= int(n) <= limit:
-        raise ValueError(f"threads must be between 1 and {limit}, got {n}")
-    numba.set_num_threads(int(n))
-    return int(n)
+        n = _default_threads()
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_THREADS:
+        raise ValueError(f"threads must be an int between 1 and {MAX_THREADS}, got {n!r}")
+    _threads = n
+    return n
+
+
+def get_threads() -> int:
+    """The number of threads parallel kernels use (:func:`set_threads`)."""
+    return _threads
+
+
+class _Worker:
+    """A thread that runs one call at a time, handed over through two locks."""
+
+    def __init__(self):
+        self._start, self._done = threading.Lock(), threading.Lock()
+        self._start.acquire()
+        self._done.acquire()
+        self._call = None
+        self._result = None
+        threading.Thread(target=self._loop, name="rasterkit-worker", daemon=True).start()
+
+    def _loop(self):
+        while True:
+            self._start.acquire()
+            fn, args = self._call
+            try:
+                self._result = (True, fn(*args))
+            except BaseException as error:  # handed to the caller by wait()
+                self._result = (False, error)
+            self._call = None
+            self._done.release()
+
+    def submit(self, fn, args):
+        self._call = (fn, args)
+        self._start.release()
+
+    def wait(self):
+        self._done.acquire()
+        ok, value = self._result
+        self._result = None
+        if not ok:
+            raise value
+        return value
+
+
+class _Pool:
+    def __init__(self):
+        self.workers: list[_Worker] = []
+        self.busy = threading.Lock()  # one parallel call at a time uses the workers
+
+
+_pool = _Pool()
+
+
+def _forget_pool():  # threads do not survive fork(): a child starts a pool of its own
+    global _pool
+    _pool = _Pool()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool)
+
+
+def run_parallel(worker, *args, threads: int | None = None) -> list:
+    """Call ``worker(slot, *args)`` on ``threads`` threads at once (default
+    :func:`get_threads`), slots ``0 .. threads - 1``; returns their results in slot order.
+
+    When another Python thread is running a parallel call at the same time, this one runs
+    on the caller's thread alone (slot 0 only): a worker must claim its work from a shared
+    counter, never assume that every slot runs.
+    """
+    n = get_threads() if threads is None else threads
+    pool = _pool
+    if n <= 1 or not pool.busy.acquire(blocking=False):
+        return [worker(0, *args)]
+    try:
+        while len(pool.workers) < n - 1:
+            pool.workers.append(_Worker())
+        helpers = pool.workers[: n - 1]
+        for slot, helper in enumerate(helpers, start=1):
+            helper.submit(worker, (slot, *args))
+        try:
+            first = worker(0, *args)
+        except BaseException:
+            _wait_all(helpers)  # the helpers still read the arguments: let them finish
+            raise
+        return [first, *_wait_all(helpers)]
+    finally:
+        pool.busy.release()
+
+
+def _wait_all(helpers):
+    results, error = [], None
+    for helper in helpers:
+        try:
+            results.append(helper.wait())
+        except BaseException as e:  # wait for every helper before raising
+            results.append(None)
+            error = error or e
+    if error is not None:
+        raise error
+    return results
 
 
 def readonly(a):

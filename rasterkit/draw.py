@@ -9,11 +9,9 @@ from __future__ import annotations
 
 import numbers
 
-import numba
 import numpy as np
 
-from rasterkit import _memory
-from rasterkit._jit import readonly
+from rasterkit._edges import draw_edges
 from rasterkit.kernels import line as _line
 from rasterkit.kernels import triangle as _triangle
 from rasterkit.kernels.clip import GUARD_BAND as _TRIANGLE_LIMIT
@@ -175,23 +173,9 @@ def lines(image: np.ndarray, segments, color=(0, 0, 0), aa: bool = False) -> np.
     edges = np.arange(2 * count, dtype=np.int64).reshape(count, 2)
     rgba = np.ascontiguousarray(parse_color(color)[: image.shape[2]])
     mode = _line.MODE_ANTIALIAS if aa else _line.MODE_PLAIN
-    draw_edges_into(image, np.empty((0, 0), np.float32), points, edges, rgba, mode)
+    draw_edges(image, None, points, edges, rgba, mode)
     return image
 
-
-def draw_edges_into(color, depth, clip, edges, rgba, mode, bias=0.0, background=None) -> int:
-    """:func:`rasterkit.kernels.line.draw_edges_cleared` with recycled scratch memory, on all
-    threads; the caller has validated the inputs (``edges`` index ``clip``'s rows).
-    ``background`` (C,) uint8 clears the colour buffer first. Returns the dropped edges."""
-    plain = mode == _line.MODE_PLAIN
-    scratch = (_memory.take((len(clip), 4), np.float64),
-               _memory.take((len(clip) if plain else 0,), np.int64),
-               _memory.take((_line.REC_FIELDS, len(edges) if plain else 0), np.int32),
-               _memory.take((color.shape[0] * color.shape[1] if plain and background is not None else 0,), np.uint8))
-    background = np.empty(0, np.uint8) if background is None else background
-    edges = readonly(edges)  # as a Mesh's: one compiled kernel for both
-    return _line.draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, numba.get_num_threads(),
-                                    background, scratch)
 
 _TRIANGLE_MAX_BOX = 2**26  # pixels in the bounding box: keeps the result under 1 GiB
 

@@ -16,11 +16,11 @@ import numpy as np
 
 from .camera import Camera
 from .colors import ColorLike, parse_color
-from .draw import draw_edges_into
+from ._edges import draw_edges
 from .framebuffer import Framebuffer
 from .kernels import line as line_kernels
 from .kernels import shade as shade_kernels
-from .kernels.vertex import transform_points
+from ._vertex import transform_points
 from .mesh import Mesh
 from .scene import Scene
 from .triangles import FlatLambert, rasterize_triangles
@@ -232,4 +232,4 @@ def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options
     rgba = np.ascontiguousarray(options.line_color[:channels])
     background = np.ascontiguousarray(fb.background[:channels]) if clear else None
     depth = fb.depth if depth_test else np.empty((0, 0), np.float32)
-    draw_edges_into(fb.color, depth, clip, mesh.edges, rgba, mode, LINE_DEPTH_BIAS, background)
+    draw_edges(fb.color, depth, clip, mesh.edges, rgba, mode, LINE_DEPTH_BIAS, background)

@@ -12,10 +12,10 @@ import math
 import threading
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
-from rasterkit._jit import readonly
+from rasterkit import _jit
+from rasterkit._jit import readonly, run_parallel
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.clip import MAX_IMAGE_SIZE
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
@@ -30,6 +30,7 @@ from rasterkit.kernels.shade import (
 )
 from rasterkit.kernels.tiles import (
     BAND_SHIFT,
+    bin_cursors,
     bin_records,
     draw_bands,
     n_bands,
@@ -262,7 +263,9 @@ def _background(clear, color):
 
 
 def _threads(threads):
-    limit = numba.config.NUMBA_NUM_THREADS
+    if threads is None:
+        return _jit.get_threads()
+    limit = _jit.MAX_THREADS
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= limit:
         raise ValueError(f"threads must be an int in 1..{limit} or None, got {threads!r}")
     return int(threads)
@@ -326,7 +329,8 @@ def rasterize_triangles(
         depth test, like OpenGL's polygon offset, so that lines drawn over the faces
         afterwards survive the depth test. Default no offset.
     threads : int, optional
-        Threads to use (default: Numba's current setting). The result does not depend on it.
+        Threads to use (default: :func:`rasterkit.set_threads`'s setting). The result does
+        not depend on it.
 
     Returns
     -------
@@ -369,17 +373,8 @@ def rasterize_triangles(
     mode, face_colors, vertex_colors = _shading(color, face_colors, vertex_colors, faces, clip)
     offset = _depth_offset(depth_offset)
     background = _background(clear, color)
-    previous = numba.get_num_threads()
-    n_threads = previous if threads is None else _threads(threads)
-    run = (color, depth, clip, faces, mode, face_colors, vertex_colors, ids, _CULL_MODES[cull], background, offset,
-           n_threads)
-    if n_threads == previous:  # nothing to set (and to set back)
-        return _run(*run)
-    numba.set_num_threads(n_threads)
-    try:
-        return _run(*run)
-    finally:
-        numba.set_num_threads(previous)
+    return _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, _CULL_MODES[cull], background,
+                offset, _threads(threads))
 
 
 class _Workspace(threading.local):
@@ -419,6 +414,9 @@ class _Workspace(threading.local):
 
 _WORKSPACE = _Workspace()
 
+#: Draws of fewer faces run their setup passes on the calling thread alone.
+_PARALLEL_FACES = 4096
+
 
 def _records(ws, rows, keep=0):
     """Record arrays ``tri_xy, tri_z, tri_box`` of ``rows`` records, the first ``keep`` kept."""
@@ -448,7 +446,12 @@ def _pattern(background: bytes) -> np.ndarray:
     return pattern
 
 
-def _set_up(ws, clip, faces, width, height, cull_mode, lit):
+def _parallel(worker, *args, threads):
+    """``worker`` on ``threads`` threads, with a fresh work counter."""
+    return run_parallel(worker, np.zeros(1, np.int64), *args, threads=threads)
+
+
+def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
     """Vertex pass, face pass and (when needed) the cut faces' fans; binning counted.
 
     Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts, listed)`` for
@@ -458,25 +461,28 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit):
     n, m = clip.shape[0], faces.shape[0]
     corners = ws.take("corners", (n, 4), np.int32)
     depths = corners.view(np.float32)  # the same rows: z as float32
-    setup_vertices(clip, width, height, corners, depths)
+    _parallel(setup_vertices, clip, width, height, corners, depths, threads=threads)
     tri_xy, tri_z, tri_box = _records(ws, m)
     cut_mask, n_fan = ws.take("cut_mask", (m,), np.int8), ws.take("n_fan", (m,), np.int8)
     band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
     tally = np.zeros((N_CHUNKS, N_STATUS + 1), np.int64)
     listed = (ws.take("listed", (m,), np.int32), np.zeros(N_CHUNKS, np.int64))
-    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_SHIFT, band_counts, tally, lit, listed)
-    n_cut = setup_faces(faces, corners, depths, width, height, cull_mode, *face_pass)
-    if n_cut < 0:
+    cut = np.zeros(N_CHUNKS, np.int64)
+    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_SHIFT, band_counts, tally, lit, listed, cut)
+    _parallel(setup_faces, faces, corners, depths, width, height, cull_mode, *face_pass, threads=threads)
+    if cut.min() < 0:
         raise ValueError(f"faces must index vertices 0..{n - 1}")
+    n_cut = int(cut.sum())
     fan_start = np.full(N_CHUNKS, m, np.int64)
     fan_face = np.empty(0, np.int32)
     if n_cut:
-        fans = count_fans(clip, faces, width, height, cut_mask, n_fan)
+        fans = np.zeros(N_CHUNKS, np.int64)
+        _parallel(count_fans, clip, faces, width, height, cut_mask, n_fan, fans, threads=threads)
         fan_start += np.cumsum(fans) - fans
         tri_xy, tri_z, tri_box = _records(ws, m + int(fans.sum()), keep=m)
         fan_face = ws.take("fan_face", (int(fans.sum()),), np.int32)
         fan_pass = (fan_start, fan_face, tri_xy, tri_z, tri_box, cut_mask, BAND_SHIFT, band_counts, tally)
-        setup_cut_faces(clip, faces, width, height, cull_mode, *fan_pass)
+        _parallel(setup_cut_faces, clip, faces, width, height, cull_mode, *fan_pass, threads=threads)
     return (tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0), listed
 
 
@@ -505,12 +511,18 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
             packed = np.empty(0, np.uint32)
         else:
             packed = face_colors if face_colors.dtype == np.uint32 else pack_colors(face_colors)
+    # Small draws on the calling thread alone: handing work to a thread costs ~15 us a pass.
+    threads = 1 if m < _PARALLEL_FACES else n_threads
     records, n_fan, fan_start, fan_face, band_counts, counts, listed = _set_up(
-        ws, clip, faces, width, height, cull_mode, lit
+        ws, clip, faces, width, height, cull_mode, lit, threads
     )
-    band_start, items, n_records = bin_records(m, n_fan, fan_start, records[2], band_counts, listed)
+    band_start = bin_cursors(band_counts)
+    items = ws.take("items", (int(band_start[-1]),), np.int32)
+    drawn = np.zeros(N_CHUNKS, np.int64)
+    _parallel(bin_records, m, n_fan, fan_start, records[2], band_counts, listed, items, drawn, threads=threads)
+    n_records = int(drawn.sum())
     if offset != (0.0, 0.0):
-        offset_depths(*records, records[0].shape[0], *offset)
+        _parallel(offset_depths, *records, records[0].shape[0], *offset, threads=threads)
     bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
     # Flat colours without ids: the visibility buffer carries the colour itself.
     resolve = SHADE_TAGGED if mode == SHADE_FLAT and ids is None else mode
@@ -523,9 +535,8 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
     else:
         target = (depth, True, height, color_target, ids is not None, ids_target)
     clear = _clear_spec(background, color)
-    fragments = draw_bands(
-        band_start, items, records, shading, target, clear, ws.visibility(n_threads, width)
-    )
+    fragments = sum(_parallel(draw_bands, band_start, items, records, shading, target, clear,
+                              ws.visibility(n_threads, width), threads=n_threads))
     return TriangleStats(
         faces=m,
         drawn=int(counts[STATUS_DRAWN]),

@@ -13,7 +13,7 @@ from rasterkit._jit import readonly
 from rasterkit.framebuffer import Framebuffer
 from rasterkit.kernels import line as line_kernels
 from rasterkit.kernels.shade import face_normals, flat_packed, lambert, pack_colors
-from rasterkit.kernels.vertex import transform_points
+from rasterkit._vertex import transform_points
 from rasterkit.triangles import FlatLambert, rasterize_triangles
 
 BIG = (1024, 512)  # 2 MiB of RGBA: above _memory.MIN_BYTES, so recycled

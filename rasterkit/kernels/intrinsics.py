@@ -1,4 +1,5 @@
-"""Two LLVM operations that Numba does not expose: a software prefetch and an atomic add.
+"""Two LLVM operations that Numba does not expose, a software prefetch and an atomic add, and
+the work-sharing loop built on the atomic add.
 
 Prefetch
 --------
@@ -13,10 +14,10 @@ it only moves memory into the cache earlier.
 
 Atomic add
 ----------
-``prange`` hands every thread a fixed share of the iterations. When the shares cost
-different amounts (bands of an image differ), or the machine takes a core away for a
-while, one thread idles at the end while the other finishes. With :func:`fetch_add` on a
-shared counter each thread takes the next unclaimed piece of work as it becomes free.
+A fixed share of the work per thread leaves one thread idle at the end when the shares
+cost different amounts (bands of an image differ) or the machine takes a core away for a
+while. With :func:`fetch_add` on a shared counter (:func:`claims`) each thread takes the
+next unclaimed piece of work as it becomes free.
 Which thread draws a band never changes what is drawn into it, so images stay
 bit-identical.
 """
@@ -28,7 +29,9 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-__all__ = ["fetch_add", "prefetch_row"]
+from rasterkit._jit import kernel
+
+__all__ = ["claims", "fetch_add", "prefetch_row"]
 
 
 @intrinsic
@@ -78,3 +81,16 @@ def fetch_add(typingctx, array, index, value):
         return builder.atomic_rmw("add", address, amount, "seq_cst")
 
     return types.int64(array, index, value), codegen
+
+
+@kernel
+def claims(counter, n):
+    """Yield ``0 .. n - 1``, each to exactly one of the workers that share ``counter``
+    ((1,) int64, 0 at the start): every worker of a :func:`rasterkit._jit.run_parallel`
+    call loops ``for piece in claims(counter, n)`` and takes the next piece as it becomes
+    free."""
+    while True:
+        piece = fetch_add(counter, 0, 1)
+        if piece >= n:
+            return
+        yield piece

@@ -46,9 +46,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import prange
 
 from rasterkit._jit import kernel
+from rasterkit.kernels.intrinsics import claims
 from rasterkit.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
 
 METHOD_BRESENHAM = 0
@@ -318,12 +318,12 @@ def _all_usable(values):
     return True
 
 
-_VERTEX_CHUNKS = 16
-_ROWS_PER_BIN = 8
+VERTEX_CHUNKS = 16
+ROWS_PER_BIN = 8
 
 
-@kernel(parallel=True)
-def project_vertices(clip, proj, pixels, width, height):
+@kernel
+def project_vertices(slot, counter, clip, proj, pixels, width, height, counts):
     """Vertex pass of :func:`draw_edges`: divide every vertex that needs no clipping, once.
 
     ``proj[i]`` becomes ``(x, y, z, 1.0)`` (raster space, exactly as :func:`_project_edge`
@@ -337,17 +337,19 @@ def project_vertices(clip, proj, pixels, width, height):
     vertex inside the ``width`` x ``height`` image, ``x | y << 32``, and -1 for every
     other vertex (what :func:`plain_setup` reads).
 
-    Returns the number of projected vertices in each ``_ROWS_PER_BIN`` rows of an image
-    ``height`` rows tall, a cheap estimate of where the drawing work lies; all zero when
-    ``pixels`` is given (the plain path balances its bands by :func:`record_work`, and the
-    count cost a sixth of this pass).
+    ``counts`` (VERTEX_CHUNKS, n_bins) int64, zeros on entry, gets the number of projected
+    vertices of each chunk in each ``ROWS_PER_BIN`` rows of an image ``height`` rows tall
+    (``n_bins`` rows' worth), a cheap estimate of where the drawing work lies; it stays zero
+    when ``pixels`` is given (the plain path balances its bands by :func:`record_work`, and
+    the count cost a sixth of this pass).
+
+    A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused, chunks claimed
+    through ``counter``).
     """
-    n_bins = (height + _ROWS_PER_BIN - 1) // _ROWS_PER_BIN
-    counts = np.zeros((_VERTEX_CHUNKS, n_bins), np.int64)
     n = clip.shape[0]
     with_pixels = pixels.size > 0
-    for ch in prange(_VERTEX_CHUNKS):
-        for i in range(n * ch // _VERTEX_CHUNKS, n * (ch + 1) // _VERTEX_CHUNKS):
+    for ch in claims(counter, VERTEX_CHUNKS):
+        for i in range(n * ch // VERTEX_CHUNKS, n * (ch + 1) // VERTEX_CHUNKS):
             p = (clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3])
             pixel = -1
             if not _all_usable(p):
@@ -364,21 +366,22 @@ def project_vertices(clip, proj, pixels, width, height):
                 proj[i, 3] = 1.0
                 if 0.0 <= y < height:
                     if not with_pixels:
-                        counts[ch, np.int64(y) // _ROWS_PER_BIN] += 1
+                        counts[ch, np.int64(y) // ROWS_PER_BIN] += 1
                     if 0.0 <= x < width:
                         pixel = np.int64(math.floor(x)) | (np.int64(math.floor(y)) << 32)
             if with_pixels:
                 pixels[i] = pixel
-    return counts.sum(axis=0)
 
 
 @kernel
 def balanced_bands(counts, n_bands, height):
     """Row boundaries ``(n_bands + 1,)`` splitting ``height`` rows into bands holding about
-    equal shares of ``counts`` (per ``_ROWS_PER_BIN`` rows; equal row counts when all are
+    equal shares of ``counts`` (per ``ROWS_PER_BIN`` rows; equal row counts when all are
     zero). Band ``b`` is rows ``[bounds[b], bounds[b + 1])``, possibly empty."""
     bounds = np.empty(n_bands + 1, np.int64)
-    total = counts.sum()
+    total = 0
+    for c in counts:
+        total += c
     bounds[0] = 0
     acc = 0
     bin_ = 0
@@ -390,7 +393,7 @@ def balanced_bands(counts, n_bands, height):
         while bin_ < counts.size and acc + counts[bin_] <= goal:
             acc += counts[bin_]
             bin_ += 1
-        bounds[b] = min(max(bin_ * _ROWS_PER_BIN, bounds[b - 1]), height)
+        bounds[b] = min(max(bin_ * ROWS_PER_BIN, bounds[b - 1]), height)
     bounds[n_bands] = height
     return bounds
 
@@ -604,69 +607,6 @@ def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bia
                     _blend(cflat, pix, channels, rgba, coverage * weight)
 
 
-@kernel
-def draw_edges(color, depth, clip, edges, rgba, mode, bias, n_bands):
-    """Draw the edges of a mesh into a framebuffer.
-
-    Parameters
-    ----------
-    color : (H, W, C) uint8, C-contiguous, C in {3, 4}
-        Colour buffer, modified in place.
-    depth : (H, W) float32, C-contiguous
-        Depth buffer (smaller = nearer, +inf = empty). Read only with ``MODE_DEPTH_TEST``
-        and never written; without the depth test any float32 array will do (e.g.
-        ``np.empty((0, 0), np.float32)``).
-    clip : (N, 4) float64
-        Vertices in homogeneous raster space ``(xh, yh, zh, w)``.
-    edges : (E, 2) int64
-        Vertex indices into ``clip``, each in ``[0, N)`` (the caller checks).
-    rgba : (C,) uint8
-        Line colour.
-    mode : int
-        Bit set of ``MODE_DEPTH_TEST`` and ``MODE_ANTIALIAS``; ``MODE_PLAIN`` (0) is a
-        wireframe with neither.
-    bias : float
-        Depth-test mode draws a pixel only where ``z - bias <= depth[y, x]``, ``z`` being the
-        edge's depth (affine in screen space, so interpolated linearly) at the pixel's
-        major-axis centre. A small positive bias lets the edges of visible faces pass the
-        test against those faces' own depths.
-    n_bands : int
-        Number of horizontal bands the image is split into, drawn in parallel; normally
-        ``numba.get_num_threads()`` (passed in because reading it inside a kernel defeats
-        the on-disk cache). The image is the same for every value >= 1.
-
-    Returns
-    -------
-    int
-        Number of edges dropped because a coordinate of one of their vertices is NaN, inf or
-        beyond ``MAX_COORDINATE`` in magnitude.
-
-    Notes
-    -----
-    Plain and depth-tested edges write ``rgba`` to the pixels of the integer line between
-    the pixels containing the (clipped) endpoints, exactly as :func:`line_pixels` draws it
-    with Bresenham. Anti-aliased edges use Xiaolin Wu's algorithm on the real-valued
-    endpoints and blend ``rgba`` into the colour buffer, all C channels, by coverage; their
-    total weight is the segment's extent along its major axis. Edges are drawn in order, so
-    overlapping anti-aliased edges blend in index order. Segments are clipped to the near
-    and far planes and to the guard band ``[-GUARD_BAND, GUARD_BAND]^2`` in homogeneous
-    space; a segment with both ends inside the guard band is drawn exactly. Edges with a
-    coordinate beyond ``MAX_COORDINATE`` are dropped and counted like NaN ones. The image
-    must be smaller than ``GUARD_BAND`` on each side.
-    """
-    scratch = edge_scratch(clip.shape[0], edges.shape[0], 0, mode)
-    return draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands, np.empty(0, np.uint8), scratch)
-
-
-@kernel
-def edge_scratch(n_vertices, n_edges, n_pixels, mode):
-    """Fresh scratch arrays for :func:`draw_edges_cleared` (``n_pixels``: mask bytes, 0 for
-    none); the renderer takes recycled ones instead (:func:`rasterkit.draw.draw_edges_into`)."""
-    plain = (mode & (MODE_DEPTH_TEST | MODE_ANTIALIAS)) == 0
-    return (np.empty((n_vertices, 4)), np.empty(n_vertices if plain else 0, np.int64),
-            np.empty((REC_FIELDS, n_edges if plain else 0), np.int32), np.empty(n_pixels, np.uint8))
-
-
 #: Rows of the per-edge records of :func:`plain_setup`, each (E,) int32: the first pixel,
 #: the packed steps ``n | a << 15 | steep << 30 | negative << 31`` and the rows
 #: ``jlo | jhi << 16`` (-1 for an edge of the general path).
@@ -680,15 +620,15 @@ _PACKED_LIMIT = 1 << 15
 #: Work of one plain edge beyond its pixels, in pixel steps (setup, loop entry and exit),
 #: for balancing the bands.
 _EDGE_WORK = 4
-_SETUP_CHUNKS = 16
+SETUP_CHUNKS = 16
 _SETUP_BLOCK = 512
 _WORK_LANES = 4  # a power of two
 #: Records that :func:`record_work` counts at most (about; it samples beyond).
 _WORK_SAMPLES = 1 << 15
 
 
-@kernel(parallel=True)
-def plain_setup(pixels, edges, width, height, recs):
+@kernel
+def plain_setup(slot, counter, pixels, edges, width, height, recs):
     """Per-edge Bresenham setup of plain (no depth test, no anti-aliasing) edges, once.
 
     An edge whose two ends have a pixel in ``pixels`` (:func:`project_vertices`) lies
@@ -703,14 +643,15 @@ def plain_setup(pixels, edges, width, height, recs):
     edges at a time with AVX-512: ten times faster than edge by edge with branches).
     Stepping from the end with the smaller major coordinate is the same as deciding on the
     real ends (the integer ends differ along the major axis unless the line is a single
-    pixel).
+    pixel). A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused, chunks
+    claimed through ``counter``).
     """
     m = edges.shape[0]
     packed = width <= _PACKED_LIMIT and height <= _PACKED_LIMIT
-    for ch in prange(_SETUP_CHUNKS):
-        ends = np.empty((2, _SETUP_BLOCK), np.int64)
-        stop = m * (ch + 1) // _SETUP_CHUNKS
-        for start in range(m * ch // _SETUP_CHUNKS, stop, _SETUP_BLOCK):
+    ends = np.empty((2, _SETUP_BLOCK), np.int64)
+    for ch in claims(counter, SETUP_CHUNKS):
+        stop = m * (ch + 1) // SETUP_CHUNKS
+        for start in range(m * ch // SETUP_CHUNKS, stop, _SETUP_BLOCK):
             count = min(_SETUP_BLOCK, stop - start)
             for k in range(count):
                 ends[0, k] = pixels[edges[start + k, 0]] if packed else -1
@@ -748,10 +689,10 @@ def _setup_block(first, second, count, width, pix, steps, rows, offset):
         rows[u] = ok * ((jlo | ((y0 + y1 - jlo) << np.int32(16))) + one) - one
 
 
-@kernel(parallel=True)
+@kernel
 def record_work(recs, height):
     """The work of the records of :func:`plain_setup` (their pixels plus ``_EDGE_WORK``
-    each) per ``_ROWS_PER_BIN`` image rows, by the row of their middle: what
+    each) per ``ROWS_PER_BIN`` image rows, by the row of their middle: what
     :func:`balanced_bands` shares out in plain mode. (The vertex counts of
     :func:`project_vertices` follow the vertices, not the pixels, and left one of two bands
     60 % of the work on some models.) Records of the general path are not counted.
@@ -761,21 +702,23 @@ def record_work(recs, height):
     ``_WORK_SAMPLES`` records only every ``s``-th is counted, ``s`` times over
     (``s = E // _WORK_SAMPLES``): an estimate is all the balance needs, and counting every
     record cost more than the balance won on the largest models."""
-    n_bins = (height + _ROWS_PER_BIN - 1) // _ROWS_PER_BIN
-    work = np.zeros((_SETUP_CHUNKS, _WORK_LANES, n_bins), np.int64)
+    n_bins = (height + ROWS_PER_BIN - 1) // ROWS_PER_BIN
+    work = np.zeros((_WORK_LANES, n_bins), np.int64)
     m = recs.shape[1]
     stride = max(m // _WORK_SAMPLES, 1)
-    for ch in prange(_SETUP_CHUNKS):
-        lane = 0
-        for e in range(m * ch // _SETUP_CHUNKS, m * (ch + 1) // _SETUP_CHUNKS, stride):
-            u = np.uint64(e)
-            rows = np.int64(recs[_REC_ROWS, u])
-            ok = np.int64(rows >= 0)
-            middle = ((rows & 0xFFFF) + (rows >> 16)) >> 1
-            n = np.int64(recs[_REC_STEPS, u]) & 0x7FFF
-            work[ch, lane, ok * (middle // _ROWS_PER_BIN)] += ok * stride * (n + 1 + _EDGE_WORK)
-            lane = (lane + 1) & (_WORK_LANES - 1)
-    return work.sum(axis=0).sum(axis=0)
+    lane = 0
+    for e in range(0, m, stride):
+        u = np.uint64(e)
+        rows = np.int64(recs[_REC_ROWS, u])
+        ok = np.int64(rows >= 0)
+        middle = ((rows & 0xFFFF) + (rows >> 16)) >> 1
+        n = np.int64(recs[_REC_STEPS, u]) & 0x7FFF
+        work[lane, ok * (middle // ROWS_PER_BIN)] += ok * stride * (n + 1 + _EDGE_WORK)
+        lane = (lane + 1) & (_WORK_LANES - 1)
+    for k in range(1, _WORK_LANES):
+        for b in range(n_bins):
+            work[0, b] += work[k, b]
+    return work[0]
 
 
 @kernel(inline="always")
@@ -842,7 +785,7 @@ def _paint_marked(cflat, mflat, lo, hi, rgba, select, paint):
         p += 1
 
 
-@kernel(inline="always")
+@kernel
 def _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, ylo, yhi, plain,
                 depth_test, antialias, bias):
     """Draw every edge's part in rows ``ylo .. yhi``; returns the number of dropped edges."""
@@ -871,38 +814,76 @@ def _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, yl
     return dropped
 
 
-@kernel(parallel=True)
-def draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands, background, scratch):
-    """:func:`draw_edges`, clearing the colour buffer first, with caller-owned scratch.
+@kernel
+def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, bounds, background, scratch):
+    """Draw the edges of a mesh into a framebuffer, band by band: each the next band that
+    no worker has claimed yet (through ``counter``), until none are left; returns the
+    number of edges this worker dropped (each band sees every edge, so the dropped edges
+    of any one band are all of them: the driver reads band 0's, :data:`DROPPED_BAND`).
 
-    ``background`` (C,) uint8 is written to every pixel of a band by the thread that owns
-    the band, right before it draws the band's edges (nothing is cleared when it is
-    empty, (0,)). Returns the number of dropped edges, like :func:`draw_edges`.
+    A worker of :func:`rasterkit._jit.run_parallel`; ``slot`` is unused. The driver,
+    :mod:`rasterkit._edges`, runs :func:`project_vertices` (and, plain, :func:`plain_setup`
+    and :func:`record_work`) first, and :func:`balanced_bands` gives ``bounds``.
 
-    ``scratch`` is ``(proj, pixels, recs, mask)``, as :func:`edge_scratch` makes them:
-    ``proj`` (N, 4) float64 for :func:`project_vertices`; in plain mode ``pixels`` (N,)
-    int64 and ``recs`` (REC_FIELDS, E) int32 for :func:`plain_setup` (without rows in the
-    other modes). ``mask`` (H * W,) uint8 is for plain mode with a background: each band
-    first marks its edges' pixels in the mask (one byte store per pixel, in a buffer a
-    third the size of an RGB image that stays in the thread's cache), then clears its
-    colour rows and paints the marked pixels 8 at a time. With any other mode or without a
-    background, or when ``mask`` is smaller, the edges are drawn into the colour buffer
-    directly. The image is the same either way.
+    Parameters
+    ----------
+    color : (H, W, C) uint8, C-contiguous, C in {3, 4}
+        Colour buffer, modified in place.
+    depth : (H, W) float32, C-contiguous
+        Depth buffer (smaller = nearer, +inf = empty). Read only with ``MODE_DEPTH_TEST``
+        and never written; without the depth test any float32 array will do (e.g.
+        ``np.empty((0, 0), np.float32)``).
+    clip : (N, 4) float64
+        Vertices in homogeneous raster space ``(xh, yh, zh, w)``.
+    edges : (E, 2) int64
+        Vertex indices into ``clip``, each in ``[0, N)`` (the caller checks).
+    rgba : (C,) uint8
+        Line colour.
+    mode : int
+        Bit set of ``MODE_DEPTH_TEST`` and ``MODE_ANTIALIAS``; ``MODE_PLAIN`` (0) is a
+        wireframe with neither.
+    bias : float
+        Depth-test mode draws a pixel only where ``z - bias <= depth[y, x]``, ``z`` being the
+        edge's depth (affine in screen space, so interpolated linearly) at the pixel's
+        major-axis centre. A small positive bias lets the edges of visible faces pass the
+        test against those faces' own depths.
+    bounds : (n_bands + 1,) int64
+        Band ``b`` is rows ``bounds[b] .. bounds[b + 1] - 1`` (possibly none). The image is
+        the same for any bands.
+    background : (C,) uint8 or (0,)
+        Written to every pixel of a band by the worker that draws the band, right before
+        its edges (nothing is cleared when it is empty).
+    scratch : tuple
+        ``(proj, pixels, recs, mask)``: ``proj`` (N, 4) float64 from
+        :func:`project_vertices`; in plain mode ``pixels`` (N,) int64 and ``recs``
+        (REC_FIELDS, E) int32 from :func:`plain_setup` (without rows in the other modes).
+        ``mask`` (H * W,) uint8 is for plain mode with a background: each band first marks
+        its edges' pixels in the mask (one byte store per pixel, in a buffer a third the
+        size of an RGB image that stays in the thread's cache), then clears its colour rows
+        and paints the marked pixels 8 at a time. With any other mode or without a
+        background, or when ``mask`` is smaller, the edges are drawn into the colour buffer
+        directly. The image is the same either way.
+
+    Notes
+    -----
+    Plain and depth-tested edges write ``rgba`` to the pixels of the integer line between
+    the pixels containing the (clipped) endpoints, exactly as :func:`line_pixels` draws it
+    with Bresenham. Anti-aliased edges use Xiaolin Wu's algorithm on the real-valued
+    endpoints and blend ``rgba`` into the colour buffer, all C channels, by coverage; their
+    total weight is the segment's extent along its major axis. Edges are drawn in order, so
+    overlapping anti-aliased edges blend in index order. Segments are clipped to the near
+    and far planes and to the guard band ``[-GUARD_BAND, GUARD_BAND]^2`` in homogeneous
+    space; a segment with both ends inside the guard band is drawn exactly. Edges with a
+    coordinate beyond ``MAX_COORDINATE`` (or NaN, inf) are dropped and counted. The image
+    must be smaller than ``GUARD_BAND`` on each side.
     """
     proj, pixels, recs, mask = scratch
     height, width, channels = color.shape
     depth_test = (mode & MODE_DEPTH_TEST) != 0
     antialias = (mode & MODE_ANTIALIAS) != 0
     plain = not depth_test and not antialias
-    n_bands = min(height, n_bands)
-    counts = project_vertices(clip, proj, pixels if plain else pixels[:0], width, height)
-    if plain:
-        plain_setup(pixels, edges, width, height, recs)
-        counts = record_work(recs, height)
-    bounds = balanced_bands(counts, n_bands, height)
     cflat = color.reshape(color.size)
     dflat = depth.reshape(depth.size)
-    dropped = np.zeros(n_bands, np.int64)
     clear = background.size == channels
     pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
     marked = plain and clear and mask.size >= height * width
@@ -910,17 +891,23 @@ def draw_edges_cleared(color, depth, clip, edges, rgba, mode, bias, n_bands, bac
     select, paint = _paint_tables(rgba if marked else rgba[:0])
     one = np.ones(1, np.uint8)
     zeros = np.zeros(PATTERN_BYTES, np.uint8)
-    for band in prange(n_bands):
+    dropped = 0
+    for band in claims(counter, bounds.size - 1):
         ylo, yhi = bounds[band], bounds[band + 1] - 1
         if marked:  # into the mask (one channel, value 1), then paint
             fill_bytes(mask, ylo * width, (yhi + 1) * width, zeros)
-            dropped[band] = _band_edges(mask, dflat, width, 1, one, clip, proj, edges, recs, ylo, yhi,
-                                        plain, depth_test, antialias, bias)
+        elif clear:
+            fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
+        target, target_channels, ink = (mask, 1, one) if marked else (cflat, channels, rgba)
+        lost = _band_edges(target, dflat, width, target_channels, ink, clip, proj, edges, recs, ylo, yhi,
+                           plain, depth_test, antialias, bias)
+        if band == DROPPED_BAND:
+            dropped = lost
+        if marked:
             fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
             _paint_marked(cflat, mask, ylo * width, (yhi + 1) * width, rgba, select, paint)
-        else:
-            if clear:
-                fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
-            dropped[band] = _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs,
-                                        ylo, yhi, plain, depth_test, antialias, bias)
-    return dropped[0]
+    return dropped
+
+
+#: The band whose count of dropped edges :func:`draw_edge_bands` reports.
+DROPPED_BAND = 0

@@ -28,7 +28,6 @@ Resolve
 from __future__ import annotations
 
 import numpy as np
-from numba import prange
 
 from rasterkit._jit import kernel
 
@@ -68,7 +67,7 @@ def _normalize_row(v, k):
         v[k, 2] /= length
 
 
-@kernel(parallel=True)
+@kernel
 def face_normals(positions, faces):
     """Unit face normals.
 
@@ -86,7 +85,7 @@ def face_normals(positions, faces):
     """
     m = faces.shape[0]
     out = np.empty((m, 3))
-    for f in prange(m):
+    for f in range(m):
         out[f, 0], out[f, 1], out[f, 2] = _face_cross(positions, faces, f)
         _normalize_row(out, f)
     return out
@@ -120,7 +119,7 @@ def vertex_normals(positions, faces):
     return out
 
 
-@kernel(parallel=True)
+@kernel
 def lambert(normals, base, light, points, positional, ambient, two_sided):
     """Lambert colours ``base * (ambient + (1 - ambient) * max(0, n · l))``.
 
@@ -150,7 +149,7 @@ def lambert(normals, base, light, points, positional, ambient, two_sided):
     k_count = normals.shape[0]
     out = np.empty((k_count, 3), np.float32)
     single = base.shape[0] == 1
-    for k in prange(k_count):
+    for k in range(k_count):
         lx, ly, lz = light[0], light[1], light[2]
         if positional:
             lx, ly, lz = lx - points[k, 0], ly - points[k, 1], lz - points[k, 2]
@@ -166,7 +165,7 @@ def lambert(normals, base, light, points, positional, ambient, two_sided):
     return out
 
 
-@kernel(parallel=True)
+@kernel
 def flat_packed(positions, faces, base, scale, light, ambient, two_sided):
     """Per-face Lambert colours under a distant light, packed.
 
@@ -198,7 +197,7 @@ def flat_packed(positions, faces, base, scale, light, ambient, two_sided):
     normals = face_normals(positions, faces).astype(np.float32)
     out = np.empty(m, np.uint32)
     everyone = np.empty(0, np.int32)
-    for ch in prange(_COLOR_CHUNKS):
+    for ch in range(_COLOR_CHUNKS):
         start, stop = m * ch // _COLOR_CHUNKS, m * (ch + 1) // _COLOR_CHUNKS
         flat_colors(normals, everyone, start, stop - start, base, scale, light, ambient, two_sided, out)
     return out
@@ -263,7 +262,7 @@ def _intensity(cos, back, ambient):
     return ambient + (1.0 - ambient) * cos
 
 
-@kernel(parallel=True)
+@kernel
 def bary_matrices(clip, faces):
     """Per face, the rows that turn a pixel into perspective-correct barycentrics.
 
@@ -287,7 +286,7 @@ def bary_matrices(clip, faces):
     """
     m = faces.shape[0]
     out = np.zeros((m, 9))
-    for f in prange(m):
+    for f in range(m):
         scale = 0.0
         for k in range(3):
             v = faces[f, k]
@@ -327,7 +326,7 @@ def to_u8(v):
     return np.int64((v if v < 255.0 else 255.0) + 0.5)  # noqa: FURB136
 
 
-@kernel(parallel=True)
+@kernel
 def pack_colors(colors):
     """RGB 0..255 floats -> opaque RGBA packed in uint32 (R in the low byte).
 
@@ -342,7 +341,7 @@ def pack_colors(colors):
         ``R | G << 8 | B << 16 | 255 << 24``.
     """
     out = np.empty(colors.shape[0], np.uint32)
-    for k in prange(colors.shape[0]):
+    for k in range(colors.shape[0]):
         rgb = to_u8(colors[k, 0]) | to_u8(colors[k, 1]) << 8 | to_u8(colors[k, 2]) << 16
         out[k] = np.uint32(rgb | 255 << 24)
     return out

@@ -14,8 +14,8 @@ Order
     setup does (:func:`rasterkit.kernels.triangle.count_bands`).
 
 Scheduling
-    ``prange`` runs one iteration per thread *slot*; each slot takes the next band that no
-    slot has claimed yet (an atomic counter, :func:`rasterkit.kernels.intrinsics.fetch_add`)
+    :func:`draw_bands` runs once per thread *slot*; each slot takes the next band that no
+    slot has claimed yet (an atomic counter, :func:`rasterkit.kernels.intrinsics.claims`)
     until none are left, so a thread that is given more work, or less of the machine,
     does not hold up the others, and each slot reuses one band-sized visibility buffer.
 
@@ -28,11 +28,10 @@ Slot buffers apart
 from __future__ import annotations
 
 import numpy as np
-from numba import prange
 
 from rasterkit._jit import kernel
 from rasterkit.kernels.clear import fill_bytes
-from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
+from rasterkit.kernels.intrinsics import claims, prefetch_row
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
 from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
 
@@ -109,8 +108,27 @@ def _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, cursor, items, listed):
     return drawn
 
 
-@kernel(parallel=True)
-def bin_records(n_faces, n_fan, fan_start, tri_box, band_counts, listed):
+@kernel
+def bin_cursors(band_counts):
+    """Turn the counts of :func:`rasterkit.kernels.triangle.count_bands` into cursors, in
+    place (band-major, then chunk, that is face, order), for :func:`bin_records`; returns
+    ``band_start`` (n_bands + 1,) int64: bin ``b`` will be ``items[band_start[b]:
+    band_start[b + 1]]``."""
+    nb = band_counts.shape[1]
+    band_start = np.empty(nb + 1, np.int64)
+    total = 0
+    for b in range(nb):
+        band_start[b] = total
+        for ch in range(N_CHUNKS):
+            count = band_counts[ch, b]
+            band_counts[ch, b] = total
+            total += count
+    band_start[nb] = total
+    return band_start
+
+
+@kernel
+def bin_records(slot, counter, n_faces, n_fan, fan_start, tri_box, band_counts, listed, items, drawn):
     """Bin the records into bands, in submission order (a stable counting sort).
 
     Parameters
@@ -124,81 +142,21 @@ def bin_records(n_faces, n_fan, fan_start, tri_box, band_counts, listed):
     tri_box : (T, 4) int32
         Pixel boxes ``i_lo, i_hi, j_lo, j_hi``; empty ones are skipped.
     band_counts : (N_CHUNKS, n_bands) int64
-        Drawn records per face chunk and band, counted during setup
-        (:func:`rasterkit.kernels.triangle.count_bands`). Used as scratch.
+        The cursors of :func:`bin_cursors`; used up.
     listed : tuple
         ``(faces_listed, n_listed)`` from :func:`rasterkit.kernels.triangle.setup_faces`:
         the faces that can have records; the others are skipped without being read.
+    items : (band_start[-1],) int32
+        Out: the record indices, bin after bin.
+    drawn : (N_CHUNKS,) int64
+        Out: records drawn (non-empty) per chunk, each counted once however many bands it
+        spans.
 
-    Returns
-    -------
-    band_start : (n_bands + 1,) int64
-        Bin ``b`` is ``items[band_start[b]:band_start[b + 1]]``.
-    items : (K,) int32
-        Record indices.
-    n_records : int
-        Records drawn (non-empty), each counted once however many bands it spans.
+    A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused, chunks claimed
+    through ``counter``).
     """
-    nb = band_counts.shape[1]
-    band_start = np.empty(nb + 1, np.int64)
-    total = 0
-    for b in range(nb):  # turn counts into cursors: band-major, then chunk (= face) order
-        band_start[b] = total
-        for ch in range(N_CHUNKS):
-            count = band_counts[ch, b]
-            band_counts[ch, b] = total
-            total += count
-    band_start[nb] = total
-    items = np.empty(total, np.int32)
-    drawn = np.zeros(N_CHUNKS, np.int64)
-    for ch in prange(N_CHUNKS):
+    for ch in claims(counter, N_CHUNKS):
         drawn[ch] = _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, band_counts, items, listed)
-    return band_start, items, drawn.sum()
-
-
-@kernel(parallel=True)
-def draw_bands(band_start, items, records, shading, target, clear, lid):
-    """Rasterize and resolve every band; returns the number of fragments depth-tested.
-
-    Parameters
-    ----------
-    band_start, items
-        From :func:`bin_records`.
-    records : tuple
-        ``(tri_xy, tri_z, tri_box)`` (:mod:`rasterkit.kernels.triangle`).
-    shading : tuple
-        ``(mode, n_faces, fan_face, packed, vertex_colors, faces, bary)``: how to colour
-        a visible pixel (:func:`rasterkit.kernels.shade.resolve_row`); record ``t`` is
-        face ``t`` below ``n_faces``, else face ``fan_face[t - n_faces]``. In
-        SHADE_TAGGED (flat colours, no ids) the visibility buffer holds the face's colour
-        instead of its index.
-    target : tuple
-        ``(depth, keep_depth, height, color, write_ids, ids)``: the depth buffer (less-than
-        test), (H, W) float32 when ``keep_depth``, else a scratch of ``BAND_HEIGHT`` rows
-        per slot, (n_slots * slot_rows(W), W) float32 (slot ``s`` draws in the last
-        ``BAND_HEIGHT`` of rows ``s * slot_rows(W)`` onwards), cleared per band, so that a draw
-        whose depth nobody reads never writes an image-sized depth buffer to memory; the
-        image height H; colour (H, W, C) uint8 (untouched in SHADE_NONE); and whether to
-        write face indices into ids (H, W) int32.
-    clear : tuple
-        ``(clear, color_bytes, pattern)``: when ``clear``, each band is cleared right
-        before it is drawn, while its rows are in this thread's cache anyway: depth +inf,
-        ids -1, and the band's part of ``color_bytes`` (the colour buffer seen as 1-D
-        uint8; empty without one) set to the background, repeated in ``pattern`` (24,)
-        uint8 (:func:`rasterkit.kernels.clear.fill_bytes`). A depth scratch (not
-        ``keep_depth``) is cleared in any case.
-    lid : (n_slots, slot_rows(W), W) int32
-        One visibility buffer per parallel slot (its last ``BAND_HEIGHT`` rows; the rows
-        before them keep the slots apart, :data:`SLOT_GUARD_BYTES`), all -1 on entry, all
-        -1 again on return (the resolve resets what it reads). The number of slots
-        (normally the thread count) does not change the image.
-    """
-    n_slots = lid.shape[0]
-    fragments = np.zeros(n_slots, np.int64)
-    next_band = np.zeros(1, np.int64)  # the bands are handed out from this counter
-    for slot in prange(n_slots):
-        fragments[slot] = _draw_slot(slot, band_start, items, records, shading, target, clear, lid, next_band)
-    return fragments.sum()
 
 
 @kernel(inline="always")
@@ -239,10 +197,50 @@ def _prefetch_record(t, records, shading):
 
 
 @kernel
-def _draw_slot(slot, band_start, items, records, shading, target, clear, lid, next_band):
-    """:func:`draw_bands` for one slot: it draws bands, each the next one nobody has
-    claimed yet (``next_band[0]``, taken with an atomic add), until none are left; returns
-    its fragment count."""
+def draw_bands(slot, counter, band_start, items, records, shading, target, clear, lid):
+    """Rasterize and resolve bands, each the next one no slot has claimed yet (through
+    ``counter``), until none are left; returns the number of fragments this slot
+    depth-tested. A worker of :func:`rasterkit._jit.run_parallel`: slot ``slot`` draws in
+    its own rows of ``lid`` and of a depth scratch.
+
+    Parameters
+    ----------
+    slot : int
+        This worker's slot, ``0 .. n_slots - 1``.
+    counter : (1,) int64
+        0 on entry; the bands are handed out from it.
+    band_start, items
+        From :func:`bin_records`.
+    records : tuple
+        ``(tri_xy, tri_z, tri_box)`` (:mod:`rasterkit.kernels.triangle`).
+    shading : tuple
+        ``(mode, n_faces, fan_face, packed, vertex_colors, faces, bary)``: how to colour
+        a visible pixel (:func:`rasterkit.kernels.shade.resolve_row`); record ``t`` is
+        face ``t`` below ``n_faces``, else face ``fan_face[t - n_faces]``. In
+        SHADE_TAGGED (flat colours, no ids) the visibility buffer holds the face's colour
+        instead of its index.
+    target : tuple
+        ``(depth, keep_depth, height, color, write_ids, ids)``: the depth buffer (less-than
+        test), (H, W) float32 when ``keep_depth``, else a scratch of ``BAND_HEIGHT`` rows
+        per slot, (n_slots * slot_rows(W), W) float32 (slot ``s`` draws in the last
+        ``BAND_HEIGHT`` of rows ``s * slot_rows(W)`` onwards), cleared per band, so that a draw
+        whose depth nobody reads never writes an image-sized depth buffer to memory; the
+        image height H; colour (H, W, C) uint8 (untouched in SHADE_NONE); and whether to
+        write face indices into ids (H, W) int32.
+    clear : tuple
+        ``(clear, color_bytes, pattern)``: when ``clear``, each band is cleared right
+        before it is drawn, while its rows are in this thread's cache anyway: depth +inf,
+        ids -1, and the band's part of ``color_bytes`` (the colour buffer seen as 1-D
+        uint8; empty without one) set to the background, repeated in ``pattern`` (24,)
+        uint8 (:func:`rasterkit.kernels.clear.fill_bytes`). A depth scratch (not
+        ``keep_depth``) is cleared in any case.
+    lid : (n_slots, slot_rows(W), W) int32
+        One visibility buffer per parallel slot (its last ``BAND_HEIGHT`` rows; the rows
+        before them keep the slots apart, :data:`SLOT_GUARD_BYTES`), all -1 on entry, all
+        -1 again on return (the resolve resets what it reads). The number of slots
+        (normally the thread count) does not change the image, nor does the number of
+        them that run.
+    """
     tri_xy, tri_z, tri_box = records
     mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
     depth, keep_depth, height, color, write_ids, ids = target
@@ -254,11 +252,7 @@ def _draw_slot(slot, band_start, items, records, shading, target, clear, lid, ne
     row_lo = np.empty(BAND_HEIGHT, np.int64)
     row_hi = np.empty(BAND_HEIGHT, np.int64)
     fragments = 0
-    n_bands_ = band_start.size - 1
-    while True:
-        b = fetch_add(next_band, 0, 1)
-        if b >= n_bands_:
-            break
+    for b in claims(counter, band_start.size - 1):
         y0 = b * BAND_HEIGHT
         y1 = min(y0 + BAND_HEIGHT, height)
         first_row = y0 if keep_depth else scratch_row

@@ -45,7 +45,6 @@ Records
 from __future__ import annotations
 
 import numpy as np
-from numba import prange
 
 from rasterkit._jit import kernel
 from rasterkit.kernels.clip import (
@@ -63,7 +62,7 @@ from rasterkit.kernels.clip import (
     vertex_code,
 )
 from rasterkit.kernels.cull import is_culled
-from rasterkit.kernels.intrinsics import prefetch_row
+from rasterkit.kernels.intrinsics import claims, prefetch_row
 from rasterkit.kernels.shade import flat_colors
 
 SUBPIXEL_BITS = 8
@@ -364,27 +363,30 @@ def _raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy
     return covered
 
 
-@kernel(parallel=True)
-def offset_depths(tri_xy, tri_z, tri_box, n_records, factor, units):
+@kernel
+def offset_depths(slot, counter, tri_xy, tri_z, tri_box, n_records, factor, units):
     """Push every drawn record back by ``factor * max(|dz/dx|, |dz/dy|) + units``.
 
     OpenGL's polygon offset: the slope term grows with how steeply a face recedes, so the
     edges drawn over it afterwards (whose depth is sampled on the line, up to half a pixel
     from the centre where the face's depth was sampled) pass the depth test even on faces
     seen almost edge-on. Depths are in [0, 1] units per pixel; records with an empty box
-    are left alone.
+    are left alone. A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused; the
+    records are shared out in N_CHUNKS chunks through ``counter``).
     """
-    for t in prange(n_records):
-        if tri_box[t, 2] > tri_box[t, 3]:
-            continue
-        _, gx, gy = depth_plane(
-            np.int64(tri_xy[t, 0]), np.int64(tri_xy[t, 1]), np.int64(tri_xy[t, 2]),
-            np.int64(tri_xy[t, 3]), np.int64(tri_xy[t, 4]), np.int64(tri_xy[t, 5]),
-            float(tri_z[t, 0]), float(tri_z[t, 1]), float(tri_z[t, 2]),
-        )
-        offset = np.float32(factor * max(abs(gx), abs(gy)) + units)
-        for k in range(3):
-            tri_z[t, k] += offset
+    for ch in claims(counter, N_CHUNKS):
+        start, stop = chunk_range(n_records, ch)
+        for t in range(start, stop):
+            if tri_box[t, 2] > tri_box[t, 3]:
+                continue
+            _, gx, gy = depth_plane(
+                np.int64(tri_xy[t, 0]), np.int64(tri_xy[t, 1]), np.int64(tri_xy[t, 2]),
+                np.int64(tri_xy[t, 3]), np.int64(tri_xy[t, 4]), np.int64(tri_xy[t, 5]),
+                float(tri_z[t, 0]), float(tri_z[t, 1]), float(tri_z[t, 2]),
+            )
+            offset = np.float32(factor * max(abs(gx), abs(gy)) + units)
+            for k in range(3):
+                tri_z[t, k] += offset
 
 
 @kernel(inline="always")
@@ -496,8 +498,8 @@ def _setup_vertex_chunk(ch, clip, width, height, corners, depths):
         corners[i, _V_X], corners[i, _V_Y], depths[i, _V_Z] = snap(x), snap(y), z
 
 
-@kernel(parallel=True)
-def setup_vertices(clip, width, height, corners, depths):
+@kernel
+def setup_vertices(slot, counter, clip, width, height, corners, depths):
     """Vertex pass: classify every vertex once and, where it is safe, project and snap it.
 
     A vertex is shared by about six faces of a closed mesh, so doing this per vertex and
@@ -517,8 +519,11 @@ def setup_vertices(clip, width, height, corners, depths):
     depths : (N, 4) float32
         The same memory as ``corners`` seen as float32: out, column ``_V_Z`` the depth
         ``zh / w`` of the same vertices.
+
+    A worker of :func:`rasterkit._jit.run_parallel`: ``slot`` is unused, the N_CHUNKS
+    chunks are claimed through ``counter``.
     """
-    for ch in prange(N_CHUNKS):
+    for ch in claims(counter, N_CHUNKS):
         _setup_vertex_chunk(ch, clip, width, height, corners, depths)
 
 
@@ -638,8 +643,10 @@ def _setup_chunk(
     return cut
 
 
-@kernel(parallel=True)
+@kernel
 def setup_faces(
+    slot,
+    counter,
     faces,
     corners,
     depths,
@@ -656,6 +663,7 @@ def setup_faces(
     tally,
     lit,
     listed,
+    cut,
 ):
     """Face pass: classify every face; set up the ones that need no cutting.
 
@@ -691,16 +699,16 @@ def setup_faces(
         chunk ``ch``'s from ``chunk_range(M, ch)[0]`` in ``faces_listed`` (M,) int32, their
         number in ``n_listed`` (N_CHUNKS,) int64. Binning and shading visit only these.
 
-    Returns
-    -------
-    int
-        Number of faces to cut, or -1 when a face has a vertex index outside
-        ``0 .. N - 1`` (checked here, where every index is read anyway, instead of in a
-        pass of its own; nothing is read through such an index, and the records are then
-        incomplete: the caller must not go on).
+    cut : (N_CHUNKS,) int64
+        Out: per chunk, the number of faces to cut, or -1 when a face has a vertex index
+        outside ``0 .. N - 1`` (checked here, where every index is read anyway, instead of
+        in a pass of its own; nothing is read through such an index, and the records are
+        then incomplete: the caller must not go on).
+
+    A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused, chunks claimed
+    through ``counter``).
     """
-    cut = np.zeros(N_CHUNKS, np.int64)
-    for ch in prange(N_CHUNKS):
+    for ch in claims(counter, N_CHUNKS):
         cut[ch] = _setup_chunk(
             ch,
             faces,
@@ -720,7 +728,6 @@ def setup_faces(
             lit,
             listed,
         )
-    return -1 if cut.min() < 0 else cut.sum()
 
 
 @kernel
@@ -736,8 +743,8 @@ def _count_fan_chunk(ch, clip, faces, planes, cut_mask, n_fan):
     return records
 
 
-@kernel(parallel=True)
-def count_fans(clip, faces, width, height, cut_mask, n_fan):
+@kernel
+def count_fans(slot, counter, clip, faces, width, height, cut_mask, n_fan, records):
     """Cut pass 1: cut the faces flagged by :func:`setup_faces` to count their records.
 
     Parameters
@@ -749,16 +756,14 @@ def count_fans(clip, faces, width, height, cut_mask, n_fan):
     n_fan : (M,) int8
         Out: records (fan triangles) of each cut face; left alone for the others.
 
-    Returns
-    -------
-    (N_CHUNKS,) int64
-        Records needed by the cut faces of each chunk.
+    records : (N_CHUNKS,) int64
+        Out: records needed by the cut faces of each chunk.
+
+    A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused).
     """
     planes = clip_planes(width, height)
-    records = np.zeros(N_CHUNKS, np.int64)
-    for ch in prange(N_CHUNKS):
+    for ch in claims(counter, N_CHUNKS):
         records[ch] = _count_fan_chunk(ch, clip, faces, planes, cut_mask, n_fan)
-    return records
 
 
 @kernel
@@ -820,8 +825,10 @@ def _setup_fan_chunk(
         tally[ch, N_STATUS] += best != STATUS_OUTSIDE
 
 
-@kernel(parallel=True)
+@kernel
 def setup_cut_faces(
+    slot,
+    counter,
     clip,
     faces,
     width,
@@ -844,10 +851,11 @@ def setup_cut_faces(
     fan record ``t``. A cut face is STATUS_DRAWN when any of its triangles is drawn, else
     STATUS_CULLED when any is culled, else STATUS_EMPTY (STATUS_OUTSIDE when nothing was
     left of it). Drawn fan records are added to ``band_counts``, and the new statuses to
-    ``tally``, as in :func:`setup_faces`.
+    ``tally``, as in :func:`setup_faces`. A worker of :func:`rasterkit._jit.run_parallel`
+    (``slot`` unused).
     """
     planes = clip_planes(width, height)
-    for ch in prange(N_CHUNKS):
+    for ch in claims(counter, N_CHUNKS):
         _setup_fan_chunk(
             ch,
             clip,

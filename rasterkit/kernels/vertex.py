@@ -1,21 +1,25 @@
 """Vertex stage: object space -> homogeneous raster space, by one 4x4 matrix."""
 
 import numpy as np
-from numba import prange
 
-from .._jit import kernel
+from rasterkit._jit import kernel
+from rasterkit.kernels.intrinsics import claims
+
+#: The points are transformed in this many contiguous chunks, shared out among the threads.
+N_CHUNKS = 16
 
 
-@kernel(parallel=True)
-def transform_points(points, matrix):
-    """(N, 3) float64 points times a 4x4 float64 matrix -> (N, 4) float64 homogeneous.
+@kernel
+def transform_points(slot, counter, points, matrix, out):
+    """(N, 3) float64 points times a 4x4 float64 matrix into ``out`` (N, 4) float64.
 
-    ``out[i] = matrix @ (x, y, z, 1)``; no divide: clipping needs w.
+    ``out[i] = matrix @ (x, y, z, 1)``; no divide: clipping needs w. A worker of
+    :func:`rasterkit._jit.run_parallel` (``slot`` unused; chunks claimed through
+    ``counter``).
     """
     n = points.shape[0]
-    out = np.empty((n, 4), np.float64)
-    for i in prange(n):
-        x, y, z = points[i, 0], points[i, 1], points[i, 2]
-        for r in range(4):
-            out[i, r] = matrix[r, 0] * x + matrix[r, 1] * y + matrix[r, 2] * z + matrix[r, 3]
-    return out
+    for ch in claims(counter, N_CHUNKS):
+        for i in range(n * ch // N_CHUNKS, n * (ch + 1) // N_CHUNKS):
+            x, y, z = points[i, 0], points[i, 1], points[i, 2]
+            for r in range(4):
+                out[i, r] = matrix[r, 0] * x + matrix[r, 1] * y + matrix[r, 2] * z + matrix[r, 3]
