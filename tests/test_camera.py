@@ -631,6 +631,31 @@ def test_properties_and_with_size():
     assert (ortho.kind, ortho.fov_y, ortho.view_height) == ("parallel", None, 3.0)
 
 
+@pytest.mark.parametrize("cam", [Camera.look_at((1, 2, 3), (0, 0.5, 0), shift=(0.2, -0.1)),
+                                 Camera.cabinet((1, 0, 0), 2.0)])
+def test_world_to_raster_is_the_cached_read_only_product_of_the_chain(cam):
+    k = cam.world_to_raster()
+    assert k.shape == (4, 4) and k.dtype == np.float64 and not k.flags.writeable
+    assert cam.world_to_raster() is k
+    np.testing.assert_array_equal(k, compose(*(m for _, m in cam.chain())))
+    np.testing.assert_array_equal(k, cam.matrix())
+    with pytest.raises(ValueError):
+        k[0, 0] = 1.0
+
+
+@pytest.mark.parametrize("cam", [Camera.look_at((1, 2, 3), (0, 0.5, 0)),
+                                 Camera.orthographic((0, 4, 0), (0, 0, 0), up=(0, 0, -1))])
+def test_backward_is_the_cached_read_only_unit_vector_from_target_to_eye(cam):
+    w = cam.backward()
+    assert w.shape == (3,) and w.dtype == np.float64 and not w.flags.writeable
+    assert cam.backward() is w
+    direction = np.subtract(cam.eye, cam.target)
+    np.testing.assert_allclose(w, direction / np.linalg.norm(direction), atol=1e-15)
+    np.testing.assert_array_equal(w, cam.basis()[2])
+    with pytest.raises(ValueError):
+        w[0] = 1.0
+
+
 @pytest.mark.parametrize(
     "kwargs",
     [

@@ -1,0 +1,419 @@
+"""The ``Camera``: an immutable perspective or parallel camera and what it computes.
+
+The object ties the package together: its fields are checked by :mod:`.checks`; its
+constructors frame a bounding sphere with :mod:`.projections`; :meth:`Camera.chain` lists the
+lecture's factors from :mod:`.chain` and :meth:`Camera.ray` gives the rays of :mod:`.rays`.
+The conventions are in the docstring of :mod:`rasterkit.camera`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+from typing import Sequence
+
+import numpy as np
+
+from ..transform import compose, from_homogeneous, to_homogeneous
+from . import projections
+from .chain import parallel_chain, perspective_chain
+from .checks import KINDS, Vec3, camera_fields
+from .rays import parallel_ray, perspective_ray, window_coordinates
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Camera:
+    """An immutable pinhole (perspective) or parallel camera.
+
+    Build cameras with the classmethods (``look_at``, ``orthographic``, ``frame``, the
+    axonometric, oblique and 1/2/3-point presets, whose geometry is explained in
+    :mod:`rasterkit.camera.projections`); the constructor validates every field.
+
+    Attributes
+    ----------
+    kind : {'perspective', 'parallel'}
+        Perspective: projectors meet in the eye. Parallel: projectors are parallel
+        (orthographic, axonometric, or oblique when ``oblique_ratio > 0``).
+    eye, target, up : tuple of 3 float
+        World-space eye point, point looked at, and up direction (any length, not parallel
+        to the view direction; the camera's +y is up made orthogonal to the view direction).
+    width, height : int
+        Image size in pixels.
+    near, far : float
+        Distances of the near and far planes from the eye along the view direction,
+        ``0 < near < far``, world units.
+    fov_y : float or None
+        Perspective only: vertical field of view in degrees, 0 < fov_y < 180. It sets the
+        window size: ``2·tan(fov_y/2)`` high at distance 1.
+    shift : tuple of 2 float
+        Perspective only: window shift (off-centre window, asymmetric frustum) in units of
+        the half window width and height; (1, 0) moves the window right by half its width.
+        A non-zero shift makes the lecture's shear H a real shear.
+    view_height : float or None
+        Parallel only: height of the view box in world units (its width is
+        ``view_height·width/height``).
+    oblique_angle, oblique_ratio : float
+        Parallel only: the image of a unit vector pointing straight away from the viewer
+        (the receding axis) has length ``oblique_ratio`` (world units) and makes the angle
+        ``oblique_angle`` (degrees, counter-clockwise, y up) with the image's x axis. Ratio 0
+        is an orthographic camera; 1 is cavalier, 1/2 cabinet.
+    """
+
+    kind: str
+    eye: Vec3
+    target: Vec3
+    up: Vec3 = (0.0, 1.0, 0.0)
+    width: int = 640
+    height: int = 480
+    near: float = 0.1
+    far: float = 100.0
+    fov_y: float | None = None
+    shift: tuple[float, float] = (0.0, 0.0)
+    view_height: float | None = None
+    oblique_angle: float = 0.0
+    oblique_ratio: float = 0.0
+
+    def __post_init__(self) -> None:
+        checked = camera_fields(**{f.name: getattr(self, f.name) for f in fields(self)})
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
+
+    # --- constructors ----------------------------------------------------------------------
+
+    @classmethod
+    def look_at(
+        cls,
+        eye: Sequence[float],
+        target: Sequence[float],
+        up: Sequence[float] = (0.0, 1.0, 0.0),
+        fov_y: float = 45.0,
+        width: int = 640,
+        height: int = 480,
+        near: float = 0.1,
+        far: float = 100.0,
+        shift: Sequence[float] = (0.0, 0.0),
+    ) -> Camera:
+        """Perspective camera at ``eye`` looking at ``target``.
+
+        ``fov_y`` is the vertical field of view in degrees; ``shift`` moves the window off
+        centre in units of its half width and half height (see the class docstring).
+        Raises ``ValueError`` for invalid values.
+        """
+        return cls(kind="perspective", eye=eye, target=target, up=up, fov_y=fov_y,
+                   width=width, height=height, near=near, far=far, shift=shift)
+
+    @classmethod
+    def orthographic(
+        cls,
+        eye: Sequence[float],
+        target: Sequence[float],
+        up: Sequence[float] = (0.0, 1.0, 0.0),
+        view_height: float = 2.0,
+        width: int = 640,
+        height: int = 480,
+        near: float = 0.1,
+        far: float = 100.0,
+    ) -> Camera:
+        """Orthographic camera: projectors parallel to the view direction ``target - eye``.
+
+        The view box is ``view_height`` world units high and ``view_height·width/height``
+        wide, centred on the line through eye and target, from ``near`` to ``far`` in front
+        of the eye.
+        """
+        return cls(kind="parallel", eye=eye, target=target, up=up, view_height=view_height,
+                   width=width, height=height, near=near, far=far)
+
+    @classmethod
+    def frame(
+        cls,
+        center: Sequence[float],
+        radius: float,
+        azimuth: float = 30.0,
+        elevation: float = 20.0,
+        fov_y: float = 45.0,
+        width: int = 640,
+        height: int = 480,
+        projection: str = "perspective",
+    ) -> Camera:
+        """Camera looking at a bounding sphere that fills the view.
+
+        The eye sits in the direction (azimuth, elevation) from ``center``: azimuth in
+        degrees about +Y, from +Z towards +X; elevation in degrees upwards, strictly between
+        -90 and 90; up is +Y. The sphere's image touches the edges of the narrower image
+        dimension (pass a larger radius for a margin). ``near`` and ``far`` enclose the
+        sphere with room to spare.
+
+        Parameters
+        ----------
+        center : (3,) float
+            World-space centre of the sphere.
+        radius : float
+            Its radius, > 0.
+        projection : {'perspective', 'parallel'}
+            'parallel' gives an orthographic camera (``fov_y`` is then unused).
+        """
+        if projection not in KINDS:
+            raise ValueError(f"projection must be 'perspective' or 'parallel', got {projection!r}")
+        return cls(**projections.framing(center, radius, azimuth, elevation, width, height,
+                                         fov_y=fov_y if projection == "perspective" else None))
+
+    @classmethod
+    def isometric(
+        cls, center: Sequence[float] = (0.0, 0.0, 0.0), radius: float = 1.0, *,
+        width: int = 640, height: int = 480,
+    ) -> Camera:
+        """Isometric view: looks along a cube diagonal, (-1, -1, -1)."""
+        return cls(**projections.isometric(center, radius, width, height))
+
+    @classmethod
+    def dimetric(
+        cls, center: Sequence[float] = (0.0, 0.0, 0.0), radius: float = 1.0, *,
+        elevation: float = 20.0, width: int = 640, height: int = 480,
+    ) -> Camera:
+        """Dimetric view: azimuth 45°, so x and z are foreshortened equally, y differently."""
+        return cls(**projections.dimetric(center, radius, elevation, width, height))
+
+    @classmethod
+    def trimetric(
+        cls, center: Sequence[float] = (0.0, 0.0, 0.0), radius: float = 1.0, *,
+        azimuth: float = 30.0, elevation: float = 20.0, width: int = 640, height: int = 480,
+    ) -> Camera:
+        """Trimetric view: a view direction that foreshortens the three axes differently."""
+        return cls(**projections.trimetric(center, radius, azimuth, elevation, width, height))
+
+    @classmethod
+    def oblique(
+        cls, angle: float = 45.0, ratio: float = 1.0, center: Sequence[float] = (0.0, 0.0, 0.0),
+        radius: float = 1.0, *, azimuth: float = 0.0, elevation: float = 0.0,
+        width: int = 640, height: int = 480,
+    ) -> Camera:
+        """Oblique parallel projection: the receding axis drawn ``ratio`` long at ``angle``°."""
+        return cls(**projections.oblique(angle, ratio, center, radius, azimuth, elevation,
+                                         width, height))
+
+    @classmethod
+    def cavalier(
+        cls, center: Sequence[float] = (0.0, 0.0, 0.0), radius: float = 1.0, *,
+        angle: float = 45.0, width: int = 640, height: int = 480,
+    ) -> Camera:
+        """Cavalier projection: oblique, the receding axis keeps its full length (ratio 1)."""
+        return cls(**projections.cavalier(center, radius, angle, width, height))
+
+    @classmethod
+    def cabinet(
+        cls, center: Sequence[float] = (0.0, 0.0, 0.0), radius: float = 1.0, *,
+        angle: float = 45.0, width: int = 640, height: int = 480,
+    ) -> Camera:
+        """Cabinet projection: oblique, the receding axis is drawn at half length (ratio 1/2)."""
+        return cls(**projections.cabinet(center, radius, angle, width, height))
+
+    @classmethod
+    def one_point(
+        cls, center: Sequence[float] = (0.0, 0.0, 0.0), radius: float = 1.0, *,
+        fov_y: float = 45.0, width: int = 640, height: int = 480,
+    ) -> Camera:
+        """One-point perspective: looks along -Z with up +Y."""
+        return cls(**projections.one_point(center, radius, fov_y, width, height))
+
+    @classmethod
+    def two_point(
+        cls, center: Sequence[float] = (0.0, 0.0, 0.0), radius: float = 1.0, *,
+        azimuth: float = 30.0, fov_y: float = 45.0, width: int = 640, height: int = 480,
+    ) -> Camera:
+        """Two-point perspective: yawed about Y by ``azimuth`` (not a multiple of 90°), level."""
+        return cls(**projections.two_point(center, radius, azimuth, fov_y, width, height))
+
+    @classmethod
+    def three_point(
+        cls, center: Sequence[float] = (0.0, 0.0, 0.0), radius: float = 1.0, *,
+        azimuth: float = 30.0, elevation: float = 25.0, fov_y: float = 45.0,
+        width: int = 640, height: int = 480,
+    ) -> Camera:
+        """Three-point perspective: yawed (``azimuth``) and pitched (``elevation`` != 0)."""
+        return cls(**projections.three_point(center, radius, azimuth, elevation, fov_y,
+                                             width, height))
+
+    @classmethod
+    def preset(
+        cls, projection: str, center: Sequence[float], radius: float, *,
+        width: int = 640, height: int = 480, azimuth: float = 30.0, elevation: float = 20.0,
+        fov_y: float = 45.0, distance: float | None = None, eye: Sequence[float] | None = None,
+        target: Sequence[float] | None = None, up: Sequence[float] | None = None,
+        near: float | None = None, far: float | None = None,
+    ) -> Camera:
+        """The camera of a projection named in :data:`PROJECTIONS`, framing a bounding sphere.
+
+        ``'perspective'`` and ``'orthographic'`` look from (``azimuth``, ``elevation``) as
+        :meth:`frame` does; the other names are the axonometric, oblique and 1/2/3-point
+        presets (they choose their own view direction). Then, in this order: ``distance``
+        moves the eye along its line to that distance from the target; ``eye``, ``target``
+        and ``up`` replace those of the framed camera; ``near`` and ``far`` replace the
+        clipping distances, which otherwise enclose the sphere as seen from the final eye.
+        A parallel camera keeps its view box whatever the distance.
+        """
+        return projections.preset(
+            cls, projection, center, radius, width=width, height=height, azimuth=azimuth,
+            elevation=elevation, fov_y=fov_y, distance=distance, eye=eye, target=target, up=up,
+            near=near, far=far)
+
+    def with_size(self, width: int, height: int) -> Camera:
+        """A copy with another image size (the vertical extent of the view is kept)."""
+        return replace(self, width=width, height=height)
+
+    # --- geometry --------------------------------------------------------------------------
+
+    @property
+    def aspect(self) -> float:
+        """width / height."""
+        return self.width / self.height
+
+    def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The camera frame (u, v, w) in world space: unit right, up and backward vectors.
+
+        ``w = (eye - target)/|eye - target|``, ``u = up × w`` normalised, ``v = w × u``.
+        """
+        w = _unit(np.subtract(self.eye, self.target))
+        u = _unit(np.cross(self.up, w))
+        return u, np.cross(w, u), w
+
+    def _half_window(self) -> tuple[float, float]:
+        """Half width and half height of the window: at distance 1 (perspective), or world units."""
+        if self.kind == "perspective":
+            half_height = math.tan(math.radians(self.fov_y) / 2.0)
+        else:
+            half_height = self.view_height / 2.0
+        return self.aspect * half_height, half_height
+
+    def _target_distance(self) -> float:
+        return float(np.linalg.norm(np.subtract(self.target, self.eye)))
+
+    def _oblique_offsets(self) -> tuple[float, float]:
+        """(k_x, k_y): image offset (x, y up) per world unit of depth, zero unless oblique."""
+        return projections.oblique_offsets(self.oblique_angle, self.oblique_ratio)
+
+    # --- the chain -------------------------------------------------------------------------
+
+    def chain(self) -> list[tuple[str, np.ndarray]]:
+        """The factors of the camera transformation, first applied first.
+
+        Perspective: T, R, H, S_xy, S_far, P_persp, P_parallel, S_raster, Raster.
+        Parallel: T, R, T_near, S_xyz, P_parallel, S_raster, Raster.
+
+        Returns
+        -------
+        list of (str, (4, 4) float64 ndarray)
+            ``compose(*matrices)`` is :meth:`matrix`.
+        """
+        frame = dict(eye=np.asarray(self.eye), basis=self.basis(), half_window=self._half_window(),
+                     near=self.near, far=self.far, width=self.width, height=self.height)
+        if self.kind == "perspective":
+            return perspective_chain(**frame, shift=self.shift)
+        return parallel_chain(**frame, oblique=self._oblique_offsets(),
+                              target_distance=self._target_distance())
+
+    def matrix(self) -> np.ndarray:
+        """K, the product of :meth:`chain`: world -> homogeneous raster space, (4, 4) float64."""
+        return self.world_to_raster().copy()
+
+    def world_to_raster(self) -> np.ndarray:
+        """K of :meth:`matrix` without the copy: computed once per camera and read-only.
+
+        A camera never changes, so a renderer drawing many frames with one camera does not
+        compose the chain again. (4, 4) float64, not writeable.
+        """
+        return self._cached("_cached_matrix", lambda: compose(*(m for _, m in self.chain())))
+
+    def backward(self) -> np.ndarray:
+        """``w`` of :meth:`basis`: the unit vector from the target to the eye, world space.
+
+        Computed once per camera; (3,) float64, not writeable.
+        """
+        return self._cached("_cached_backward", lambda: self.basis()[2])
+
+    def _matrix(self) -> np.ndarray:
+        """:meth:`world_to_raster`, under the name render.py still uses."""
+        return self.world_to_raster()
+
+    def _backward(self) -> np.ndarray:
+        """:meth:`backward`, under the name render.py still uses."""
+        return self.backward()
+
+    def _cached(self, name: str, compute) -> np.ndarray:
+        value = self.__dict__.get(name)
+        if value is None:
+            value = np.ascontiguousarray(compute(), np.float64)
+            value.flags.writeable = False
+            object.__setattr__(self, name, value)
+        return value
+
+    def view_matrix(self) -> np.ndarray:
+        """T then R: world -> camera space (eye at the origin, looking down -z), (4, 4) float64."""
+        return compose(*(m for _, m in self.chain()[:2]))
+
+    # --- projecting points and pixel rays --------------------------------------------------
+
+    def project_h(self, points: np.ndarray) -> np.ndarray:
+        """World points to homogeneous raster space.
+
+        Parameters
+        ----------
+        points : (N, 3) array_like of float
+            Finite world-space points.
+
+        Returns
+        -------
+        (N, 4) float64 ndarray
+            (xh, yh, zh, w). A point lies in front of the eye when ``w > 0``, between the
+            near and far planes when ``0 <= zh <= w``.
+        """
+        h = to_homogeneous(points)
+        if not np.all(np.isfinite(h)):
+            raise ValueError("points must be finite")
+        return h @ self.matrix().T
+
+    def project(self, points: np.ndarray) -> np.ndarray:
+        """World points to raster x, y (pixels) and depth.
+
+        Parameters
+        ----------
+        points : (N, 3) array_like of float
+            Finite world-space points.
+
+        Returns
+        -------
+        (N, 3) float64 ndarray
+            Raster x (right) and y (down) in pixels, origin at the image's top-left corner,
+            pixel centres at +0.5; depth in [0, 1] between the near (0) and far (1) planes.
+            Points behind the eye (``w <= 0`` in :meth:`project_h`) give meaningless values.
+        """
+        return from_homogeneous(self.project_h(points))
+
+    def ray(self, x: float | np.ndarray, y: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The world-space ray through raster point (x, y): the lecture's ray-tracer camera.
+
+        ``r(t) = origin + t·direction``. A perspective camera's rays start at the eye; a
+        parallel camera's rays are parallel and start on the near plane. The derivation is in
+        :mod:`rasterkit.camera.rays`.
+
+        Parameters
+        ----------
+        x, y : float or array_like
+            Raster coordinates in pixels (broadcast together).
+
+        Returns
+        -------
+        origin, direction : float64 ndarray, shape (..., 3)
+            World-space origin and unit direction; t in r(t) is in world units.
+        """
+        a, b = window_coordinates(x, y, self.width, self.height)
+        frame = dict(eye=np.asarray(self.eye), basis=self.basis(), half_window=self._half_window())
+        if self.kind == "perspective":
+            o, d = perspective_ray(a, b, **frame, shift=self.shift)
+        else:
+            o, d = parallel_ray(a, b, **frame, oblique=self._oblique_offsets(), near=self.near,
+                                target_distance=self._target_distance())
+        return o.copy(), d / np.linalg.norm(d, axis=-1, keepdims=True)

@@ -1,0 +1,131 @@
+"""The rules for a valid camera, and checks of the numbers given to a camera or a preset.
+
+:func:`camera_fields` checks and converts all fields of a ``Camera``; the small checks return
+one value as a plain Python ``float``, ``int`` or tuple. All raise ``ValueError`` naming the
+parameter. Shared by :mod:`.camera` and :mod:`.projections`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..transform import _vector3
+
+Vec3 = tuple[float, float, float]
+
+KINDS = ("perspective", "parallel")
+"""The values of ``Camera.kind``."""
+
+
+def finite(value: float, name: str) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    return x
+
+
+def positive(value: float, name: str) -> float:
+    x = finite(value, name)
+    if x <= 0.0:
+        raise ValueError(f"{name} must be positive, got {value!r}")
+    return x
+
+
+def positive_int(value: int, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value <= 0:
+        raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    return int(value)
+
+
+def fov(value: float) -> float:
+    """``fov_y`` in degrees, strictly between 0 and 180."""
+    x = finite(value, "fov_y")
+    if not 0.0 < x < 180.0:
+        raise ValueError(f"fov_y must lie strictly between 0 and 180 degrees, got {value!r}")
+    return x
+
+
+def point(value: Sequence[float], name: str) -> Vec3:
+    """Three finite numbers, e.g. a world-space point or direction."""
+    x, y, z = _vector3(value, name)
+    return (float(x), float(y), float(z))
+
+
+def camera_fields(
+    *, kind: str, eye: Sequence[float], target: Sequence[float], up: Sequence[float],
+    width: int, height: int, near: float, far: float, fov_y: float | None,
+    shift: Sequence[float], view_height: float | None, oblique_angle: float, oblique_ratio: float,
+) -> dict[str, Any]:
+    """The fields of a ``Camera`` (see its docstring), checked and converted.
+
+    Raises ``ValueError`` for the first invalid field, or for fields that do not belong to
+    ``kind``.
+    """
+    if kind not in KINDS:
+        raise ValueError(f"kind must be 'perspective' or 'parallel', got {kind!r}")
+    f = dict(
+        kind=kind,
+        eye=point(eye, "eye"),
+        target=point(target, "target"),
+        up=point(up, "up"),
+        width=positive_int(width, "width"),
+        height=positive_int(height, "height"),
+        near=positive(near, "near"),
+        far=positive(far, "far"),
+        fov_y=fov_y,
+        shift=_shift(shift),
+        view_height=view_height,
+        oblique_angle=finite(oblique_angle, "oblique_angle"),
+        oblique_ratio=finite(oblique_ratio, "oblique_ratio"),
+    )
+    if not f["near"] < f["far"]:
+        raise ValueError(f"near must be smaller than far, got near={f['near']}, far={f['far']}")
+    _check_frame(f["eye"], f["target"], f["up"])
+    if kind == "perspective":
+        _check_perspective(f)
+    else:
+        _check_parallel(f)
+    return f
+
+
+def _shift(value: Sequence[float]) -> tuple[float, float]:
+    if np.shape(value) != (2,):
+        raise ValueError(f"shift must be 2 finite numbers, got {value!r}")
+    return (finite(value[0], "shift[0]"), finite(value[1], "shift[1]"))
+
+
+def _check_frame(eye: Vec3, target: Vec3, up: Vec3) -> None:
+    view = np.subtract(target, eye)
+    if not np.any(view):
+        raise ValueError("eye and target must differ")
+    up = np.asarray(up)
+    if not np.any(up):
+        raise ValueError("up must not be the zero vector")
+    if np.linalg.norm(np.cross(up / np.linalg.norm(up), view / np.linalg.norm(view))) < 1e-9:
+        raise ValueError("up must not be parallel to the view direction (target - eye)")
+
+
+def _check_perspective(f: dict[str, Any]) -> None:
+    """Checks ``fov_y`` in place and that no parallel-only field is set."""
+    if f["fov_y"] is None:
+        raise ValueError("a perspective camera needs fov_y")
+    f["fov_y"] = fov(f["fov_y"])
+    if f["view_height"] is not None or f["oblique_ratio"] != 0.0:
+        raise ValueError("view_height and oblique_ratio belong to parallel cameras")
+
+
+def _check_parallel(f: dict[str, Any]) -> None:
+    """Checks ``view_height`` in place and that no perspective-only field is set."""
+    if f["view_height"] is None:
+        raise ValueError("a parallel camera needs view_height")
+    f["view_height"] = positive(f["view_height"], "view_height")
+    if f["fov_y"] is not None or f["shift"] != (0.0, 0.0):
+        raise ValueError("fov_y and shift belong to perspective cameras")
+    if f["oblique_ratio"] < 0.0:
+        raise ValueError(f"oblique_ratio must not be negative, got {f['oblique_ratio']}")
