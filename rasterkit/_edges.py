@@ -46,14 +46,13 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
     ``background`` (C,) uint8 clears the colour buffer first.
 
     ``n_bands`` (default: the thread count) and ``threads`` (default
-    :func:`rasterkit._jit.get_threads`) never change the image. ``memory``: scratch arrays
+    :func:`rasterkit._jit.get_threads`, one for a few edges) never change the image. ``memory``: scratch arrays
     as :func:`scratch` makes them (default: recycled ones). Returns the number of edges
     dropped (a NaN, infinite or too large coordinate).
     """
     height, width = color.shape[:2]
-    threads = _jit.get_threads() if threads is None else threads
-    if len(edges) < _PARALLEL_EDGES:
-        threads = 1
+    if threads is None:
+        threads = 1 if len(edges) < _PARALLEL_EDGES else _jit.get_threads()
     n_bands = min(height, threads if n_bands is None else n_bands)
     plain = mode == _line.MODE_PLAIN
     background = _NO_BACKGROUND if background is None else background

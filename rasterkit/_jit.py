@@ -27,7 +27,7 @@ Running in parallel
 -------------------
 A parallel kernel is a *worker*: ``worker(slot, *args)``, called at once on ``n`` threads
 with slots ``0 .. n - 1`` (the caller's thread is slot 0). Workers share the work by
-claiming pieces from a counter (:func:`rasterkit.kernels.intrinsics.claims`), so a thread
+claiming pieces from a counter (:func:`rasterkit.kernels.intrinsics.fetch_add`), so a thread
 that gets less of the machine simply claims fewer pieces, and the result never depends on
 the number of threads. The threads wait for work on a lock, asleep, never spinning: beside
 other busy processes they give their core away.
@@ -58,7 +58,7 @@ def kernel(fn=None, *, inline: str = "never"):
     """
 
     def wrap(f):
-        return numba.njit(inline=inline, **_OPTIONS)(f)
+        return numba.njit(inline="never", **_OPTIONS)(f)
 
     return wrap if fn is None else wrap(fn)
 

@@ -4,7 +4,9 @@ The suite runs once (64x48 images, one timed run) in a subprocess; its timings a
 checked, only that every family produced rasterkit's side, that the output files follow the
 documented schema, and that every skipped peer was reported with its reason. Peers
 (moderngl, OpenCV, trimesh) are optional: without them rasterkit's side must still run, and
-the peer checks are skipped.
+the peer checks are skipped. Most of the run's time is the ``startup`` family's one cold demo:
+``rasterkit render --demo`` with an empty Numba cache compiles every kernel it needs (one to
+two minutes on 2 busy cores).
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = ROOT.parent / "shared" / "models"
-FAMILIES = {"render", "fill", "threads", "lines2d", "loading", "cli", "scaling", "memory"}
+FAMILIES = {"render", "fill", "threads", "lines2d", "loading", "cli", "scaling", "memory", "startup",
+            "contention"}
 RECORD_KEYS = {"family", "name", "peer", "sizes", "quantity", "rasterkit", "peer_value", "ratio",
                "throughput", "target", "runs", "note"}
 
@@ -41,7 +44,7 @@ def test_rasterkit_side_of_every_family(suite):
     assert {"platform", "cpu_count", "threads", "versions"} <= set(results["machine"])
     records = results["records"]
     families = {r["family"] for r in records}
-    expected = FAMILIES if MODELS.is_dir() else FAMILIES - {"render", "loading", "cli", "memory"}
+    expected = FAMILIES if MODELS.is_dir() else FAMILIES - {"render", "loading", "cli", "memory", "contention"}
     assert expected <= families
     for r in records:
         assert set(r) == RECORD_KEYS
@@ -66,6 +69,37 @@ def test_peers_measured_when_installed(suite):
     assert {"llvmpipe", "cv2.polylines", "trimesh"} <= peers
     fill = [r for r in results["records"] if r["family"] == "fill" and r["peer"] == "llvmpipe"]
     assert fill and fill[0]["throughput"]["unit"] == "pixel/s"
+    if MODELS.is_dir():
+        assert {r["peer"] for r in results["records"] if r["family"] == "contention"} == {"llvmpipe"}
+        assert "startup/warm/solid/suzanne/64x48" in {r["name"] for r in results["records"]
+                                                      if r["peer"] == "trimesh + moderngl script"}
+
+
+def test_startup_and_contention_records(suite):
+    """The process-starting families: import times, one cold demo (empty Numba cache) with its
+    peak memory, the warm CLI run; N processes rendering at once, each and in total."""
+    _, results, stdout = suite
+    records = {r["name"]: r for r in results["records"]}
+    for command in ('python -c "import rasterkit"', "rasterkit --help", "rasterkit render --help"):
+        r = records[f"startup/import/{command}"]
+        assert r["family"] == "startup" and r["peer"] == "python -c pass" and r["peer_value"] > 0
+    assert isinstance(records["startup/import/rasterkit --help"]["sizes"]["imports_numba"], bool)
+    assert "rasterkit --help imports numba: " in stdout
+    assert records["startup/cold-alone/demo"]["rasterkit"] > 0
+    rss = records["startup/cold-alone/demo/max-rss"]
+    assert rss["quantity"] == "peak_bytes" and rss["rasterkit"] > 20 * 2**20  # numba alone is more
+    assert any(s["what"].startswith("cold sequence") for s in results["skipped"])  # not in tiny
+    if not MODELS.is_dir():
+        return
+    assert records["startup/warm/solid/suzanne/64x48"]["rasterkit"] > 0
+    base = "contention/solid/suzanne/64x48"
+    for count in (1, 2):
+        total = records[f"{base}/{count}proc/total"]
+        assert total["sizes"]["processes"] == count and total["throughput"]["unit"] == "frame/s"
+        fps = [records[f"{base}/{count}proc/process{k}"]["throughput"]["rasterkit"] for k in range(1, count + 1)]
+        assert total["throughput"]["rasterkit"] == pytest.approx(sum(fps))
+        assert f"{count} process" in stdout
+    assert "x of one alone" in stdout
 
 
 def test_thread_watch_runs_each_checkout_and_rejects_other_folders(tmp_path):

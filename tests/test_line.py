@@ -6,7 +6,6 @@ import doctest
 import math
 from fractions import Fraction
 
-import numba
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings
@@ -14,7 +13,9 @@ from hypothesis import strategies as st
 
 import rasterkit.draw
 from rasterkit.draw import line
-from rasterkit.kernels.line import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN, draw_edges
+from rasterkit import _jit
+from rasterkit._edges import draw_edges
+from rasterkit.kernels.line import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
 from reference_lines import ambiguous_edge, reference_draw_edges, reference_line
 
 METHODS = ["bresenham", "dda", "naive"]
@@ -251,7 +252,8 @@ def test_draw_module_doctests_pass():
 # --- draw_edges: helpers -------------------------------------------------------------------------
 
 
-def render(clip, edges, mode=MODE_PLAIN, shape=(24, 32), depth=None, rgba=WHITE, bias=0.0, n_bands=1, color=None):
+def render(clip, edges, mode=MODE_PLAIN, shape=(24, 32), depth=None, rgba=WHITE, bias=0.0, n_bands=1, color=None,
+           threads=1):
     """Run draw_edges into ``color`` (default: a cleared buffer); returns (color, dropped)."""
     height, width = shape
     if color is None:
@@ -260,7 +262,8 @@ def render(clip, edges, mode=MODE_PLAIN, shape=(24, 32), depth=None, rgba=WHITE,
         depth = np.full(shape, np.inf, dtype=np.float32)
     clip = np.ascontiguousarray(clip, dtype=np.float64)
     edges = np.ascontiguousarray(np.asarray(edges, dtype=np.int64).reshape(-1, 2))
-    dropped = draw_edges(color, depth, clip, edges, np.asarray(rgba, dtype=np.uint8), mode, bias, n_bands)
+    dropped = draw_edges(color, depth, clip, edges, np.asarray(rgba, dtype=np.uint8), mode, bias, n_bands=n_bands,
+                         threads=threads)
     return color, dropped
 
 
@@ -510,16 +513,11 @@ def test_image_is_bit_identical_for_any_number_of_threads_and_bands(mode):
     clip, edges = random_mesh_edges(np.random.default_rng(mode))
     shape = (50, 70)
     depth = np.random.default_rng(99).uniform(0, 1, shape).astype(np.float32)
-    previous = numba.get_num_threads()
-    try:
-        numba.set_num_threads(1)
-        serial, _ = render(clip, edges, mode, shape, depth, bias=0.01, n_bands=1)
-        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
-        for n_bands in (2, 3, 7, 50, 51):
-            parallel, _ = render(clip, edges, mode, shape, depth, bias=0.01, n_bands=n_bands)
-            assert np.array_equal(serial, parallel)
-    finally:
-        numba.set_num_threads(previous)
+    serial, _ = render(clip, edges, mode, shape, depth, bias=0.01, n_bands=1, threads=1)
+    for n_bands in (2, 3, 7, 50, 51):
+        parallel, _ = render(clip, edges, mode, shape, depth, bias=0.01, n_bands=n_bands,
+                             threads=min(2, _jit.MAX_THREADS))
+        assert np.array_equal(serial, parallel)
     assert serial.any()
 
 

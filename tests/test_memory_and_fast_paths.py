@@ -3,12 +3,12 @@ each against the slower path it replaces (bit for bit) or a hand-made expectatio
 
 import dataclasses
 
-import numba
 import numpy as np
 import pytest
 
 import rasterkit
-from rasterkit import Camera, Mesh, _memory, shapes
+from rasterkit import Camera, Mesh, _jit, _memory, shapes
+from rasterkit._edges import draw_edges, scratch
 from rasterkit._jit import readonly
 from rasterkit.framebuffer import Framebuffer
 from rasterkit.kernels import line as line_kernels
@@ -141,12 +141,12 @@ def test_plain_setup_records_match_the_general_path_on_random_edges():
     edges = rng.integers(0, 400, size=(1500, 2))
     rgba = np.array([255, 255, 255], np.uint8)
     fast = np.zeros((height, width, 3), np.uint8)
-    line_kernels.draw_edges(fast, np.empty((0, 0), np.float32), clip, edges, rgba, line_kernels.MODE_PLAIN, 0.0, 3)
+    draw_edges(fast, np.empty((0, 0), np.float32), clip, edges, rgba, line_kernels.MODE_PLAIN, n_bands=3)
     # The depth-test mode takes the general path for every edge; an infinitely far depth
     # buffer lets every pixel through.
     general = np.zeros((height, width, 3), np.uint8)
     far = np.full((height, width), np.inf, np.float32)
-    line_kernels.draw_edges(general, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, 0.0, 3)
+    draw_edges(general, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, n_bands=3)
     assert fast.any() and np.array_equal(fast, general)
 
 
@@ -221,13 +221,13 @@ def test_marked_wire_path_equals_drawing_into_colour(channels, width):
     far = np.full((height, width), np.inf, np.float32)
     for n_bands in (1, 3):
         marked = np.full((height, width, channels), 77, np.uint8)  # garbage: must be cleared
-        scratch = line_kernels.edge_scratch(len(clip), len(edges), height * width, line_kernels.MODE_PLAIN)
-        scratch[3][:] = 3  # garbage in the mask too: each band clears its part
-        line_kernels.draw_edges_cleared(marked, np.empty((0, 0), np.float32), clip, readonly(edges), rgba,
-                                        line_kernels.MODE_PLAIN, 0.0, n_bands, background, scratch)
+        memory = scratch(len(clip), len(edges), height * width, line_kernels.MODE_PLAIN, take=np.empty)
+        memory[3][:] = 3  # garbage in the mask too: each band clears its part
+        draw_edges(marked, None, clip, edges, rgba, line_kernels.MODE_PLAIN, 0.0, background, n_bands=n_bands,
+                       memory=memory)
         expected = np.empty((height, width, channels), np.uint8)
         expected[...] = background
-        line_kernels.draw_edges(expected, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, 0.0, 1)
+        draw_edges(expected, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, n_bands=1)
         assert (expected == rgba).all(axis=2).any()
         assert np.array_equal(marked, expected)
 
@@ -246,19 +246,19 @@ def test_short_edges_in_every_octant_mark_the_same_pixels_as_the_general_path():
             clip = np.array([[centre[0], centre[1], 0.5, 1.0], [centre[0] + dx, centre[1] + dy, 0.5, 1.0]])
             edges = np.array([[0, 1]])
             marked = np.zeros((height, width, 3), np.uint8)
-            scratch = line_kernels.edge_scratch(2, 1, height * width, line_kernels.MODE_PLAIN)
-            line_kernels.draw_edges_cleared(marked, np.empty((0, 0), np.float32), clip, readonly(edges), rgba,
-                                            line_kernels.MODE_PLAIN, 0.0, 1, background, scratch)
+            memory = scratch(2, 1, height * width, line_kernels.MODE_PLAIN, take=np.empty)
+            draw_edges(marked, None, clip, edges, rgba, line_kernels.MODE_PLAIN, 0.0, background, n_bands=1,
+                       memory=memory)
             expected = np.empty((height, width, 3), np.uint8)
             expected[...] = background
-            line_kernels.draw_edges(expected, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, 0.0, 1)
+            draw_edges(expected, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, n_bands=1)
             drawn = (expected == rgba).all(axis=2).sum()
             assert drawn == max(abs(dx), abs(dy)) + 1 or centre != (20.5, 15.5)
             assert np.array_equal(marked, expected), (centre, dx, dy)
 
 
 def test_record_work_samples_every_stride_th_record_of_a_large_draw():
-    """Beyond _WORK_SAMPLES records, every s-th record of each setup chunk counts s times."""
+    """Beyond _WORK_SAMPLES records, every s-th record counts s times."""
     rng = np.random.default_rng(4)
     height = 700
     m = 3 * line_kernels._WORK_SAMPLES + 5
@@ -268,15 +268,13 @@ def test_record_work_samples_every_stride_th_record_of_a_large_draw():
     recs = np.zeros((line_kernels.REC_FIELDS, m), np.int32)
     recs[2] = np.where(rng.random(m) < 0.1, -1, jlo | jhi << 16)  # some general-path edges
     recs[1] = rng.integers(0, 300, m) | rng.integers(0, 300, m) << 15
-    expected = np.zeros((height + line_kernels._ROWS_PER_BIN - 1) // line_kernels._ROWS_PER_BIN, np.int64)
-    chunks = line_kernels._SETUP_CHUNKS
-    for ch in range(chunks):
-        for e in range(m * ch // chunks, m * (ch + 1) // chunks, stride):
-            rows = int(recs[2, e])
-            if rows >= 0:
-                middle = ((rows & 0xFFFF) + (rows >> 16)) // 2
-                expected[middle // line_kernels._ROWS_PER_BIN] += stride * ((int(recs[1, e]) & 0x7FFF) + 1
-                                                                             + line_kernels._EDGE_WORK)
+    expected = np.zeros((height + line_kernels.ROWS_PER_BIN - 1) // line_kernels.ROWS_PER_BIN, np.int64)
+    for e in range(0, m, stride):
+        rows = int(recs[2, e])
+        if rows >= 0:
+            middle = ((rows & 0xFFFF) + (rows >> 16)) // 2
+            expected[middle // line_kernels.ROWS_PER_BIN] += stride * ((int(recs[1, e]) & 0x7FFF) + 1
+                                                                        + line_kernels._EDGE_WORK)
     assert stride == 3
     assert np.array_equal(line_kernels.record_work(recs, height), expected)
 
@@ -285,16 +283,17 @@ def test_record_work_counts_pixels_and_edges_by_middle_row():
     clip = np.array([[2.5, 3.5, 0.5, 1.0], [12.5, 7.5, 0.5, 1.0], [4.5, 30.5, 0.5, 1.0],
                      [-5.0, 1.0, 0.5, 1.0]])
     edges = np.array([[0, 1], [1, 2], [0, 3]])  # the last one leaves the image: general path
-    proj, pixels, recs, _ = line_kernels.edge_scratch(4, 3, 0, line_kernels.MODE_PLAIN)
-    line_kernels.project_vertices(clip, proj, pixels, 20, 40)
+    proj, pixels, recs, _ = scratch(4, 3, 0, line_kernels.MODE_PLAIN, take=np.empty)
+    counts = np.zeros((line_kernels.VERTEX_CHUNKS, 5), np.int64)
+    line_kernels.project_vertices(0, np.zeros(1, np.int64), clip, proj, pixels, 20, 40, counts)
     assert pixels.tolist() == [2 | 3 << 32, 12 | 7 << 32, 4 | 30 << 32, -1]
-    line_kernels.plain_setup(pixels, edges, 20, 40, recs)
+    line_kernels.plain_setup(0, np.zeros(1, np.int64), pixels, edges, 20, 40, recs)
     assert recs[2].tolist() == [3 | 7 << 16, 7 | 30 << 16, -1]  # rows jlo | jhi << 16
     work = line_kernels.record_work(recs, 40)
     expected = np.zeros_like(work)
     per_edge = line_kernels._EDGE_WORK
-    expected[(3 + 7) // 2 // line_kernels._ROWS_PER_BIN] += 11 + per_edge  # 10 steps in x, 11 pixels
-    expected[(7 + 30) // 2 // line_kernels._ROWS_PER_BIN] += 24 + per_edge  # 23 steps in y
+    expected[(3 + 7) // 2 // line_kernels.ROWS_PER_BIN] += 11 + per_edge  # 10 steps in x, 11 pixels
+    expected[(7 + 30) // 2 // line_kernels.ROWS_PER_BIN] += 24 + per_edge  # 23 steps in y
     assert np.array_equal(work, expected)
 
 
@@ -453,7 +452,7 @@ def test_face_pass_rejects_out_of_range_indices_before_drawing(bad):
 def test_draw_without_a_depth_buffer_gives_the_same_colours_and_ids(threads):
     """depth=None: the depth test runs in a band-sized scratch per thread (cleared per band,
     also on garbage), and colours and ids equal those of a draw with a full depth buffer."""
-    threads = min(threads, numba.config.NUMBA_NUM_THREADS)
+    threads = min(threads, _jit.MAX_THREADS)
     rng = np.random.default_rng(12)
     _, _, clip, faces = _scene_with_cut_faces(rng)
     colours = rng.integers(0, 2**32, len(faces), dtype=np.uint64).astype(np.uint32)
@@ -482,7 +481,7 @@ def test_slot_band_buffers_lie_apart_and_draws_write_only_their_band_rows():
     for width in (1, 7, 48, 1920, 40000):
         rows = slot_rows(width)
         assert (rows - BAND_HEIGHT) * 4 * width >= SLOT_GUARD_BYTES > (rows - BAND_HEIGHT - 1) * 4 * width
-    threads = min(2, numba.config.NUMBA_NUM_THREADS)
+    threads = min(2, _jit.MAX_THREADS)
     rng = np.random.default_rng(13)
     _, _, clip, faces = _scene_with_cut_faces(rng)
     colours = rng.integers(0, 2**32, len(faces), dtype=np.uint64).astype(np.uint32)

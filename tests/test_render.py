@@ -1,6 +1,5 @@
 """render(): every mode against slow independent references, through the public API."""
 
-import numba
 import numpy as np
 import pytest
 from reference_lines import line_in_image
@@ -131,14 +130,13 @@ def test_solid_plus_wire_puts_visible_edges_over_the_shading():
 def test_one_and_two_threads_give_identical_images(mode):
     mesh = shapes.icosphere(2)
     camera = _camera(mesh, width=64, height=48)
-    previous = numba.get_num_threads()
     try:
-        numba.set_num_threads(1)
+        rasterkit.set_threads(1)
         one = rasterkit.render(mesh, camera, mode=mode, aa=True, shading="smooth")
-        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        rasterkit.set_threads(min(2, rasterkit._jit.MAX_THREADS))
         two = rasterkit.render(mesh, camera, mode=mode, aa=True, shading="smooth")
     finally:
-        numba.set_num_threads(previous)
+        rasterkit.set_threads(None)
     assert np.array_equal(one.color, two.color) and np.array_equal(one.depth, two.depth)
 
 

@@ -7,7 +7,6 @@ an independent ray-plane computation (perspective-correct colours) and invariant
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings
@@ -22,6 +21,7 @@ from reference_raster import (
     snap,
 )
 
+from rasterkit import _jit
 from rasterkit.kernels.shade import face_normals, lambert, vertex_normals
 from rasterkit.kernels.triangle import triangle_pixels
 from rasterkit.triangles import TriangleStats, rasterize_triangles
@@ -450,7 +450,7 @@ def test_culling_with_a_camera(cull, drawn):
 # ---------------------------------------------------------------------------- threads
 
 
-@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")
+@pytest.mark.skipif(_jit.MAX_THREADS < 2, reason="needs 2 threads")
 def test_one_and_two_threads_give_identical_images():
     rng = np.random.default_rng(3)
     width, height = 97, 83
@@ -460,15 +460,15 @@ def test_one_and_two_threads_give_identical_images():
     scene = np.concatenate([xy, z[..., None]], axis=2)
     colors = rng.uniform(0, 255, (300, 3)).astype(np.float32)
     first = draw_screen(scene, width, height, threads=1, face_colors=colors)
-    previous = numba.get_num_threads()
-    numba.set_num_threads(2)
+    previous = _jit.get_threads()
+    _jit.set_threads(2)
     try:
         second = draw_screen(scene, width, height, face_colors=colors)
     finally:
-        numba.set_num_threads(previous)
+        _jit.set_threads(previous)
     for a, b in zip(first[:3], second[:3]):
         np.testing.assert_array_equal(a, b)
-    assert numba.get_num_threads() == previous
+    assert _jit.get_threads() == previous
 
 
 # ---------------------------------------------------------------------------- colours

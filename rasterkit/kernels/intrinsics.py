@@ -1,5 +1,4 @@
-"""Two LLVM operations that Numba does not expose, a software prefetch and an atomic add, and
-the work-sharing loop built on the atomic add.
+"""Two LLVM operations that Numba does not expose: a software prefetch and an atomic add.
 
 Prefetch
 --------
@@ -16,8 +15,10 @@ Atomic add
 ----------
 A fixed share of the work per thread leaves one thread idle at the end when the shares
 cost different amounts (bands of an image differ) or the machine takes a core away for a
-while. With :func:`fetch_add` on a shared counter (:func:`claims`) each thread takes the
-next unclaimed piece of work as it becomes free.
+while. With :func:`fetch_add` on a shared counter each thread takes the unclaimed piece of work as it becomes free (the workers of
+:func:`rasterkit._jit.run_parallel`: ``while True: piece = fetch_add(counter, 0, 1)``, until
+``piece`` passes the number of pieces). A Numba generator would say it shorter, but a cached
+kernel that uses a generator compiled in another process fails to compile (Numba 0.68).
 Which thread draws a band never changes what is drawn into it, so images stay
 bit-identical.
 """
@@ -29,9 +30,7 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from rasterkit._jit import kernel
-
-__all__ = ["claims", "fetch_add", "prefetch_row"]
+__all__ = ["fetch_add", "prefetch_row"]
 
 
 @intrinsic
@@ -82,15 +81,3 @@ def fetch_add(typingctx, array, index, value):
 
     return types.int64(array, index, value), codegen
 
-
-@kernel
-def claims(counter, n):
-    """Yield ``0 .. n - 1``, each to exactly one of the workers that share ``counter``
-    ((1,) int64, 0 at the start): every worker of a :func:`rasterkit._jit.run_parallel`
-    call loops ``for piece in claims(counter, n)`` and takes the next piece as it becomes
-    free."""
-    while True:
-        piece = fetch_add(counter, 0, 1)
-        if piece >= n:
-            return
-        yield piece

@@ -48,7 +48,7 @@ import math
 import numpy as np
 
 from rasterkit._jit import kernel
-from rasterkit.kernels.intrinsics import claims
+from rasterkit.kernels.intrinsics import fetch_add
 from rasterkit.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
 
 METHOD_BRESENHAM = 0
@@ -348,7 +348,10 @@ def project_vertices(slot, counter, clip, proj, pixels, width, height, counts):
     """
     n = clip.shape[0]
     with_pixels = pixels.size > 0
-    for ch in claims(counter, VERTEX_CHUNKS):
+    while True:  # claim the next piece until none is left
+        ch = fetch_add(counter, 0, 1)
+        if ch >= VERTEX_CHUNKS:
+            break
         for i in range(n * ch // VERTEX_CHUNKS, n * (ch + 1) // VERTEX_CHUNKS):
             p = (clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3])
             pixel = -1
@@ -575,7 +578,7 @@ def _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi):
     return first, last
 
 
-@kernel(inline="always")
+@kernel
 def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
     """Draw one segment anti-aliased (Xiaolin Wu), restricted to rows ``[ylo, yhi]``.
 
@@ -649,7 +652,10 @@ def plain_setup(slot, counter, pixels, edges, width, height, recs):
     m = edges.shape[0]
     packed = width <= _PACKED_LIMIT and height <= _PACKED_LIMIT
     ends = np.empty((2, _SETUP_BLOCK), np.int64)
-    for ch in claims(counter, SETUP_CHUNKS):
+    while True:  # claim the next piece until none is left
+        ch = fetch_add(counter, 0, 1)
+        if ch >= SETUP_CHUNKS:
+            break
         stop = m * (ch + 1) // SETUP_CHUNKS
         for start in range(m * ch // SETUP_CHUNKS, stop, _SETUP_BLOCK):
             count = min(_SETUP_BLOCK, stop - start)
@@ -785,7 +791,7 @@ def _paint_marked(cflat, mflat, lo, hi, rgba, select, paint):
         p += 1
 
 
-@kernel
+@kernel(inline="always")
 def _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, ylo, yhi, plain,
                 depth_test, antialias, bias):
     """Draw every edge's part in rows ``ylo .. yhi``; returns the number of dropped edges."""
@@ -892,15 +898,21 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
     one = np.ones(1, np.uint8)
     zeros = np.zeros(PATTERN_BYTES, np.uint8)
     dropped = 0
-    for band in claims(counter, bounds.size - 1):
+    while True:  # claim the next piece until none is left
+        band = fetch_add(counter, 0, 1)
+        if band >= bounds.size - 1:
+            break
         ylo, yhi = bounds[band], bounds[band + 1] - 1
         if marked:  # into the mask (one channel, value 1), then paint
             fill_bytes(mask, ylo * width, (yhi + 1) * width, zeros)
         elif clear:
             fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
-        target, target_channels, ink = (mask, 1, one) if marked else (cflat, channels, rgba)
-        lost = _band_edges(target, dflat, width, target_channels, ink, clip, proj, edges, recs, ylo, yhi,
-                           plain, depth_test, antialias, bias)
+        if marked:  # constants in this copy: one byte per pixel, plain lines
+            lost = _band_edges(mask, dflat, width, 1, one, clip, proj, edges, recs, ylo, yhi,
+                               True, False, False, 0.0)
+        else:
+            lost = _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, ylo, yhi,
+                               plain, depth_test, antialias, bias)
         if band == DROPPED_BAND:
             dropped = lost
         if marked:

@@ -15,7 +15,7 @@ Order
 
 Scheduling
     :func:`draw_bands` runs once per thread *slot*; each slot takes the next band that no
-    slot has claimed yet (an atomic counter, :func:`rasterkit.kernels.intrinsics.claims`)
+    slot has claimed yet (an atomic counter, :func:`rasterkit.kernels.intrinsics.fetch_add`)
     until none are left, so a thread that is given more work, or less of the machine,
     does not hold up the others, and each slot reuses one band-sized visibility buffer.
 
@@ -31,7 +31,7 @@ import numpy as np
 
 from rasterkit._jit import kernel
 from rasterkit.kernels.clear import fill_bytes
-from rasterkit.kernels.intrinsics import claims, prefetch_row
+from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
 from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
 
@@ -155,7 +155,10 @@ def bin_records(slot, counter, n_faces, n_fan, fan_start, tri_box, band_counts, 
     A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused, chunks claimed
     through ``counter``).
     """
-    for ch in claims(counter, N_CHUNKS):
+    while True:  # claim the next piece until none is left
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
         drawn[ch] = _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, band_counts, items, listed)
 
 
@@ -252,7 +255,10 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
     row_lo = np.empty(BAND_HEIGHT, np.int64)
     row_hi = np.empty(BAND_HEIGHT, np.int64)
     fragments = 0
-    for b in claims(counter, band_start.size - 1):
+    while True:  # claim the next piece until none is left
+        b = fetch_add(counter, 0, 1)
+        if b >= band_start.size - 1:
+            break
         y0 = b * BAND_HEIGHT
         y1 = min(y0 + BAND_HEIGHT, height)
         first_row = y0 if keep_depth else scratch_row

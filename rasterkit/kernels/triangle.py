@@ -62,7 +62,7 @@ from rasterkit.kernels.clip import (
     vertex_code,
 )
 from rasterkit.kernels.cull import is_culled
-from rasterkit.kernels.intrinsics import claims, prefetch_row
+from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
 from rasterkit.kernels.shade import flat_colors
 
 SUBPIXEL_BITS = 8
@@ -374,7 +374,10 @@ def offset_depths(slot, counter, tri_xy, tri_z, tri_box, n_records, factor, unit
     are left alone. A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused; the
     records are shared out in N_CHUNKS chunks through ``counter``).
     """
-    for ch in claims(counter, N_CHUNKS):
+    while True:  # claim the next piece until none is left
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
         start, stop = chunk_range(n_records, ch)
         for t in range(start, stop):
             if tri_box[t, 2] > tri_box[t, 3]:
@@ -523,7 +526,10 @@ def setup_vertices(slot, counter, clip, width, height, corners, depths):
     A worker of :func:`rasterkit._jit.run_parallel`: ``slot`` is unused, the N_CHUNKS
     chunks are claimed through ``counter``.
     """
-    for ch in claims(counter, N_CHUNKS):
+    while True:  # claim the next piece until none is left
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
         _setup_vertex_chunk(ch, clip, width, height, corners, depths)
 
 
@@ -708,7 +714,10 @@ def setup_faces(
     A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused, chunks claimed
     through ``counter``).
     """
-    for ch in claims(counter, N_CHUNKS):
+    while True:  # claim the next piece until none is left
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
         cut[ch] = _setup_chunk(
             ch,
             faces,
@@ -762,7 +771,10 @@ def count_fans(slot, counter, clip, faces, width, height, cut_mask, n_fan, recor
     A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused).
     """
     planes = clip_planes(width, height)
-    for ch in claims(counter, N_CHUNKS):
+    while True:  # claim the next piece until none is left
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
         records[ch] = _count_fan_chunk(ch, clip, faces, planes, cut_mask, n_fan)
 
 
@@ -855,7 +867,10 @@ def setup_cut_faces(
     (``slot`` unused).
     """
     planes = clip_planes(width, height)
-    for ch in claims(counter, N_CHUNKS):
+    while True:  # claim the next piece until none is left
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
         _setup_fan_chunk(
             ch,
             clip,

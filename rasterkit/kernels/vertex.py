@@ -3,7 +3,7 @@
 import numpy as np
 
 from rasterkit._jit import kernel
-from rasterkit.kernels.intrinsics import claims
+from rasterkit.kernels.intrinsics import fetch_add
 
 #: The points are transformed in this many contiguous chunks, shared out among the threads.
 N_CHUNKS = 16
@@ -18,7 +18,10 @@ def transform_points(slot, counter, points, matrix, out):
     ``counter``).
     """
     n = points.shape[0]
-    for ch in claims(counter, N_CHUNKS):
+    while True:  # claim the next piece until none is left
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
         for i in range(n * ch // N_CHUNKS, n * (ch + 1) // N_CHUNKS):
             x, y, z = points[i, 0], points[i, 1], points[i, 2]
             for r in range(4):
