@@ -127,4 +127,4 @@ def run(settings, results, peers) -> None:
             repeat=min(settings.repeat, REPEAT), warmup=min(settings.warmup, 1), work=float(settings.segments), unit="segment/s",
             sizes={"width": width, "height": height, "segments": settings.segments,
                    "pixels": int(lengths.sum())},
-            note="rasterkit side: kernel rasterkit.kernels.line.draw_edges (no public batch API yet)")
+            note="rasterkit side: rasterkit.draw.lines")

@@ -1,9 +1,9 @@
 """Driver of the edge path (wire, hidden-line and solid+wire edges, and ``draw.lines``):
 vertex pass -> (plain: per-edge setup, work per row) -> bands -> draw the bands.
 
-The kernels are in :mod:`rasterkit.kernels.line`; this module picks the scratch memory,
-the number of bands and threads, and runs the passes in order. Its caller has validated
-the inputs (``edges`` index ``clip``'s rows).
+The kernels are in :mod:`rasterkit.kernels.edge_setup` and :mod:`rasterkit.kernels.edges`;
+this module picks the scratch memory, the number of bands and threads, and runs the passes
+in order. Its caller has validated the inputs (``edges`` index ``clip``'s rows).
 """
 
 from __future__ import annotations
@@ -12,7 +12,8 @@ import numpy as np
 
 from rasterkit import _jit, _memory
 from rasterkit._jit import readonly, run_parallel
-from rasterkit.kernels import line as _line
+from rasterkit.kernels import edge_setup as _setup
+from rasterkit.kernels import edges as _kernels
 
 #: Fewer edges than this are drawn by the calling thread alone: handing work to another
 #: thread costs about 15 microseconds a pass.
@@ -27,13 +28,13 @@ def _parallel(worker, *args, threads):
 
 
 def scratch(n_vertices, n_edges, n_pixels, mode, take=_memory.take):
-    """``(proj, pixels, recs, mask)`` for :func:`rasterkit.kernels.line.draw_edge_bands`
+    """``(proj, pixels, recs, mask)`` for :func:`rasterkit.kernels.edges.draw_edge_bands`
     (``n_pixels``: mask bytes, 0 for none), from recycled memory unless ``take`` says
     otherwise (``np.empty`` for fresh arrays)."""
-    plain = mode == _line.MODE_PLAIN
+    plain = mode == _kernels.MODE_PLAIN
     return (take((n_vertices, 4), np.float64),
             take((n_vertices if plain else 0,), np.int64),
-            take((_line.REC_FIELDS, n_edges if plain else 0), np.int32),
+            take((_setup.REC_FIELDS, n_edges if plain else 0), np.int32),
             take((n_pixels if plain else 0,), np.uint8))
 
 
@@ -41,7 +42,7 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
                threads=None, memory=None) -> int:
     """Draw the edges ``edges`` (E, 2) int64 of the vertices ``clip`` (N, 4) float64
     (homogeneous raster space) into ``color`` (H, W, C) uint8 with ``rgba`` (C,) uint8, as
-    :func:`rasterkit.kernels.line.draw_edge_bands` describes; ``depth`` (H, W) float32 is
+    :func:`rasterkit.kernels.edges.draw_edge_bands` describes; ``depth`` (H, W) float32 is
     read in ``MODE_DEPTH_TEST`` only (anything, e.g. an empty array, otherwise).
     ``background`` (C,) uint8 clears the colour buffer first.
 
@@ -54,21 +55,21 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
     if threads is None:
         threads = 1 if len(edges) < _PARALLEL_EDGES else _jit.get_threads()
     n_bands = min(height, threads if n_bands is None else n_bands)
-    plain = mode == _line.MODE_PLAIN
+    plain = mode == _kernels.MODE_PLAIN
     background = _NO_BACKGROUND if background is None else background
     if memory is None:
         memory = scratch(len(clip), len(edges), height * width if background.size else 0, mode)
     proj, pixels, recs, _ = memory
     edges = readonly(edges)  # as a Mesh's: one compiled kernel for both
-    counts = np.zeros((_line.VERTEX_CHUNKS, -(-height // _line.ROWS_PER_BIN)), np.int64)
-    _parallel(_line.project_vertices, clip, proj, pixels if plain else pixels[:0], width, height, counts,
+    counts = np.zeros((_setup.VERTEX_CHUNKS, -(-height // _setup.ROWS_PER_BIN)), np.int64)
+    _parallel(_setup.project_vertices, clip, proj, pixels if plain else pixels[:0], width, height, counts,
               threads=threads)
     if plain:
-        _parallel(_line.plain_setup, pixels, edges, width, height, recs, threads=threads)
-        work = _line.record_work(recs, height)
+        _parallel(_setup.plain_setup, pixels, edges, width, height, recs, threads=threads)
+        work = _setup.record_work(recs, height)
     else:
         work = counts.sum(axis=0)
-    bounds = _line.balanced_bands(work, n_bands, height)
-    dropped = _parallel(_line.draw_edge_bands, color, depth if depth is not None else _NO_DEPTH, clip, edges,
+    bounds = _setup.balanced_bands(work, n_bands, height)
+    dropped = _parallel(_kernels.draw_edge_bands, color, depth if depth is not None else _NO_DEPTH, clip, edges,
                         rgba, mode, bias, bounds, background, memory, threads=threads)
     return max(dropped)

@@ -13,6 +13,8 @@ import numpy as np
 
 from rasterkit._edges import draw_edges
 from rasterkit.kernels import line as _line
+from rasterkit.kernels.clip import SEGMENT_GUARD_BAND
+from rasterkit.kernels.edges import MODE_ANTIALIAS, MODE_PLAIN
 from rasterkit.kernels import triangle as _triangle
 from rasterkit.kernels.clip import GUARD_BAND as _TRIANGLE_LIMIT
 
@@ -154,7 +156,7 @@ def lines(image: np.ndarray, segments, color=(0, 0, 0), aa: bool = False) -> np.
     if not isinstance(image, np.ndarray) or image.dtype != np.uint8 or image.ndim != 3 \
             or image.shape[2] not in (3, 4) or not image.flags.c_contiguous:
         raise ValueError("image must be a C-contiguous uint8 array of shape (H, W, 3) or (H, W, 4)")
-    if max(image.shape[:2]) >= _line.GUARD_BAND:
+    if max(image.shape[:2]) >= SEGMENT_GUARD_BAND:
         raise ValueError("image is too large")
     seg = np.asarray(segments, dtype=np.float64)
     if seg.size == 0:
@@ -172,7 +174,7 @@ def lines(image: np.ndarray, segments, color=(0, 0, 0), aa: bool = False) -> np.
     points[:, 3] = 1.0
     edges = np.arange(2 * count, dtype=np.int64).reshape(count, 2)
     rgba = np.ascontiguousarray(parse_color(color)[: image.shape[2]])
-    mode = _line.MODE_ANTIALIAS if aa else _line.MODE_PLAIN
+    mode = MODE_ANTIALIAS if aa else MODE_PLAIN
     draw_edges(image, None, points, edges, rgba, mode)
     return image
 

@@ -18,7 +18,7 @@ from .camera import Camera
 from .colors import ColorLike, parse_color
 from ._edges import draw_edges
 from .framebuffer import Framebuffer
-from .kernels import line as line_kernels
+from .kernels import edges as edge_kernels
 from .kernels import shade as shade_kernels
 from ._vertex import transform_points
 from .mesh import Mesh
@@ -223,11 +223,11 @@ def _base_colors(mesh: Mesh, options: _Options, per_face: bool):
 
 def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options,
                 depth_test: bool, clear: bool) -> None:
-    mode = line_kernels.MODE_PLAIN
+    mode = edge_kernels.MODE_PLAIN
     if depth_test:
-        mode |= line_kernels.MODE_DEPTH_TEST
+        mode |= edge_kernels.MODE_DEPTH_TEST
     if options.aa:
-        mode |= line_kernels.MODE_ANTIALIAS
+        mode |= edge_kernels.MODE_ANTIALIAS
     channels = fb.color.shape[2]
     rgba = np.ascontiguousarray(options.line_color[:channels])
     background = np.ascontiguousarray(fb.background[:channels]) if clear else None

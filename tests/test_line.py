@@ -15,7 +15,7 @@ import rasterkit.draw
 from rasterkit.draw import line
 from rasterkit import _jit
 from rasterkit._edges import draw_edges
-from rasterkit.kernels.line import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
+from rasterkit.kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
 from reference_lines import ambiguous_edge, reference_draw_edges, reference_line
 
 METHODS = ["bresenham", "dda", "naive"]

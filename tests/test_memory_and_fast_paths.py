@@ -11,7 +11,8 @@ from rasterkit import Camera, Mesh, _jit, _memory, shapes
 from rasterkit._edges import draw_edges, scratch
 from rasterkit._jit import readonly
 from rasterkit.framebuffer import Framebuffer
-from rasterkit.kernels import line as line_kernels
+from rasterkit.kernels import edge_setup as line_kernels
+from rasterkit.kernels.edges import MODE_DEPTH_TEST, MODE_PLAIN
 from rasterkit.kernels.shade import face_normals, flat_packed, lambert, pack_colors
 from rasterkit._vertex import transform_points
 from rasterkit.triangles import FlatLambert, rasterize_triangles
@@ -141,12 +142,12 @@ def test_plain_setup_records_match_the_general_path_on_random_edges():
     edges = rng.integers(0, 400, size=(1500, 2))
     rgba = np.array([255, 255, 255], np.uint8)
     fast = np.zeros((height, width, 3), np.uint8)
-    draw_edges(fast, np.empty((0, 0), np.float32), clip, edges, rgba, line_kernels.MODE_PLAIN, n_bands=3)
+    draw_edges(fast, np.empty((0, 0), np.float32), clip, edges, rgba, MODE_PLAIN, n_bands=3)
     # The depth-test mode takes the general path for every edge; an infinitely far depth
     # buffer lets every pixel through.
     general = np.zeros((height, width, 3), np.uint8)
     far = np.full((height, width), np.inf, np.float32)
-    draw_edges(general, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, n_bands=3)
+    draw_edges(general, far, clip, edges, rgba, MODE_DEPTH_TEST, n_bands=3)
     assert fast.any() and np.array_equal(fast, general)
 
 
@@ -221,13 +222,13 @@ def test_marked_wire_path_equals_drawing_into_colour(channels, width):
     far = np.full((height, width), np.inf, np.float32)
     for n_bands in (1, 3):
         marked = np.full((height, width, channels), 77, np.uint8)  # garbage: must be cleared
-        memory = scratch(len(clip), len(edges), height * width, line_kernels.MODE_PLAIN, take=np.empty)
+        memory = scratch(len(clip), len(edges), height * width, MODE_PLAIN, take=np.empty)
         memory[3][:] = 3  # garbage in the mask too: each band clears its part
-        draw_edges(marked, None, clip, edges, rgba, line_kernels.MODE_PLAIN, 0.0, background, n_bands=n_bands,
+        draw_edges(marked, None, clip, edges, rgba, MODE_PLAIN, 0.0, background, n_bands=n_bands,
                        memory=memory)
         expected = np.empty((height, width, channels), np.uint8)
         expected[...] = background
-        draw_edges(expected, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, n_bands=1)
+        draw_edges(expected, far, clip, edges, rgba, MODE_DEPTH_TEST, n_bands=1)
         assert (expected == rgba).all(axis=2).any()
         assert np.array_equal(marked, expected)
 
@@ -246,12 +247,12 @@ def test_short_edges_in_every_octant_mark_the_same_pixels_as_the_general_path():
             clip = np.array([[centre[0], centre[1], 0.5, 1.0], [centre[0] + dx, centre[1] + dy, 0.5, 1.0]])
             edges = np.array([[0, 1]])
             marked = np.zeros((height, width, 3), np.uint8)
-            memory = scratch(2, 1, height * width, line_kernels.MODE_PLAIN, take=np.empty)
-            draw_edges(marked, None, clip, edges, rgba, line_kernels.MODE_PLAIN, 0.0, background, n_bands=1,
+            memory = scratch(2, 1, height * width, MODE_PLAIN, take=np.empty)
+            draw_edges(marked, None, clip, edges, rgba, MODE_PLAIN, 0.0, background, n_bands=1,
                        memory=memory)
             expected = np.empty((height, width, 3), np.uint8)
             expected[...] = background
-            draw_edges(expected, far, clip, edges, rgba, line_kernels.MODE_DEPTH_TEST, n_bands=1)
+            draw_edges(expected, far, clip, edges, rgba, MODE_DEPTH_TEST, n_bands=1)
             drawn = (expected == rgba).all(axis=2).sum()
             assert drawn == max(abs(dx), abs(dy)) + 1 or centre != (20.5, 15.5)
             assert np.array_equal(marked, expected), (centre, dx, dy)
@@ -283,7 +284,7 @@ def test_record_work_counts_pixels_and_edges_by_middle_row():
     clip = np.array([[2.5, 3.5, 0.5, 1.0], [12.5, 7.5, 0.5, 1.0], [4.5, 30.5, 0.5, 1.0],
                      [-5.0, 1.0, 0.5, 1.0]])
     edges = np.array([[0, 1], [1, 2], [0, 3]])  # the last one leaves the image: general path
-    proj, pixels, recs, _ = scratch(4, 3, 0, line_kernels.MODE_PLAIN, take=np.empty)
+    proj, pixels, recs, _ = scratch(4, 3, 0, MODE_PLAIN, take=np.empty)
     counts = np.zeros((line_kernels.VERTEX_CHUNKS, 5), np.int64)
     line_kernels.project_vertices(0, np.zeros(1, np.int64), clip, proj, pixels, 20, 40, counts)
     assert pixels.tolist() == [2 | 3 << 32, 12 | 7 << 32, 4 | 30 << 32, -1]

@@ -1,7 +1,5 @@
 """Vertex stage: object space -> homogeneous raster space, by one 4x4 matrix."""
 
-import numpy as np
-
 from rasterkit._jit import kernel
 from rasterkit.kernels.intrinsics import fetch_add
 

@@ -1,0 +1,372 @@
+"""Drawing edges into a framebuffer, band by band (wire, hidden-line and solid+wire edges).
+
+:func:`draw_edges` draws many edges given in homogeneous raster space (see
+``ARCHITECTURE.md``). Per vertex, once: classify it and, when it is inside the visible
+region, divide by ``w``. Per edge whose ends are not both inside: drop non-finite input;
+clip before the divide against the near plane ``zh >= 0``, the far plane ``zh <= w`` and a
+guard band of ``+-SEGMENT_GUARD_BAND`` pixels (Liang-Barsky from a point inside, found by bisection
+when both ends are far away, so that even ends at 1e300 clip accurately); divide by ``w``.
+Per band of image rows: round the endpoints down to their pixels, find in closed form the
+Bresenham steps inside the band and step only those, so a segment costs its visible pixels
+however long it is (clipping a segment again in every band it crosses). Each thread owns a
+band of rows, so no two threads write the same pixel, and since every per-pixel value is computed in
+closed form the image does not depend on the number of bands or threads.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from rasterkit._jit import kernel
+from rasterkit.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
+from rasterkit.kernels.clip import project_segment
+from rasterkit.kernels.edge_setup import REC_PIX, REC_ROWS, REC_STEPS
+from rasterkit.kernels.intrinsics import fetch_add
+from rasterkit.kernels.line import blend_pixel, minor_steps, put_pixel, step_range, step_line, tie_offset
+
+MODE_PLAIN = 0
+MODE_DEPTH_TEST = 1
+MODE_ANTIALIAS = 2
+
+
+@kernel(inline="always")
+def _edge_segment(clip, proj, i, j):
+    """Edge ``i``-``j`` in raster space: ``(status, (x0, y0, z0, x1, y1, z1))``.
+
+    ``status`` is 1 for a segment to draw, 0 when nothing of it is visible and -1 when it
+    is dropped for a non-finite or too large coordinate. Both ends projected by
+    :func:`project_vertices` are taken as they are; otherwise the segment is clipped here.
+    """
+    fi, fj = proj[i, 3], proj[j, 3]
+    if fi > 0.0 and fj > 0.0:
+        return 1, (proj[i, 0], proj[i, 1], proj[i, 2], proj[j, 0], proj[j, 1], proj[j, 2])
+    if fi < 0.0 or fj < 0.0:
+        return -1, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    p = (clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3])
+    q = (clip[j, 0], clip[j, 1], clip[j, 2], clip[j, 3])
+    visible, x0, y0, z0, x1, y1, z1 = project_segment(p, q)
+    return (1 if visible else 0), (x0, y0, z0, x1, y1, z1)
+
+
+@kernel(inline="always")
+def _band_frame(steep, width, ylo, yhi):
+    """Strides and ranges of the band in (major u, minor v) terms.
+
+    Returns ``(ustride, vstride, ulo, uhi, vlo, vhi)``: pixel index steps (in pixels of the
+    flattened (H, W) image) and the inclusive coordinate ranges of the band.
+    """
+    if steep:
+        return width, 1, ylo, yhi, 0, width - 1
+    return 1, width, 0, width - 1, ylo, yhi
+
+
+@kernel(inline="always")
+def _oriented(x0, y0, x1, y1, steep, swap):
+    """The segment as ``(u0, v0, u1, v1)``: transposed if steep, reversed if swap."""
+    u0, v0, u1, v1 = (y0, x0, y1, x1) if steep else (x0, y0, x1, y1)
+    if swap:
+        return u1, v1, u0, v0
+    return u0, v0, u1, v1
+
+
+@kernel(inline="always")
+def _depth_at(u, u0f, du, z0, gz):
+    """Depth of the segment at the centre of major coordinate ``u``, clamped to its ends."""
+    return z0 + min(max(u + 0.5 - u0f, 0.0), du) * gz
+
+
+@kernel(inline="always")
+def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
+    """Draw one segment's integer line, restricted to rows ``[ylo, yhi]`` of the image."""
+    xi0, yi0 = math.floor(seg[0]), math.floor(seg[1])
+    xi1, yi1 = math.floor(seg[3]), math.floor(seg[4])
+    steep = abs(yi1 - yi0) > abs(xi1 - xi0)
+    # Step towards increasing major coordinate; deciding on the real ends also orders the
+    # integer ones, and keeps the depth slope's denominator >= 0.
+    swap = (seg[4] < seg[1]) if steep else (seg[3] < seg[0])
+    u0, v0, u1, v1 = _oriented(xi0, yi0, xi1, yi1, steep, swap)
+    u0f, _, u1f, _ = _oriented(seg[0], seg[1], seg[3], seg[4], steep, swap)
+    z0, z1 = (seg[5], seg[2]) if swap else (seg[2], seg[5])
+    ustride, vstride, ulo, uhi, vlo, vhi = _band_frame(steep, width, ylo, yhi)
+
+    n = u1 - u0
+    dv = v1 - v0
+    a = abs(dv)
+    sv = 1 if dv >= 0 else -1
+    c = tie_offset(dv)
+    if min(xi0, xi1) >= 0 and max(xi0, xi1) < width and min(yi0, yi1) >= ylo and max(yi0, yi1) <= yhi:
+        tlo, thi, k, r = 0, n, 0, n - c  # the whole line is in the band: the usual case
+    else:
+        tlo, thi = step_range(u0, v0, n, a, sv, c, ulo, uhi, vlo, vhi)
+        if tlo > thi:
+            return
+        k, r = minor_steps(tlo, n, a, c)
+    pix = (u0 + tlo) * ustride + (v0 + sv * k) * vstride
+    if depth_test:
+        du = u1f - u0f
+        gz = (z1 - z0) / du if du > 0.0 else 0.0
+        for t in range(tlo, thi + 1):
+            if _depth_at(u0 + t, u0f, du, z0, gz) - bias <= dflat[pix]:
+                put_pixel(cflat, pix, channels, rgba)
+            r += 2 * a
+            step = r >= 2 * n
+            r -= 2 * n if step else 0
+            pix += ustride + (sv * vstride if step else 0)
+    else:
+        step_line(cflat, channels, rgba, pix, thi - tlo + 1, r, 2 * a, 2 * n, ustride, sv * vstride)
+
+
+@kernel(inline="always")
+def _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi):
+    """Major columns ``[first, last]`` of a Wu segment that can touch the band.
+
+    Column ``u`` puts the line's minor coordinate ``v(u)`` between the centres of rows
+    ``floor(v - 0.5)`` and the next, so it can touch ``[vlo, vhi]`` only when
+    ``v in [vlo - 0.5, vhi + 1.5)``; that range is inverted once per edge (with a margin of
+    one column for rounding) instead of testing every column.
+    """
+    first = max(math.floor(u0f), ulo)
+    last = min(math.ceil(u1f) - 1, uhi)
+    if g == 0.0:
+        if not vlo - 0.5 <= v0f < vhi + 1.5:
+            return 1, 0
+    elif first <= last:
+        ua = (vlo - 0.5 - v0f) / g + u0f - 0.5
+        ub = (vhi + 1.5 - v0f) / g + u0f - 0.5
+        lo = min(max(min(ua, ub), first - 1.0), last + 1.0)
+        hi = min(max(max(ua, ub), first - 1.0), last + 1.0)
+        first = max(first, math.floor(lo) - 1)
+        last = min(last, math.ceil(hi) + 1)
+    return first, last
+
+
+@kernel
+def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
+    """Draw one segment anti-aliased (Xiaolin Wu), restricted to rows ``[ylo, yhi]``.
+
+    Each major column ``u`` is covered over ``min(u1, u + 1) - max(u0, u)`` of its width;
+    that coverage is split between the two pixels whose centres straddle the line at the
+    column centre, in proportion to their distance from it.
+    """
+    steep = abs(seg[4] - seg[1]) > abs(seg[3] - seg[0])
+    swap = (seg[4] < seg[1]) if steep else (seg[3] < seg[0])
+    u0f, v0f, u1f, v1f = _oriented(seg[0], seg[1], seg[3], seg[4], steep, swap)
+    z0, z1 = (seg[5], seg[2]) if swap else (seg[2], seg[5])
+    du = u1f - u0f
+    if du == 0.0:
+        return
+    ustride, vstride, ulo, uhi, vlo, vhi = _band_frame(steep, width, ylo, yhi)
+    g = (v1f - v0f) / du
+    gz = (z1 - z0) / du
+    first, last = _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi)
+    for u in range(first, last + 1):
+        coverage = min(u1f, u + 1.0) - max(u0f, float(u))
+        below = v0f + (u + 0.5 - u0f) * g - 0.5
+        j = math.floor(below)
+        frac = below - j
+        z = _depth_at(u, u0f, du, z0, gz) - bias
+        for row, weight in ((j, 1.0 - frac), (j + 1, frac)):
+            if vlo <= row <= vhi:
+                pix = u * ustride + row * vstride
+                if not depth_test or z <= dflat[pix]:
+                    blend_pixel(cflat, pix, channels, rgba, coverage * weight)
+
+
+@kernel(inline="always")
+def _draw_record(cflat, width, channels, rgba, recs, e):
+    """Step the Bresenham line of record ``e`` of :func:`plain_setup`."""
+    packed = np.int64(recs[REC_STEPS, e]) & 0xFFFFFFFF
+    n, a = packed & 0x7FFF, (packed >> 15) & 0x7FFF
+    steep, negative = (packed >> 30) & 1, packed >> 31
+    ustride = 1 + steep * (width - 1)
+    vstride = (1 - 2 * negative) * (width - steep * (width - 1))
+    r = n - (negative | np.int64(a == 0))  # tie_offset: dv <= 0
+    step_line(cflat, channels, rgba, np.int64(recs[REC_PIX, e]), n + 1, r, 2 * a, 2 * n, ustride, vstride)
+
+
+#: ``bits = (word * _GATHER) >> 56`` turns 8 mask bytes of 0 or 1 into 8 bits (bit k = byte k).
+_GATHER = 0x0102040810204080
+
+
+@kernel(inline="always")
+def _paint_tables(rgba):
+    """For the masked colour pass of C = ``rgba.size`` channels, 8 pixels (C 64-bit words)
+    at a time: ``select[bits]``, the C words with 0xFF in the bytes of the pixels whose bit
+    is set, and ``paint``, the C words of ``rgba`` repeated over 8 pixels."""
+    channels = rgba.size
+    select = np.zeros((256, channels), np.uint64)
+    paint = np.zeros(channels, np.uint64)
+    for b in range(8 * channels):
+        word, shift = b // 8, np.uint64(8 * (b % 8))
+        paint[word] |= np.uint64(rgba[b % channels]) << shift
+        for bits in range(256):
+            if (bits >> (b // channels)) & 1:
+                select[bits, word] |= np.uint64(0xFF) << shift
+    return select, paint
+
+
+@kernel(inline="always")
+def _paint_marked(cflat, mflat, lo, hi, rgba, select, paint):
+    """Colour ``rgba`` into the pixels ``lo .. hi - 1`` whose mask byte is 1 (the others
+    are 0): eight pixels per mask word, unmarked groups skipped, each marked group blended
+    in C 64-bit words by the byte masks of :func:`_paint_tables`."""
+    channels = rgba.size
+    p = lo
+    while p < hi and p % 8 != 0:
+        if mflat[p]:
+            put_pixel(cflat, p, channels, rgba)
+        p += 1
+    groups = (hi - p) // 8
+    if groups > 0:
+        marks = mflat[p: p + 8 * groups].view(np.uint64)
+        words = cflat[p * channels: (p + 8 * groups) * channels].view(np.uint64)
+        for g in range(groups):
+            mark = marks[g]
+            if mark == 0:
+                continue
+            bits = (mark * np.uint64(_GATHER)) >> np.uint64(56)
+            for k in range(channels):
+                sel = select[bits, k]
+                w = g * channels + k
+                words[w] = (words[w] & ~sel) | (paint[k] & sel)
+        p += 8 * groups
+    while p < hi:
+        if mflat[p]:
+            put_pixel(cflat, p, channels, rgba)
+        p += 1
+
+
+@kernel(inline="always")
+def _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, ylo, yhi, plain,
+                depth_test, antialias, bias):
+    """Draw every edge's part in rows ``ylo .. yhi``; returns the number of dropped edges."""
+    dropped = 0
+    for e in range(edges.shape[0]):
+        if plain:
+            rows = recs[REC_ROWS, e]
+            if rows >= 0:
+                jlo, jhi = rows & 0xFFFF, rows >> 16
+                if jhi < ylo or jlo > yhi:
+                    continue
+                if jlo >= ylo and jhi <= yhi:
+                    _draw_record(cflat, width, channels, rgba, recs, e)
+                    continue
+        status, seg = _edge_segment(clip, proj, edges[e, 0], edges[e, 1])
+        if status <= 0:
+            dropped += status < 0
+            continue
+        # Wu's two pixels and its end-column centres reach up to 2 rows beyond the ends.
+        if math.floor(min(seg[1], seg[4])) - 2 > yhi or math.floor(max(seg[1], seg[4])) + 2 < ylo:
+            continue
+        if antialias:
+            _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
+        else:
+            _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
+    return dropped
+
+
+@kernel
+def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, bounds, background, scratch):
+    """Draw the edges of a mesh into a framebuffer, band by band: each the next band that
+    no worker has claimed yet (through ``counter``), until none are left; returns the
+    number of edges this worker dropped (each band sees every edge, so the dropped edges
+    of any one band are all of them: the driver reads band 0's, :data:`DROPPED_BAND`).
+
+    A worker of :func:`rasterkit._jit.run_parallel`; ``slot`` is unused. The driver,
+    :mod:`rasterkit._edges`, runs :func:`project_vertices` (and, plain, :func:`plain_setup`
+    and :func:`record_work`) first, and :func:`balanced_bands` gives ``bounds``.
+
+    Parameters
+    ----------
+    color : (H, W, C) uint8, C-contiguous, C in {3, 4}
+        Colour buffer, modified in place.
+    depth : (H, W) float32, C-contiguous
+        Depth buffer (smaller = nearer, +inf = empty). Read only with ``MODE_DEPTH_TEST``
+        and never written; without the depth test any float32 array will do (e.g.
+        ``np.empty((0, 0), np.float32)``).
+    clip : (N, 4) float64
+        Vertices in homogeneous raster space ``(xh, yh, zh, w)``.
+    edges : (E, 2) int64
+        Vertex indices into ``clip``, each in ``[0, N)`` (the caller checks).
+    rgba : (C,) uint8
+        Line colour.
+    mode : int
+        Bit set of ``MODE_DEPTH_TEST`` and ``MODE_ANTIALIAS``; ``MODE_PLAIN`` (0) is a
+        wireframe with neither.
+    bias : float
+        Depth-test mode draws a pixel only where ``z - bias <= depth[y, x]``, ``z`` being the
+        edge's depth (affine in screen space, so interpolated linearly) at the pixel's
+        major-axis centre. A small positive bias lets the edges of visible faces pass the
+        test against those faces' own depths.
+    bounds : (n_bands + 1,) int64
+        Band ``b`` is rows ``bounds[b] .. bounds[b + 1] - 1`` (possibly none). The image is
+        the same for any bands.
+    background : (C,) uint8 or (0,)
+        Written to every pixel of a band by the worker that draws the band, right before
+        its edges (nothing is cleared when it is empty).
+    scratch : tuple
+        ``(proj, pixels, recs, mask)``: ``proj`` (N, 4) float64 from
+        :func:`project_vertices`; in plain mode ``pixels`` (N,) int64 and ``recs``
+        (REC_FIELDS, E) int32 from :func:`plain_setup` (without rows in the other modes).
+        ``mask`` (H * W,) uint8 is for plain mode with a background: each band first marks
+        its edges' pixels in the mask (one byte store per pixel, in a buffer a third the
+        size of an RGB image that stays in the thread's cache), then clears its colour rows
+        and paints the marked pixels 8 at a time. With any other mode or without a
+        background, or when ``mask`` is smaller, the edges are drawn into the colour buffer
+        directly. The image is the same either way.
+
+    Notes
+    -----
+    Plain and depth-tested edges write ``rgba`` to the pixels of the integer line between
+    the pixels containing the (clipped) endpoints, exactly as :func:`line_pixels` draws it
+    with Bresenham. Anti-aliased edges use Xiaolin Wu's algorithm on the real-valued
+    endpoints and blend ``rgba`` into the colour buffer, all C channels, by coverage; their
+    total weight is the segment's extent along its major axis. Edges are drawn in order, so
+    overlapping anti-aliased edges blend in index order. Segments are clipped to the near
+    and far planes and to the guard band ``[-SEGMENT_GUARD_BAND, SEGMENT_GUARD_BAND]^2`` in homogeneous
+    space; a segment with both ends inside the guard band is drawn exactly. Edges with a
+    coordinate beyond ``MAX_COORDINATE`` (or NaN, inf) are dropped and counted. The image
+    must be smaller than ``SEGMENT_GUARD_BAND`` on each side.
+    """
+    proj, pixels, recs, mask = scratch
+    height, width, channels = color.shape
+    depth_test = (mode & MODE_DEPTH_TEST) != 0
+    antialias = (mode & MODE_ANTIALIAS) != 0
+    plain = not depth_test and not antialias
+    cflat = color.reshape(color.size)
+    dflat = depth.reshape(depth.size)
+    clear = background.size == channels
+    pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
+    marked = plain and clear and mask.size >= height * width
+    # the 8-pixel paint tables, only for the marked (mask) path
+    select, paint = _paint_tables(rgba if marked else rgba[:0])
+    one = np.ones(1, np.uint8)
+    zeros = np.zeros(PATTERN_BYTES, np.uint8)
+    dropped = 0
+    while True:  # claim the next piece until none is left
+        band = fetch_add(counter, 0, 1)
+        if band >= bounds.size - 1:
+            break
+        ylo, yhi = bounds[band], bounds[band + 1] - 1
+        if marked:  # into the mask (one channel, value 1), then paint
+            fill_bytes(mask, ylo * width, (yhi + 1) * width, zeros)
+        elif clear:
+            fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
+        if marked:  # constants in this copy: one byte per pixel, plain lines
+            lost = _band_edges(mask, dflat, width, 1, one, clip, proj, edges, recs, ylo, yhi,
+                               True, False, False, 0.0)
+        else:
+            lost = _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, ylo, yhi,
+                               plain, depth_test, antialias, bias)
+        if band == DROPPED_BAND:
+            dropped = lost
+        if marked:
+            fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
+            _paint_marked(cflat, mask, ylo * width, (yhi + 1) * width, rgba, select, paint)
+    return dropped
+
+
+#: The band whose count of dropped edges :func:`draw_edge_bands` reports.
+DROPPED_BAND = 0
