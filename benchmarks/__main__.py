@@ -17,15 +17,17 @@ from pathlib import Path
 
 import numba
 
-from . import cli, fill, lines2d, loading, memory, render, report, scaling
+from . import cli, contention, fill, lines2d, loading, memory, render, report, scaling, startup
 from .peers import Peers
 from .settings import FULL, QUICK, TARGETS, TINY
 
 # The families that start processes come last: in one run, rasterkit's 2-thread kernels in this
 # process were seen to slow down ~10x for a minute after the CLI family's subprocesses.
 FAMILIES = {"render": render.run, "fill": fill.run, "lines2d": lines2d.run, "loading": loading.run,
-            "scaling": scaling.run, "memory": memory.run, "cli": cli.run, "threads": scaling.run_threads}
-DEFAULT_FAMILIES = ("render", "fill", "lines2d", "loading", "scaling", "memory", "cli")
+            "scaling": scaling.run, "memory": memory.run, "cli": cli.run, "startup": startup.run,
+            "contention": contention.run, "threads": scaling.run_threads}
+DEFAULT_FAMILIES = ("render", "fill", "lines2d", "loading", "scaling", "memory", "cli", "startup",
+                    "contention")
 """What a run measures unless ``--only`` says otherwise (``threads`` is part of ``scaling``)."""
 TARGET_FAMILIES = ("render", "fill", "threads")
 
@@ -38,7 +40,8 @@ TINY_VARIABLE = "RASTERKIT_BENCH_TINY"
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="a small version (well under a minute)")
+    parser.add_argument("--quick", action="store_true",
+                        help="a small version (about 5 minutes, most of it cold start-up runs)")
     parser.add_argument("--targets", action="store_true",
                         help="only the rasterization targets: 3 models at 1920x1080, the fill "
                              "scene and 2 threads vs 1 (about ten seconds; families render,fill,threads)")

@@ -10,7 +10,7 @@
                   "gl_renderer", "started", "seconds"},
       "records": [
         {"family":     "render" | "fill" | "threads" | "lines2d" | "loading" | "cli"
-                       | "memory" | "scaling",
+                       | "memory" | "scaling" | "startup" | "contention",
          "name":       unique workload name, e.g. "render/solid/ogre/1920x1080",
          "peer":       the other side, e.g. "llvmpipe", or null when it could not run,
          "sizes":      workload sizes, e.g. {"width", "height", "triangles", "edges"},

@@ -54,6 +54,22 @@ class Settings:
         Workload families whose peak memory is measured (see :mod:`benchmarks.memory`).
     process_repeat : int
         Timed runs of the workloads that start a process per run (warm CLI runs).
+    startup_model : str
+        Model of the ``startup`` family's cold sequence and warm run, and of the
+        ``contention`` family's frames.
+    startup_size : (width, height)
+        Their image size.
+    demo_size : (width, height) or None
+        Size of the cold ``rasterkit render --demo`` runs; None: the command's default.
+    startup_cold_runs : int
+        Repetitions of the cold measurements (each with new, empty Numba caches).
+    startup_sequence : bool
+        Whether the cold sequence (demo, then the model in every mode, one cache) runs;
+        the cold demo alone always runs.
+    contention_processes : tuple of int
+        How many rasterkit (and llvmpipe) processes render at once, one configuration each.
+    contention_seconds : float
+        Wall time each process renders frames for.
     """
 
     name: str
@@ -73,6 +89,13 @@ class Settings:
     sweep_model: str
     memory: tuple
     process_repeat: int
+    startup_model: str = "stanford-bunny"
+    startup_size: tuple = TARGET_SIZE
+    demo_size: tuple | None = None
+    startup_cold_runs: int = 1
+    startup_sequence: bool = True
+    contention_processes: tuple = (1, 2, 4)
+    contention_seconds: float = 2.0
 
 
 FULL = Settings(
@@ -85,6 +108,7 @@ FULL = Settings(
     sweep_triangles=(16, 32, 64, 128, 256, 512),
     sweep_sizes=((320, 240), (640, 480), (1280, 720), (1920, 1080), (2560, 1440), (3840, 2160)),
     sweep_model="stanford-bunny", memory=("render", "fill", "lines2d", "loading"), process_repeat=5,
+    startup_cold_runs=3, contention_seconds=5.0,
 )
 
 QUICK = Settings(
@@ -122,6 +146,8 @@ TINY = Settings(
     sweep_triangles=(8, 16),
     sweep_sizes=((32, 24), (64, 48)),
     sweep_model="suzanne", memory=("render",), process_repeat=1,
+    startup_model="suzanne", startup_size=(64, 48), demo_size=(64, 48), startup_cold_runs=1,
+    startup_sequence=False, contention_processes=(1, 2), contention_seconds=0.3,
 )
 
 

@@ -4,9 +4,8 @@ The suite runs once (64x48 images, one timed run) in a subprocess; its timings a
 checked, only that every family produced rasterkit's side, that the output files follow the
 documented schema, and that every skipped peer was reported with its reason. Peers
 (moderngl, OpenCV, trimesh) are optional: without them rasterkit's side must still run, and
-the peer checks are skipped. Most of the run's time is the ``startup`` family's one cold demo:
-``rasterkit render --demo`` with an empty Numba cache compiles every kernel it needs (one to
-two minutes on 2 busy cores).
+the peer checks are skipped. The longest single step is the ``startup`` family's one cold
+demo: ``rasterkit render --demo`` with an empty Numba cache compiles every kernel it needs.
 """
 
 from __future__ import annotations
@@ -44,7 +43,8 @@ def test_rasterkit_side_of_every_family(suite):
     assert {"platform", "cpu_count", "threads", "versions"} <= set(results["machine"])
     records = results["records"]
     families = {r["family"] for r in records}
-    expected = FAMILIES if MODELS.is_dir() else FAMILIES - {"render", "loading", "cli", "memory", "contention"}
+    without_models = {"render", "loading", "cli", "memory", "contention"}
+    expected = FAMILIES if MODELS.is_dir() else FAMILIES - without_models
     assert expected <= families
     for r in records:
         assert set(r) == RECORD_KEYS
@@ -96,7 +96,8 @@ def test_startup_and_contention_records(suite):
     for count in (1, 2):
         total = records[f"{base}/{count}proc/total"]
         assert total["sizes"]["processes"] == count and total["throughput"]["unit"] == "frame/s"
-        fps = [records[f"{base}/{count}proc/process{k}"]["throughput"]["rasterkit"] for k in range(1, count + 1)]
+        fps = [records[f"{base}/{count}proc/process{k}"]["throughput"]["rasterkit"]
+               for k in range(1, count + 1)]
         assert total["throughput"]["rasterkit"] == pytest.approx(sum(fps))
         assert f"{count} process" in stdout
     assert "x of one alone" in stdout
