@@ -1,0 +1,190 @@
+"""The geometry statements of an OBJ file read by the parsing kernels and checked: the numbers
+of ``v``/``vt``/``vn`` (with vertex colours), the corners of ``f`` and ``l`` (as
+:class:`Elements`), the messages for bad numbers and indices, and the skipped ``p`` and unknown
+lines."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from ._obj_document import Document
+from ._obj_errors import Report, count
+from .kernels.obj_corners import (
+    INDEX_BEFORE_FIRST, INDEX_MALFORMED, INDEX_OK, INDEX_ZERO, parse_corners,
+)
+from .kernels.obj_numbers import NUMBER_MALFORMED, parse_number_rows
+from .kernels.obj_scan import KIND_OTHER, KIND_P, KIND_V, KIND_VN, KIND_VT
+
+__all__ = ["Elements", "latest_above", "note_skipped", "read_elements", "read_numbers",
+           "read_vertices"]
+
+_ATTRIBUTES = (("vertex", "v"), ("texture coordinate", "vt"), ("normal", "vn"))
+_NUMBER_COUNTS = {KIND_V: ("v", (3, 4, 6), "3 (x y z), 4 (x y z w) or 6 (x y z r g b)"),
+                  KIND_VT: ("vt", (1, 2, 3), "1 to 3 (u v w)"),
+                  KIND_VN: ("vn", (3,), "3 (x y z)")}
+
+
+def read_numbers(doc: Document, kind: int, width: int, report: Report) -> np.ndarray:
+    """(S, width) float64 numbers of the statements of one kind (v, vt or vn)."""
+    rows = doc.of_kind(kind)
+    values, status, bad_token, inexact = parse_number_rows(
+        doc.buf, doc.starts[rows], doc.ends[rows], width)
+    keyword, counts, spec = _NUMBER_COUNTS[kind]
+    for r in np.flatnonzero(status == NUMBER_MALFORMED)[:1]:
+        token = doc.tokens(rows[r])[1 + bad_token[r]]
+        report.error(doc.line(rows[r]), f"malformed number {token!r} in a {keyword} line")
+    for r in np.flatnonzero(~np.isin(doc.ntokens[rows], counts))[:1]:
+        report.error(doc.line(rows[r]),
+                     f"{keyword} needs {spec} numbers, got {doc.ntokens[rows[r]]}")
+    _reparse_exactly(doc, rows, values, inexact)
+    return values
+
+
+def _reparse_exactly(doc: Document, rows: np.ndarray, values: np.ndarray, inexact: np.ndarray):
+    """Replace the values that the kernel could not round exactly (more than 15 significant
+    digits or large exponents) by NumPy's correctly rounded conversion of their text."""
+    redo = np.flatnonzero(inexact)
+    if len(redo) == 0:
+        return
+    statements = rows[redo]
+    text = b"\n".join(doc.text[s:e] for s, e in zip(doc.starts[statements], doc.ends[statements]))
+    tokens = np.array(text.split())
+    keyword_at = np.concatenate([[0], np.cumsum(doc.ntokens[statements] + 1)[:-1]])
+    bits = (inexact[redo, None] >> np.arange(values.shape[1])) & 1
+    r, column = np.nonzero(bits)
+    with np.errstate(over="ignore", under="ignore"):  # 1e400 is inf, as float() says
+        values[redo[r], column] = tokens[keyword_at[r] + 1 + column].astype(np.float64)
+
+
+def read_vertices(doc: Document, report: Report):
+    """Positions (N, 3) float64, and colours (N, 3) float32 in [0, 1] or None."""
+    values = read_numbers(doc, KIND_V, 6, report)
+    rows = doc.of_kind(KIND_V)
+    colored = doc.ntokens[rows] == 6
+    colors = _vertex_colors(doc, rows, values[:, 3:6], colored, report) if colored.any() else None
+    return np.ascontiguousarray(values[:, :3]), colors
+
+
+def _vertex_colors(doc, rows, rgb, colored, report) -> np.ndarray:
+    """(N, 3) float32 colours in [0, 1] from the r g b of six-number v lines (0..255 when any
+    of them is above 1); white for vertices without a colour or with a non-finite one."""
+    scale = 255.0 if (rgb[colored] > 1.0).any() else 1.0
+    rgb = rgb / scale
+    plain = np.flatnonzero(~colored)
+    if len(plain):
+        report.warn(doc.line(rows[plain[0]]), f"{len(plain)} of {len(rows)} vertices have no "
+                                              "colour while others have one: white")
+    bad = colored & ~np.isfinite(rgb).all(axis=1)
+    if bad.any():
+        report.warn(doc.line(rows[np.argmax(bad)]),
+                    f"{count(np.count_nonzero(bad), 'vertex colour')} not finite: white")
+    rgb[~colored | bad] = 1.0
+    return np.clip(rgb, 0.0, 1.0).astype(np.float32)
+
+
+@dataclass(frozen=True)
+class Elements:
+    """Faces or polylines: corner indices in runs, one run per statement."""
+
+    statements: np.ndarray  # (K,) statement number of each element
+    offsets: np.ndarray  # (K + 1,) run of element k: corners[offsets[k]:offsets[k + 1]]
+    corners: np.ndarray  # (C, 3) 0-based v, vt, vn of each corner; -1 where absent
+
+    @property
+    def count(self) -> int:
+        return len(self.statements)
+
+    @property
+    def sizes(self) -> np.ndarray:
+        return np.diff(self.offsets)
+
+    @cached_property
+    def vertex_indices(self) -> np.ndarray:
+        """(C,) int64 vertex of each corner, contiguous for the kernels."""
+        return np.ascontiguousarray(self.corners[:, 0])
+
+    def uses_only(self, vertex_ok: np.ndarray) -> np.ndarray:
+        """(K,) bool: elements whose vertices all have vertex_ok."""
+        if vertex_ok.all() or self.count == 0:
+            return np.ones(self.count, bool)
+        bad = (~vertex_ok[self.corners[:, 0]]).astype(np.int64)
+        return np.add.reduceat(bad, self.offsets[:-1]) == 0
+
+    def segments(self, keep: np.ndarray) -> np.ndarray:
+        """(K, 2) int64 segments p[0]-p[1], ..., p[-2]-p[-1] of the kept polylines."""
+        v = self.corners[:, 0]
+        starts = np.ones(len(v), bool)
+        starts[self.offsets[1:] - 1] = False
+        starts &= np.repeat(keep, self.sizes)
+        first = np.flatnonzero(starts)
+        pairs = np.stack([v[first], v[first + 1]], axis=1)
+        return pairs[pairs[:, 0] != pairs[:, 1]]
+
+
+def read_elements(doc: Document, kind: int, minimum: int, what: str,
+                  report: Report) -> Elements:
+    """Parse and check the corners of all f (or l) statements."""
+    rows = doc.of_kind(kind)
+    sizes = doc.ntokens[rows]
+    offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    totals = np.array([doc.count(k) for k in (KIND_V, KIND_VT, KIND_VN)])
+    before = doc.counts_before(rows)
+    corners, problems = parse_corners(doc.buf, doc.starts[rows], doc.ends[rows], offsets,
+                                      before, totals)
+    for r in np.flatnonzero(sizes < minimum)[:1]:
+        given = {0: "no vertices", 1: "1 vertex"}.get(int(sizes[r]), f"{sizes[r]} vertices")
+        report.error(doc.line(rows[r]), f"{what} with {given}: a {what} needs at least "
+                                        f"{minimum}")
+    vertex_bad = (problems[:, 0] != INDEX_OK) & (problems[:, 2] == 0)
+    for r in np.flatnonzero(vertex_bad)[:1]:
+        report.error(doc.line(rows[r]), _index_message(doc, rows[r], problems[r], before[r],
+                                                        totals))
+    for attribute in (1, 2):
+        bad = np.flatnonzero((problems[:, 0] != INDEX_OK) & (problems[:, 2] == attribute))
+        if len(bad):
+            name = _ATTRIBUTES[attribute][0]
+            message = _index_message(doc, rows[bad[0]], problems[bad[0]], before[bad[0]], totals)
+            report.warn(doc.line(rows[bad[0]]), f"{message}; {name}s ignored in "
+                                                 f"{count(len(bad), what)}")
+    return Elements(rows, offsets, corners)
+
+
+def _index_message(doc: Document, s: int, problem, before, totals) -> str:
+    """Words for one INDEX_* problem (code, corner, attribute) of statement s."""
+    code, corner, attribute = (int(x) for x in problem)
+    token = doc.tokens(s)[1 + corner]
+    if code == INDEX_MALFORMED:
+        return f"malformed vertex reference {token!r}"
+    name, keyword = _ATTRIBUTES[attribute]
+    raw = token.split("/")[attribute]
+    if code == INDEX_ZERO:
+        return f"{name} index 0 in {token!r}: OBJ indices start at 1"
+    if code == INDEX_BEFORE_FIRST:
+        return (f"relative {name} index {raw} in {token!r} points before the first {keyword} "
+                f"(only {before[attribute]} above this line)")
+    return (f"{name} index {raw} in {token!r} is out of range: the file has "
+            f"{count(totals[attribute], keyword + ' line')}")
+
+
+def note_skipped(doc: Document, report: Report):
+    """Warnings for point elements and unknown keywords."""
+    points = doc.of_kind(KIND_P)
+    if len(points):
+        report.warn(None, f"{count(doc.ntokens[points].sum(), 'point')} in "
+                          f"{count(len(points), 'p element')} not drawn")
+    unknown = doc.of_kind(KIND_OTHER)
+    if len(unknown):
+        keywords = dict.fromkeys(doc.tokens(s)[0] for s in unknown)
+        report.warn(None, f"{count(len(unknown), 'unknown keyword line')} skipped "
+                          f"({', '.join(keywords)})")
+
+
+def latest_above(doc: Document, kinds, faces: Elements):
+    """Names of the statements of the given kinds (g and o, or usemtl) and, for each face, the
+    position in that list of the latest one above it (-1 when there is none)."""
+    rows = doc.of_kind(*kinds)
+    names = [doc.argument(s) for s in rows]
+    return names, np.searchsorted(rows, faces.statements) - 1

@@ -1,0 +1,147 @@
+"""Numba kernels for the corners of OBJ ``f`` and ``l`` statements.
+
+A corner (``v``, ``v/vt``, ``v//vn``, ``v/vt/vn``) is parsed and its indices resolved to 0-based
+ones; the per-corner ``vt`` and ``vn`` references are then gathered per vertex. The kernels
+never raise on bad input: they return status codes, so the caller
+(:mod:`rasterkit._obj_statements`) can name the first bad line of the file.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit._jit import kernel
+from rasterkit.kernels.obj_scan import MINUS, PLUS, ZERO, is_digit, next_token
+
+# Status codes of one face or line corner (code, corner, attribute) written by parse_corners.
+INDEX_OK, INDEX_ZERO, INDEX_BEFORE_FIRST, INDEX_OUT_OF_RANGE, INDEX_MALFORMED = 0, 1, 2, 3, 4
+
+_SLASH = 47
+
+
+@kernel(inline="always")
+def _resolve(raw, before, total):
+    """0-based index and INDEX_* code of an OBJ index (1-based, or negative = relative)."""
+    if raw > 0:
+        if raw > total:
+            return -1, INDEX_OUT_OF_RANGE
+        return raw - 1, INDEX_OK
+    if raw < 0:
+        if before + raw < 0:
+            return -1, INDEX_BEFORE_FIRST
+        return before + raw, INDEX_OK
+    return -1, INDEX_ZERO
+
+
+@kernel
+def _parse_corner(buf, a, b):
+    """One corner token buf[a:b]: ``v``, ``v/vt``, ``v//vn`` or ``v/vt/vn``, where vt and vn
+    may be empty (``1//``). Each index is a signed integer of at most 18 digits.
+
+    Returns (v, vt, vn, present, ok): raw indices (0 when absent), bit k of present set when
+    field k was given, ok False when the token is malformed.
+    """
+    v = vt = vn = 0
+    present = 0
+    field = 0
+    value = 0
+    sign = 1
+    digits = 0
+    signed = False
+    for i in range(a, b + 1):
+        c = buf[i] if i < b else _SLASH  # the end of the token closes the last field
+        if c == _SLASH:
+            if field > 2 or digits > 18 or (digits == 0 and (signed or field == 0)):
+                return 0, 0, 0, 0, False
+            if digits > 0:
+                present |= 1 << field
+                if field == 0:
+                    v = sign * value
+                elif field == 1:
+                    vt = sign * value
+                else:
+                    vn = sign * value
+            field += 1
+            value, sign, digits, signed = 0, 1, 0, False
+        elif is_digit(c):
+            value = value * 10 + (c - ZERO)
+            digits += 1
+        elif (c == PLUS or c == MINUS) and digits == 0 and not signed:
+            sign = -1 if c == MINUS else 1
+            signed = True
+        else:
+            return 0, 0, 0, 0, False
+    return v, vt, vn, present, True
+
+
+@kernel
+def parse_corners(buf, starts, ends, offsets, before, totals):
+    """Parse and resolve the vertex references of f and l statements.
+
+    Parameters
+    ----------
+    buf : (B,) uint8
+    starts, ends : (S,) int64
+        Statement ranges.
+    offsets : (S + 1,) int64
+        Where each statement's corners go in the output (cumulative token counts).
+    before : (S, 3) int64
+        Number of v, vt, vn statements before each statement (for negative indices).
+    totals : (3,) int64
+        Number of v, vt, vn statements in the file.
+
+    Returns
+    -------
+    corners : (C, 3) int64
+        0-based v, vt, vn index of each corner; -1 where absent or invalid.
+    errors : (S, 3) int64
+        (INDEX_* code, corner, attribute 0/1/2) of the statement's first problem: the first bad
+        vertex reference if any, else the first bad vt/vn reference; code 0 when all is well.
+    """
+    rows = len(starts)
+    corners = np.full((offsets[rows], 3), -1, np.int64)
+    errors = np.zeros((rows, 3), np.int64)
+    for r in range(rows):
+        i = next_token(buf, starts[r], ends[r])[1]  # after the keyword
+        k = 0
+        while i < ends[r]:
+            a, i = next_token(buf, i, ends[r])
+            v, vt, vn, present, ok = _parse_corner(buf, a, i)
+            if not ok:
+                errors[r, 0], errors[r, 1], errors[r, 2] = INDEX_MALFORMED, k, 0
+                break
+            c = offsets[r] + k
+            for attribute, raw in ((0, v), (1, vt), (2, vn)):
+                if present & (1 << attribute):
+                    index, code = _resolve(raw, before[r, attribute], totals[attribute])
+                    corners[c, attribute] = index
+                    vertex_first = attribute == 0 and errors[r, 2] != 0
+                    if code != INDEX_OK and (errors[r, 0] == INDEX_OK or vertex_first):
+                        errors[r, 0], errors[r, 1], errors[r, 2] = code, k, attribute
+            k += 1
+    return corners, errors
+
+
+@kernel
+def first_per_vertex(vertex_index, attribute_index, n_vertices):
+    """(N,) int64: the attribute index of the first corner (in order) of each vertex that has
+    one (attribute_index >= 0), else -1."""
+    first = np.full(n_vertices, -1, np.int64)
+    for c in range(len(vertex_index)):
+        v = vertex_index[c]
+        if attribute_index[c] >= 0 and first[v] < 0:
+            first[v] = attribute_index[c]
+    return first
+
+
+@kernel
+def sum_per_vertex(vertex_index, attribute_index, attributes, n_vertices):
+    """(N, D) float64: per vertex, the sum of attributes[attribute_index] over its corners
+    (corners with attribute_index < 0 add nothing)."""
+    total = np.zeros((n_vertices, attributes.shape[1]))
+    for c in range(len(vertex_index)):
+        a = attribute_index[c]
+        if a >= 0:
+            for d in range(attributes.shape[1]):
+                total[vertex_index[c], d] += attributes[a, d]
+    return total
