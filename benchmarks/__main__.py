@@ -41,7 +41,7 @@ TINY_VARIABLE = "RASTERKIT_BENCH_TINY"
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
-                        help="a small version (about 5 minutes, most of it cold start-up runs)")
+                        help="a small version (about 3 minutes, most of it cold start-up runs)")
     parser.add_argument("--targets", action="store_true",
                         help="only the rasterization targets: 3 models at 1920x1080, the fill "
                              "scene and 2 threads vs 1 (about ten seconds; families render,fill,threads)")

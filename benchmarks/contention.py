@@ -210,9 +210,8 @@ def run(settings, results, peers) -> None:
                 continue
             if count == 1:
                 alone[side] = measured[side][0]["fps"]
-        if "rasterkit" not in measured:
-            continue
-        _records(results, base, count, measured, alone, width, height, seconds)
+        if "rasterkit" in measured:  # records need rasterkit's side; the summary lines do not
+            _records(results, base, count, measured, alone, width, height, seconds)
         for side in sides:
             if side in measured:
                 print(_summary(count, side, measured[side], alone.get(side)), flush=True)

@@ -172,7 +172,7 @@ def _cold(settings, results, scratch: Path, model_ok: bool) -> None:
                 else:
                     chained.append(_cold_run(steps, scratch))
             except RuntimeError as error:
-                results.skip(FAMILY, f"cold {what}", f"failed: {error}")
+                results.skip(FAMILY, f"startup/cold-{what}", f"failed: {error}")
                 failed.add(what)
     note = "new process, empty NUMBA_CACHE_DIR; max RSS = ru_maxrss of the process (os.wait4)"
     if alone:
@@ -230,11 +230,14 @@ def _warm(settings, results, peers, scratch: Path) -> None:
                                                         "--size", f"{width}x{height}", "--mode", "solid"])}
     if with_peer:
         sides[cli.PEER] = _Command(cli._commands(model, scratch, width, height)[cli.PEER])
-    # Two untimed runs at least: the first process after an edit of a kernel file compiles.
-    compare(results, FAMILY, f"startup/warm/solid/{settings.startup_model}/{width}x{height}", sides,
-            repeat=settings.process_repeat, warmup=max(settings.warmup, 2),
-            sizes={"width": width, "height": height, "MiB": round(model.stat().st_size / 2**20, 2)},
-            note="whole process with the normal (warm) caches: start-up, load, render, PNG")
+    name = f"startup/warm/solid/{settings.startup_model}/{width}x{height}"
+    try:
+        # Two untimed runs at least: the first process after an edit of a kernel file compiles.
+        compare(results, FAMILY, name, sides, repeat=settings.process_repeat, warmup=max(settings.warmup, 2),
+                sizes={"width": width, "height": height, "MiB": round(model.stat().st_size / 2**20, 2)},
+                note="whole process with the normal (warm) caches: start-up, load, render, PNG")
+    except RuntimeError as error:  # a run after the checking run failed (the code changed under us)
+        results.skip(FAMILY, name, f"failed during the timed runs: {error}")
 
 
 # ---------------------------------------------------------------------------- import
@@ -273,7 +276,11 @@ def _import(settings, results) -> None:
         sides[name] = side
     if len(sides) == 1:
         return
-    medians = interleaved(sides, settings.repeat, max(settings.warmup - 1, 0))
+    try:
+        medians = interleaved(sides, settings.repeat, max(settings.warmup - 1, 0))
+    except RuntimeError as error:  # a run after the checking run failed (the code changed under us)
+        results.skip(FAMILY, "startup/import", f"failed during the timed runs: {error}")
+        return
     for name in sides:
         if name == BARE:
             continue
