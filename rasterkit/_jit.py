@@ -58,7 +58,7 @@ def kernel(fn=None, *, inline: str = "never"):
     """
 
     def wrap(f):
-        return numba.njit(inline="never", **_OPTIONS)(f)
+        return numba.njit(inline=inline, **_OPTIONS)(f)
 
     return wrap if fn is None else wrap(fn)
 

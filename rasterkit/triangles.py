@@ -36,7 +36,8 @@ from rasterkit.kernels.tiles import (
     n_bands,
     slot_rows,
 )
-from rasterkit.kernels.triangle import (
+from rasterkit.kernels.fans import count_fans, setup_cut_faces
+from rasterkit.kernels.setup import (
     MAX_FAN,
     N_CHUNKS,
     N_STATUS,
@@ -45,12 +46,10 @@ from rasterkit.kernels.triangle import (
     STATUS_EMPTY,
     STATUS_NONFINITE,
     STATUS_OUTSIDE,
-    count_fans,
-    offset_depths,
-    setup_cut_faces,
     setup_faces,
     setup_vertices,
 )
+from rasterkit.kernels.triangle import offset_depths
 
 __all__ = ["FlatLambert", "TriangleStats", "rasterize_triangles"]
 
@@ -191,7 +190,7 @@ class FlatLambert:
     scale: float = 1.0
 
     def _lit(self, faces, packed):
-        """The ``lit`` tuple of :func:`rasterkit.kernels.triangle.setup_faces`, validated."""
+        """The ``lit`` tuple of :func:`rasterkit.kernels.setup.setup_faces`, validated."""
         m = faces.shape[0]
         _check_array("normals", self.normals, np.float32, 2)
         if self.normals.shape != (m, 3):

@@ -35,14 +35,12 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit._jit import kernel
+from rasterkit.kernels.limits import MAX_IMAGE_SIZE
 
 #: Guard band in pixels on each side of the image (see the module docstring). With images of
 #: at most ``MAX_IMAGE_SIZE`` pixels a side and 8 sub-pixel bits, fixed-point coordinates
 #: stay below 2**29 and edge functions below 2**60.
 GUARD_BAND = 2**20
-
-#: Largest width or height the guard band arithmetic is sized for.
-MAX_IMAGE_SIZE = 2**15
 
 # Rows of clip_planes(). CUT_MASK: planes a triangle is cut against; REJECT_MASK: planes
 # whose outside is invisible, so three vertices outside one of them reject the face.
@@ -293,7 +291,7 @@ is dropped, which keeps every product and difference of the clipping finite."""
 _MAX_BISECTIONS = 2200
 
 
-@kernel(inline="always")
+@kernel
 def _plane_distances(v):
     """Signed distances (>= 0 inside) of homogeneous point ``v`` to the six clip planes.
 
@@ -305,7 +303,7 @@ def _plane_distances(v):
     return (zh, w - zh, g + xh, g - xh, g + yh, g - yh)
 
 
-@kernel(inline="always")
+@kernel
 def segment_outcode(v):
     """Bit k set when ``v`` is outside clip plane k; 0 inside the visible region."""
     distances = _plane_distances(v)
@@ -346,7 +344,7 @@ def _inside_point(p, q):
     return False, a
 
 
-@kernel(inline="always")
+@kernel
 def _exit_point(c, e):
     """The last point of segment c -> e inside the visible region, ``c`` being inside.
 
@@ -365,7 +363,7 @@ def _exit_point(c, e):
     return (c[0] + t * (e[0] - c[0]), c[1] + t * (e[1] - c[1]), c[2] + t * (e[2] - c[2]), c[3] + t * (e[3] - c[3]))
 
 
-@kernel(inline="always")
+@kernel
 def clamp(value, lo, hi):
     return min(max(value, lo), hi)
 
@@ -397,7 +395,7 @@ def project_segment(p, q):
     return True, x0, y0, zh0 * inv0, x1, y1, zh1 * inv1
 
 
-@kernel(inline="always")
+@kernel
 def all_usable(values):
     """Whether every float of the tuple ``values`` is finite and at most MAX_COORDINATE."""
     for value in values:

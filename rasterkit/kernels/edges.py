@@ -31,7 +31,7 @@ MODE_DEPTH_TEST = 1
 MODE_ANTIALIAS = 2
 
 
-@kernel(inline="always")
+@kernel
 def _edge_segment(clip, proj, i, j):
     """Edge ``i``-``j`` in raster space: ``(status, (x0, y0, z0, x1, y1, z1))``.
 
@@ -50,7 +50,7 @@ def _edge_segment(clip, proj, i, j):
     return (1 if visible else 0), (x0, y0, z0, x1, y1, z1)
 
 
-@kernel(inline="always")
+@kernel
 def _band_frame(steep, width, ylo, yhi):
     """Strides and ranges of the band in (major u, minor v) terms.
 
@@ -62,7 +62,7 @@ def _band_frame(steep, width, ylo, yhi):
     return 1, width, 0, width - 1, ylo, yhi
 
 
-@kernel(inline="always")
+@kernel
 def _oriented(x0, y0, x1, y1, steep, swap):
     """The segment as ``(u0, v0, u1, v1)``: transposed if steep, reversed if swap."""
     u0, v0, u1, v1 = (y0, x0, y1, x1) if steep else (x0, y0, x1, y1)
@@ -71,13 +71,13 @@ def _oriented(x0, y0, x1, y1, steep, swap):
     return u0, v0, u1, v1
 
 
-@kernel(inline="always")
+@kernel
 def _depth_at(u, u0f, du, z0, gz):
     """Depth of the segment at the centre of major coordinate ``u``, clamped to its ends."""
     return z0 + min(max(u + 0.5 - u0f, 0.0), du) * gz
 
 
-@kernel(inline="always")
+@kernel
 def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
     """Draw one segment's integer line, restricted to rows ``[ylo, yhi]`` of the image."""
     xi0, yi0 = math.floor(seg[0]), math.floor(seg[1])
@@ -118,7 +118,7 @@ def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_te
         step_line(cflat, channels, rgba, pix, thi - tlo + 1, r, 2 * a, 2 * n, ustride, sv * vstride)
 
 
-@kernel(inline="always")
+@kernel
 def _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi):
     """Major columns ``[first, last]`` of a Wu segment that can touch the band.
 
@@ -174,7 +174,7 @@ def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bia
                     blend_pixel(cflat, pix, channels, rgba, coverage * weight)
 
 
-@kernel(inline="always")
+@kernel
 def _draw_record(cflat, width, channels, rgba, recs, e):
     """Step the Bresenham line of record ``e`` of :func:`plain_setup`."""
     packed = np.int64(recs[REC_STEPS, e]) & 0xFFFFFFFF
@@ -190,7 +190,7 @@ def _draw_record(cflat, width, channels, rgba, recs, e):
 _GATHER = 0x0102040810204080
 
 
-@kernel(inline="always")
+@kernel
 def _paint_tables(rgba):
     """For the masked colour pass of C = ``rgba.size`` channels, 8 pixels (C 64-bit words)
     at a time: ``select[bits]``, the C words with 0xFF in the bytes of the pixels whose bit
@@ -207,7 +207,7 @@ def _paint_tables(rgba):
     return select, paint
 
 
-@kernel(inline="always")
+@kernel
 def _paint_marked(cflat, mflat, lo, hi, rgba, select, paint):
     """Colour ``rgba`` into the pixels ``lo .. hi - 1`` whose mask byte is 1 (the others
     are 0): eight pixels per mask word, unmarked groups skipped, each marked group blended
@@ -238,7 +238,7 @@ def _paint_marked(cflat, mflat, lo, hi, rgba, select, paint):
         p += 1
 
 
-@kernel(inline="always")
+@kernel
 def _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, ylo, yhi, plain,
                 depth_test, antialias, bias):
     """Draw every edge's part in rows ``ylo .. yhi``; returns the number of dropped edges."""

@@ -11,7 +11,7 @@ Order
     order), so equal depths resolve the same way whatever the thread count: the image is
     bit-identical for 1 and N threads. Binning is a stable counting sort over the same
     face chunks as the setup stage (:data:`triangle.N_CHUNKS`), whose counting pass the
-    setup does (:func:`rasterkit.kernels.triangle.count_bands`).
+    setup does (:func:`rasterkit.kernels.setup.count_bands`).
 
 Scheduling
     :func:`draw_bands` runs once per thread *slot*; each slot takes the next band that no
@@ -33,7 +33,8 @@ from rasterkit._jit import kernel
 from rasterkit.kernels.clear import fill_bytes
 from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
-from rasterkit.kernels.triangle import N_CHUNKS, chunk_range, raster_band
+from rasterkit.kernels.setup import N_CHUNKS, chunk_range
+from rasterkit.kernels.triangle import raster_band
 
 #: Rows per band, ``1 << BAND_SHIFT`` (a shift: the face pass counts bands per face, and a
 #: division there cost 10 %). 32 rows of a 1920-pixel image keep the band's depth and
@@ -110,7 +111,7 @@ def _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, cursor, items, listed):
 
 @kernel
 def bin_cursors(band_counts):
-    """Turn the counts of :func:`rasterkit.kernels.triangle.count_bands` into cursors, in
+    """Turn the counts of :func:`rasterkit.kernels.setup.count_bands` into cursors, in
     place (band-major, then chunk, that is face, order), for :func:`bin_records`; returns
     ``band_start`` (n_bands + 1,) int64: bin ``b`` will be ``items[band_start[b]:
     band_start[b + 1]]``."""
@@ -144,7 +145,7 @@ def bin_records(slot, counter, n_faces, n_fan, fan_start, tri_box, band_counts, 
     band_counts : (N_CHUNKS, n_bands) int64
         The cursors of :func:`bin_cursors`; used up.
     listed : tuple
-        ``(faces_listed, n_listed)`` from :func:`rasterkit.kernels.triangle.setup_faces`:
+        ``(faces_listed, n_listed)`` from :func:`rasterkit.kernels.setup.setup_faces`:
         the faces that can have records; the others are skipped without being read.
     items : (band_start[-1],) int32
         Out: the record indices, bin after bin.
