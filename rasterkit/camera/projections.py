@@ -1,11 +1,12 @@
 """The named projections: which camera frames a bounding sphere for each of them.
 
-:data:`PROJECTIONS` lists the names that :meth:`rasterkit.Camera.preset` (and the command
-line's ``--projection``) accept. The functions here hold the geometry that the ``Camera``
-constructors share: the orbit direction (azimuth, elevation), the oblique offsets, the camera
-that frames a sphere, and ``preset``'s choice of constructor and its overrides. They return
-plain values or the keyword arguments of a ``Camera``; this module does not import the
-``Camera`` class (it imports this module).
+:data:`PROJECTIONS` (at home in :mod:`rasterkit.options`, which the command line reads
+without importing NumPy) lists the names that :meth:`rasterkit.Camera.preset` (and the
+command line's ``--projection``) accept. The functions here hold the geometry that the
+``Camera`` constructors share: the orbit direction (azimuth, elevation), the oblique
+offsets, the camera that frames a sphere, and ``preset``'s choice of constructor and its
+overrides. They return plain values or the keyword arguments of a ``Camera``; this module
+does not import the ``Camera`` class (it imports this module).
 """
 
 from __future__ import annotations
@@ -16,11 +17,8 @@ from typing import Any, Sequence, TypeVar
 
 import numpy as np
 
+from ..options import PROJECTIONS
 from .checks import finite, fov, point, positive, positive_int
-
-PROJECTIONS = ("perspective", "orthographic", "isometric", "dimetric", "trimetric", "cavalier",
-               "cabinet", "1-point", "2-point", "3-point")
-"""Names accepted by :meth:`Camera.preset` (and the command line's ``--projection``)."""
 
 #: Elevation (degrees) of an isometric view: the view direction is a cube diagonal, whose
 #: angle with the horizontal plane is atan(1/sqrt(2)) = 35.264°.

@@ -1,0 +1,46 @@
+"""The command line's notice that the kernels are compiling (first run only).
+
+A first render compiles the kernels for several seconds without a word; this prints one line
+on stderr as the first of rasterkit's kernels starts compiling, once per process. Numba
+fires its ``numba:compile`` event only when it compiles a function, after it has tried its
+on-disk cache (``Dispatcher.compile``), so a run whose kernels load from the cache prints
+nothing. The Python API never turns it on: only :mod:`rasterkit.cli` does, around its work.
+"""
+
+from __future__ import annotations
+
+import sys
+from contextlib import contextmanager
+from typing import Iterator
+
+from numba.core import event
+
+# The time: 10-20 s for a first render on two busy cores, less when other kernels are already
+# cached (a first `info` takes about 7 s, a first solid render after a hidden one 1 s).
+MESSAGE = ("rasterkit: compiling the kernels for first use "
+           "(up to about 20 s; cached for later runs)...")
+
+_shown = False
+
+
+class _FirstCompile(event.Listener):
+    """Prints :data:`MESSAGE` when the first rasterkit function starts compiling."""
+
+    def on_start(self, ev: event.Event) -> None:
+        global _shown
+        if _shown:
+            return
+        module = getattr(ev.data["dispatcher"].py_func, "__module__", None) or ""
+        if module == "rasterkit" or module.startswith("rasterkit."):
+            _shown = True
+            print(MESSAGE, file=sys.stderr, flush=True)
+
+    def on_end(self, ev: event.Event) -> None:
+        pass
+
+
+@contextmanager
+def compile_notice() -> Iterator[None]:
+    """Within the block, announce on stderr the first compilation of a rasterkit kernel."""
+    with event.install_listener("numba:compile", _FirstCompile()):
+        yield

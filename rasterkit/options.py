@@ -1,0 +1,24 @@
+"""The lists of choices and the size limit: one home, shared by the command line and the API.
+
+Pure Python: importing this module imports neither NumPy nor Numba, so the command line
+builds its parser, answers ``--help`` and rejects bad arguments without loading the kernels.
+"""
+
+from .kernels.limits import MAX_IMAGE_SIZE
+
+__all__ = ["CULL", "MAX_IMAGE_SIZE", "MODES", "PROJECTIONS", "SHADING"]
+
+#: What :func:`rasterkit.render` draws: every edge; only the visible parts of the edges;
+#: shaded triangles; shaded triangles with their visible edges on top.
+MODES = ("wire", "hidden", "solid", "solid+wire")
+
+#: Which triangles are removed before rasterization: those facing away from the camera,
+#: those facing it, or none.
+CULL = ("back", "front", "none")
+
+#: Lambert shading per face, or per vertex (Gouraud).
+SHADING = ("flat", "smooth")
+
+PROJECTIONS = ("perspective", "orthographic", "isometric", "dimetric", "trimetric", "cavalier",
+               "cabinet", "1-point", "2-point", "3-point")
+"""Names accepted by :meth:`Camera.preset` (and the command line's ``--projection``)."""

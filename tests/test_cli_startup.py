@@ -1,0 +1,109 @@
+"""A first use of the command line: help and usage errors come at once, without Numba, and
+the first render says that the kernels are compiling (and a cached run says nothing)."""
+
+import argparse
+import importlib
+import os
+import subprocess
+import sys
+
+import pytest
+
+import rasterkit
+from rasterkit import options
+from rasterkit._notice import MESSAGE
+from rasterkit.cli import _parser
+
+ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+
+# Runs the command line in a fresh interpreter; prints the exit code and which of the heavy
+# modules got imported (NumPy too: it alone would take --help past its 0.15 s budget).
+MAIN = """
+import sys
+from rasterkit.cli import main
+try:
+    code = main(sys.argv[1:])
+except SystemExit as e:
+    code = e.code
+print(code, [m for m in ("numba", "llvmlite", "numpy") if m in sys.modules])
+"""
+
+
+def _fresh(code: str, *argv: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True,
+                          env=ENV, timeout=120)
+
+
+def _main(*argv: str) -> tuple[str, subprocess.CompletedProcess]:
+    done = _fresh(MAIN, *argv)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.splitlines()[-1], done
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["render", "--help"], ["info", "--help"]])
+def test_help_imports_neither_numba_nor_numpy(argv):
+    last, done = _main(*argv)
+    assert last == "0 []"
+    assert "usage: rasterkit" in done.stdout
+
+
+@pytest.mark.parametrize("argv", [
+    ["render", "--demo", "-o", "x.png", "--size", "12by4"],
+    ["render", "--demo", "-o", "x.png", "--size", "40000x4"],
+    ["render", "--demo", "-o", "x.png", "--mode", "sketchy"],
+    ["render", "-o", "x.png"],
+    ["info"],
+])
+def test_usage_errors_exit_2_without_numba(argv, tmp_path):
+    last, done = _main(*argv)
+    assert last == "2 []"
+    assert done.stderr.startswith("rasterkit: error:") and done.stderr.count("\n") == 1
+
+
+def test_import_rasterkit_alone_imports_no_numba():
+    done = _fresh("import sys, rasterkit, rasterkit.options, rasterkit.kernels.limits\n"
+                  "print([m for m in ('numba', 'llvmlite', 'numpy') if m in sys.modules])\n"
+                  "print(rasterkit.camera.Camera.__name__)")  # submodules still load on use
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["[]", "Camera"]
+
+
+def test_every_public_name_resolves_and_is_listed():
+    for name in rasterkit.__all__:
+        assert getattr(rasterkit, name) is not None, name
+    assert set(rasterkit.__all__) <= set(dir(rasterkit))
+    with pytest.raises(AttributeError):
+        rasterkit.no_such_name
+
+
+def test_render_stays_the_function_after_its_module_is_imported():
+    module = importlib.import_module("rasterkit.render")
+    assert rasterkit.render is module.render and callable(rasterkit.render)
+
+
+def test_each_list_of_choices_has_one_home():
+    from rasterkit.camera import PROJECTIONS
+    from rasterkit.kernels.clip import MAX_IMAGE_SIZE
+
+    assert PROJECTIONS is options.PROJECTIONS is rasterkit.PROJECTIONS
+    assert MAX_IMAGE_SIZE is options.MAX_IMAGE_SIZE
+    render_module = importlib.import_module("rasterkit.render")
+    assert (render_module.MODES, render_module.CULL, render_module.SHADING) == (
+        options.MODES, options.CULL, options.SHADING)
+    commands = next(a for a in _parser()._actions if isinstance(a, argparse._SubParsersAction))
+    choices = {a.dest: tuple(a.choices) for a in commands.choices["render"]._actions if a.choices}
+    assert choices == {"mode": options.MODES, "projection": options.PROJECTIONS,
+                       "cull": options.CULL, "shading": options.SHADING}
+
+
+def test_first_render_announces_the_compile_once_and_a_cached_run_is_silent(tmp_path):
+    # The one test here that compiles kernels (the wire path: 10-20 s): an empty cache.
+    env = {**ENV, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    argv = [sys.executable, "-m", "rasterkit", "render", "--demo", "-o", str(tmp_path / "d.png"),
+            "--size", "32x24"]
+    first = subprocess.run(argv, capture_output=True, text=True, env=env, timeout=600)
+    assert first.returncode == 0, first.stderr
+    assert first.stderr == MESSAGE + "\n"
+    second = subprocess.run(argv, capture_output=True, text=True, env=env, timeout=600)
+    assert second.returncode == 0, second.stderr
+    assert second.stderr == ""
