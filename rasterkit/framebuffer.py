@@ -9,6 +9,7 @@ import numpy as np
 from . import _memory
 from .colors import ColorLike, parse_color
 from .image import save_image, to_pil
+from .options import MAX_IMAGE_SIZE
 
 __all__ = ["Framebuffer"]
 
@@ -55,8 +56,10 @@ class Framebuffer:
     def __init__(self, width: int, height: int, alpha: bool = False,
                  background: ColorLike = "white", ids: bool = False, *, cleared: bool = True):
         if isinstance(width, bool) or isinstance(height, bool) or int(width) != width \
-                or int(height) != height or not (1 <= width <= 32768 and 1 <= height <= 32768):
-            raise ValueError(f"size must be whole numbers from 1 to 32768, got {width}x{height}")
+                or int(height) != height \
+                or not (1 <= width <= MAX_IMAGE_SIZE and 1 <= height <= MAX_IMAGE_SIZE):
+            raise ValueError(
+                f"size must be whole numbers from 1 to {MAX_IMAGE_SIZE}, got {width}x{height}")
         self.background = parse_color(background)
         alpha = bool(alpha) or self.background[3] < 255
         self.width, self.height = int(width), int(height)
