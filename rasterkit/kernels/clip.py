@@ -291,7 +291,7 @@ is dropped, which keeps every product and difference of the clipping finite."""
 _MAX_BISECTIONS = 2200
 
 
-@kernel
+@kernel(inline="always")
 def _plane_distances(v):
     """Signed distances (>= 0 inside) of homogeneous point ``v`` to the six clip planes.
 
@@ -303,7 +303,7 @@ def _plane_distances(v):
     return (zh, w - zh, g + xh, g - xh, g + yh, g - yh)
 
 
-@kernel
+@kernel(inline="always")
 def segment_outcode(v):
     """Bit k set when ``v`` is outside clip plane k; 0 inside the visible region."""
     distances = _plane_distances(v)
@@ -344,7 +344,7 @@ def _inside_point(p, q):
     return False, a
 
 
-@kernel
+@kernel(inline="always")
 def _exit_point(c, e):
     """The last point of segment c -> e inside the visible region, ``c`` being inside.
 
@@ -363,7 +363,7 @@ def _exit_point(c, e):
     return (c[0] + t * (e[0] - c[0]), c[1] + t * (e[1] - c[1]), c[2] + t * (e[2] - c[2]), c[3] + t * (e[3] - c[3]))
 
 
-@kernel
+@kernel(inline="always")
 def clamp(value, lo, hi):
     return min(max(value, lo), hi)
 
@@ -395,7 +395,7 @@ def project_segment(p, q):
     return True, x0, y0, zh0 * inv0, x1, y1, zh1 * inv1
 
 
-@kernel
+@kernel(inline="always")
 def all_usable(values):
     """Whether every float of the tuple ``values`` is finite and at most MAX_COORDINATE."""
     for value in values:

@@ -31,7 +31,7 @@ MODE_DEPTH_TEST = 1
 MODE_ANTIALIAS = 2
 
 
-@kernel
+@kernel(inline="always")
 def _edge_segment(clip, proj, i, j):
     """Edge ``i``-``j`` in raster space: ``(status, (x0, y0, z0, x1, y1, z1))``.
 
@@ -50,7 +50,7 @@ def _edge_segment(clip, proj, i, j):
     return (1 if visible else 0), (x0, y0, z0, x1, y1, z1)
 
 
-@kernel
+@kernel(inline="always")
 def _band_frame(steep, width, ylo, yhi):
     """Strides and ranges of the band in (major u, minor v) terms.
 
@@ -62,7 +62,7 @@ def _band_frame(steep, width, ylo, yhi):
     return 1, width, 0, width - 1, ylo, yhi
 
 
-@kernel
+@kernel(inline="always")
 def _oriented(x0, y0, x1, y1, steep, swap):
     """The segment as ``(u0, v0, u1, v1)``: transposed if steep, reversed if swap."""
     u0, v0, u1, v1 = (y0, x0, y1, x1) if steep else (x0, y0, x1, y1)
@@ -71,13 +71,13 @@ def _oriented(x0, y0, x1, y1, steep, swap):
     return u0, v0, u1, v1
 
 
-@kernel
+@kernel(inline="always")
 def _depth_at(u, u0f, du, z0, gz):
     """Depth of the segment at the centre of major coordinate ``u``, clamped to its ends."""
     return z0 + min(max(u + 0.5 - u0f, 0.0), du) * gz
 
 
-@kernel
+@kernel(inline="always")
 def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
     """Draw one segment's integer line, restricted to rows ``[ylo, yhi]`` of the image."""
     xi0, yi0 = math.floor(seg[0]), math.floor(seg[1])
@@ -118,7 +118,7 @@ def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_te
         step_line(cflat, channels, rgba, pix, thi - tlo + 1, r, 2 * a, 2 * n, ustride, sv * vstride)
 
 
-@kernel
+@kernel(inline="always")
 def _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi):
     """Major columns ``[first, last]`` of a Wu segment that can touch the band.
 
@@ -174,7 +174,7 @@ def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bia
                     blend_pixel(cflat, pix, channels, rgba, coverage * weight)
 
 
-@kernel
+@kernel(inline="always")
 def _draw_record(cflat, width, channels, rgba, recs, e):
     """Step the Bresenham line of record ``e`` of :func:`plain_setup`."""
     packed = np.int64(recs[REC_STEPS, e]) & 0xFFFFFFFF
@@ -251,7 +251,10 @@ def _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, yl
                 if jhi < ylo or jlo > yhi:
                     continue
                 if jlo >= ylo and jhi <= yhi:
-                    _draw_record(cflat, width, channels, rgba, recs, e)
+                    if channels == 1:  # a band's mask: one byte per pixel, a copy of its own
+                        _draw_record(cflat, width, 1, rgba, recs, e)
+                    else:
+                        _draw_record(cflat, width, channels, rgba, recs, e)
                     continue
         status, seg = _edge_segment(clip, proj, edges[e, 0], edges[e, 1])
         if status <= 0:
@@ -354,12 +357,9 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
             fill_bytes(mask, ylo * width, (yhi + 1) * width, zeros)
         elif clear:
             fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
-        if marked:  # constants in this copy: one byte per pixel, plain lines
-            lost = _band_edges(mask, dflat, width, 1, one, clip, proj, edges, recs, ylo, yhi,
-                               True, False, False, 0.0)
-        else:
-            lost = _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, ylo, yhi,
-                               plain, depth_test, antialias, bias)
+        target, target_channels, ink = (mask, 1, one) if marked else (cflat, channels, rgba)
+        lost = _band_edges(target, dflat, width, target_channels, ink, clip, proj, edges, recs, ylo, yhi,
+                           plain, depth_test, antialias, bias)
         if band == DROPPED_BAND:
             dropped = lost
         if marked:

@@ -39,13 +39,13 @@ METHOD_DDA = 1
 METHOD_NAIVE = 2
 
 
-@kernel
+@kernel(inline="always")
 def tie_offset(dv):
     """``c`` of the module docstring: ties step towards +v, i.e. only when ``dv > 0``."""
     return 0 if dv > 0 else 1
 
 
-@kernel
+@kernel(inline="always")
 def minor_steps(t, n, a, c):
     """Minor steps ``k(t)`` taken before major step ``t`` and the error term ``r(t)``."""
     if a == 0:
@@ -58,7 +58,7 @@ def minor_steps(t, n, a, c):
     return k, numerator - 2 * n * k
 
 
-@kernel
+@kernel(inline="always")
 def step_range(u0, v0, n, a, sv, c, ulo, uhi, vlo, vhi):
     """Major steps ``t`` in ``[0, n]`` whose pixel lies in ``[ulo, uhi] x [vlo, vhi]``.
 
@@ -163,14 +163,14 @@ def line_pixels(x0, y0, x1, y1, method):
     return out
 
 
-@kernel
+@kernel(inline="always")
 def put_pixel(cflat, pix, channels, rgba):
     base = pix * channels
     for ch in range(channels):
         cflat[base + ch] = rgba[ch]
 
 
-@kernel
+@kernel(inline="always")
 def blend_pixel(cflat, pix, channels, rgba, weight):
     """Blend ``rgba`` into pixel ``pix`` with coverage ``weight`` in [0, 1], rounding."""
     base = pix * channels
@@ -179,7 +179,7 @@ def blend_pixel(cflat, pix, channels, rgba, weight):
         cflat[base + ch] = np.uint8(old + (np.float64(rgba[ch]) - old) * weight + 0.5)
 
 
-@kernel
+@kernel(inline="always")
 def _short_steps(cflat, value, pix, count, r, two_a, two_n, ustride, vstride, slots):
     """:func:`step_line` into a one-byte-per-pixel buffer for a line of ``count <= slots``
     pixels: exactly ``slots`` steps (a constant, so LLVM unrolls them), the ones past the
@@ -193,7 +193,7 @@ def _short_steps(cflat, value, pix, count, r, two_a, two_n, ustride, vstride, sl
         pix += np.int64(k + 1 < count) * (ustride + (vstride if step else 0))
 
 
-@kernel
+@kernel(inline="always")
 def step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride):
     """The Bresenham loop without a depth test: ``count`` pixels from pixel index ``pix``,
     ``ustride`` pixels per major step, ``vstride`` more on a minor step. The minor step is
