@@ -70,6 +70,11 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
     else:
         work = counts.sum(axis=0)
     bounds = _setup.balanced_bands(work, n_bands, height)
-    dropped = _parallel(_kernels.draw_edge_bands, color, depth if depth is not None else _NO_DEPTH, clip, edges,
-                        rgba, mode, bias, bounds, background, memory, threads=threads)
+    if plain:  # a kernel of its own: a wireframe compiles nothing of the other modes
+        dropped = _parallel(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,
+                            threads=threads)
+    else:
+        worker = _kernels.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _kernels.draw_edge_bands
+        dropped = _parallel(worker, color, depth if depth is not None else _NO_DEPTH, clip, edges, rgba, mode, bias,
+                            bounds, background, memory, threads=threads)
     return max(dropped)

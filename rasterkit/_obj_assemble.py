@@ -32,7 +32,12 @@ def triangulate(vertices, faces: Elements, keep: np.ndarray):
     """Triangles (M, 3) int64 of the kept polygons, and the polygon (M,) of each."""
     if faces.count == 0:
         return np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
-    triangles = obj_polygons.triangulate(vertices, faces.vertex_indices, faces.offsets, keep)
+    if np.all(faces.sizes == 3):  # a triangle mesh: the same rows, without compiling the kernel
+        triangles = faces.vertex_indices.reshape(-1, 3).copy()
+        a, b, c = triangles.T
+        triangles[~keep | (a == b) | (b == c) | (c == a)] = -1
+    else:
+        triangles = obj_polygons.triangulate(vertices, faces.vertex_indices, faces.offsets, keep)
     polygon = np.repeat(np.arange(faces.count), faces.sizes - 2)
     valid = triangles[:, 0] >= 0
     return np.ascontiguousarray(triangles[valid]), polygon[valid]

@@ -238,48 +238,149 @@ def _paint_marked(cflat, mflat, lo, hi, rgba, select, paint):
         p += 1
 
 
+@kernel(inline="always")
+def _band_segment(clip, proj, edges, e, ylo, yhi):
+    """Edge ``e`` clipped and projected (:func:`_edge_segment`): ``(status, seg)``, status
+    1 when it may touch rows ``ylo .. yhi``, 0 when it cannot (or nothing is left of it),
+    -1 when it is dropped (a NaN, infinite or too large coordinate)."""
+    status, seg = _edge_segment(clip, proj, edges[e, 0], edges[e, 1])
+    # Wu's two pixels and its end-column centres reach up to 2 rows beyond the ends.
+    if status > 0 and (math.floor(min(seg[1], seg[4])) - 2 > yhi or math.floor(max(seg[1], seg[4])) + 2 < ylo):
+        status = 0
+    return status, seg
+
+
 @kernel
-def _band_edges(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, ylo, yhi, plain,
-                depth_test, antialias, bias):
-    """Draw every edge's part in rows ``ylo .. yhi``; returns the number of dropped edges."""
+def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, ylo, yhi):
+    """Plain edges' parts in rows ``ylo .. yhi``: an edge with a record that lies wholly in
+    the band is stepped from its record, any other by the general path without a depth
+    test. ``channels`` 1 is a band's mask. Returns the number of dropped edges."""
     dropped = 0
     for e in range(edges.shape[0]):
-        if plain:
-            rows = recs[REC_ROWS, e]
-            if rows >= 0:
-                jlo, jhi = rows & 0xFFFF, rows >> 16
-                if jhi < ylo or jlo > yhi:
-                    continue
-                if jlo >= ylo and jhi <= yhi:
-                    if channels == 1:  # a band's mask: one byte per pixel, a copy of its own
-                        _draw_record(cflat, width, 1, rgba, recs, e)
-                    else:
-                        _draw_record(cflat, width, channels, rgba, recs, e)
-                    continue
-        status, seg = _edge_segment(clip, proj, edges[e, 0], edges[e, 1])
-        if status <= 0:
-            dropped += status < 0
-            continue
-        # Wu's two pixels and its end-column centres reach up to 2 rows beyond the ends.
-        if math.floor(min(seg[1], seg[4])) - 2 > yhi or math.floor(max(seg[1], seg[4])) + 2 < ylo:
-            continue
-        if antialias:
+        rows = recs[REC_ROWS, e]
+        if rows >= 0:
+            jlo, jhi = rows & 0xFFFF, rows >> 16
+            if jhi < ylo or jlo > yhi:
+                continue
+            if jlo >= ylo and jhi <= yhi:
+                if channels == 1:  # a band's mask: one byte per pixel, a copy of its own
+                    _draw_record(cflat, width, 1, rgba, recs, e)
+                else:
+                    _draw_record(cflat, width, channels, rgba, recs, e)
+                continue
+        status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
+        dropped += status < 0
+        if status > 0:
+            _draw_bresenham(cflat, no_depth, width, channels, rgba, seg, ylo, yhi, False, 0.0)
+    return dropped
+
+
+@kernel
+def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, ylo, yhi, bias):
+    """Depth-tested edges' parts in rows ``ylo .. yhi`` (Bresenham); returns the number of
+    dropped edges."""
+    dropped = 0
+    for e in range(edges.shape[0]):
+        status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
+        dropped += status < 0
+        if status > 0:
+            _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, True, bias)
+    return dropped
+
+
+@kernel
+def _band_antialiased(cflat, dflat, width, channels, rgba, clip, proj, edges, ylo, yhi, depth_test, bias):
+    """Anti-aliased (Wu) edges' parts in rows ``ylo .. yhi``, depth-tested or not; returns
+    the number of dropped edges."""
+    dropped = 0
+    for e in range(edges.shape[0]):
+        status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
+        dropped += status < 0
+        if status > 0:
             _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
-        else:
-            _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
+    return dropped
+
+
+@kernel(inline="always")
+def _buffers(color, depth, background):
+    """``(cflat, dflat, width, row_bytes, clear, pattern)``: the colour and depth buffers
+    flattened, the image width, the bytes per colour row, whether to clear to
+    ``background`` and its :func:`rasterkit.kernels.clear.background_pattern`."""
+    height, width, channels = color.shape
+    clear = background.size == channels
+    pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
+    return color.reshape(color.size), depth.reshape(depth.size), width, width * channels, clear, pattern
+
+
+@kernel(inline="always")
+def _next_band(counter, bounds, cflat, row_bytes, clear, pattern):
+    """Claim the next band (``-1`` when none is left) and clear its colour rows (when
+    ``clear``); returns ``(band, ylo, yhi)``."""
+    band = fetch_add(counter, 0, 1)
+    if band >= bounds.size - 1:
+        return -1, 0, 0
+    ylo, yhi = bounds[band], bounds[band + 1] - 1
+    if clear:
+        fill_bytes(cflat, ylo * row_bytes, (yhi + 1) * row_bytes, pattern)
+    return band, ylo, yhi
+
+
+@kernel
+def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background, scratch):
+    """:func:`draw_edge_bands` for plain edges (``MODE_PLAIN``: no depth test, no
+    anti-aliasing), the wireframe's fast road, compiled apart so that a wireframe compiles
+    nothing of the other modes. The arguments are those of :func:`draw_edge_bands`
+    without ``depth``, ``mode`` and ``bias``; in ``scratch``, ``pixels`` and ``recs`` come
+    from :func:`plain_setup`. With a background and a ``mask`` of H * W bytes, each band
+    first marks its edges' pixels in the mask (one byte store per pixel, in a buffer a third
+    the size of an RGB image that stays in the thread's cache), then clears its colour rows
+    and paints the marked pixels 8 at a time."""
+    proj, _, recs, mask = scratch
+    height, width, channels = color.shape
+    cflat = color.reshape(color.size)
+    no_depth = np.empty(0, np.float32)
+    clear = background.size == channels
+    pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
+    marked = clear and mask.size >= height * width
+    # the 8-pixel paint tables, only for the marked (mask) path
+    select, paint = _paint_tables(rgba if marked else rgba[:0])
+    one = np.ones(1, np.uint8)
+    zeros = np.zeros(PATTERN_BYTES, np.uint8)
+    target, target_channels, ink = (mask, 1, one) if marked else (cflat, channels, rgba)
+    dropped = 0
+    while True:  # claim the next band until none is left
+        band = fetch_add(counter, 0, 1)
+        if band >= bounds.size - 1:
+            break
+        lo, hi = bounds[band] * width, bounds[band + 1] * width  # the band's pixels
+        if marked:  # into the mask (one channel, value 1), then paint
+            fill_bytes(mask, lo, hi, zeros)
+        elif clear:
+            fill_bytes(cflat, lo * channels, hi * channels, pattern)
+        lost = _band_wire(target, no_depth, width, target_channels, ink, clip, proj, edges, recs, bounds[band],
+                          bounds[band + 1] - 1)
+        if band == DROPPED_BAND:
+            dropped = lost
+        if marked:
+            fill_bytes(cflat, lo * channels, hi * channels, pattern)
+            _paint_marked(cflat, mask, lo, hi, rgba, select, paint)
     return dropped
 
 
 @kernel
 def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, bounds, background, scratch):
-    """Draw the edges of a mesh into a framebuffer, band by band: each the next band that
-    no worker has claimed yet (through ``counter``), until none are left; returns the
-    number of edges this worker dropped (each band sees every edge, so the dropped edges
-    of any one band are all of them: the driver reads band 0's, :data:`DROPPED_BAND`).
+    """Draw depth-tested edges (hidden lines, the edges of solid+wire) into a framebuffer,
+    band by band: each the next band that no worker has claimed yet (through ``counter``),
+    until none are left; returns the number of edges this worker dropped (each band sees
+    every edge, so the dropped edges of any one band are all of them: the driver reads
+    band 0's, :data:`DROPPED_BAND`).
 
     A worker of :func:`rasterkit._jit.run_parallel`; ``slot`` is unused. The driver,
-    :mod:`rasterkit._edges`, runs :func:`project_vertices` (and, plain, :func:`plain_setup`
-    and :func:`record_work`) first, and :func:`balanced_bands` gives ``bounds``.
+    :mod:`rasterkit._edges`, runs :func:`project_vertices` first, :func:`balanced_bands`
+    gives ``bounds``, and it picks the worker by mode: this one for ``MODE_DEPTH_TEST``,
+    :func:`draw_wire_bands` for ``MODE_PLAIN``, :func:`draw_antialiased_bands` for
+    ``MODE_ANTIALIAS`` (with or without the depth test). Each is compiled on its own, so
+    a mode compiles only its own drawing code.
 
     Parameters
     ----------
@@ -310,15 +411,9 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
         Written to every pixel of a band by the worker that draws the band, right before
         its edges (nothing is cleared when it is empty).
     scratch : tuple
-        ``(proj, pixels, recs, mask)``: ``proj`` (N, 4) float64 from
-        :func:`project_vertices`; in plain mode ``pixels`` (N,) int64 and ``recs``
-        (REC_FIELDS, E) int32 from :func:`plain_setup` (without rows in the other modes).
-        ``mask`` (H * W,) uint8 is for plain mode with a background: each band first marks
-        its edges' pixels in the mask (one byte store per pixel, in a buffer a third the
-        size of an RGB image that stays in the thread's cache), then clears its colour rows
-        and paints the marked pixels 8 at a time. With any other mode or without a
-        background, or when ``mask`` is smaller, the edges are drawn into the colour buffer
-        directly. The image is the same either way.
+        ``(proj, pixels, recs, mask)`` (:func:`rasterkit._edges.scratch`): ``proj`` (N, 4)
+        float64 from :func:`project_vertices`; the others are read by
+        :func:`draw_wire_bands` only.
 
     Notes
     -----
@@ -333,38 +428,37 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
     coordinate beyond ``MAX_COORDINATE`` (or NaN, inf) are dropped and counted. The image
     must be smaller than ``SEGMENT_GUARD_BAND`` on each side.
     """
-    proj, pixels, recs, mask = scratch
-    height, width, channels = color.shape
-    depth_test = (mode & MODE_DEPTH_TEST) != 0
-    antialias = (mode & MODE_ANTIALIAS) != 0
-    plain = not depth_test and not antialias
-    cflat = color.reshape(color.size)
-    dflat = depth.reshape(depth.size)
-    clear = background.size == channels
-    pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
-    marked = plain and clear and mask.size >= height * width
-    # the 8-pixel paint tables, only for the marked (mask) path
-    select, paint = _paint_tables(rgba if marked else rgba[:0])
-    one = np.ones(1, np.uint8)
-    zeros = np.zeros(PATTERN_BYTES, np.uint8)
+    proj = scratch[0]
+    cflat, dflat, width, row_bytes, clear, pattern = _buffers(color, depth, background)
     dropped = 0
-    while True:  # claim the next piece until none is left
-        band = fetch_add(counter, 0, 1)
-        if band >= bounds.size - 1:
+    while True:  # claim the next band until none is left
+        band, ylo, yhi = _next_band(counter, bounds, cflat, row_bytes, clear, pattern)
+        if band < 0:
             break
-        ylo, yhi = bounds[band], bounds[band + 1] - 1
-        if marked:  # into the mask (one channel, value 1), then paint
-            fill_bytes(mask, ylo * width, (yhi + 1) * width, zeros)
-        elif clear:
-            fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
-        target, target_channels, ink = (mask, 1, one) if marked else (cflat, channels, rgba)
-        lost = _band_edges(target, dflat, width, target_channels, ink, clip, proj, edges, recs, ylo, yhi,
-                           plain, depth_test, antialias, bias)
+        lost = _band_depth_tested(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, ylo, yhi, bias)
         if band == DROPPED_BAND:
             dropped = lost
-        if marked:
-            fill_bytes(cflat, ylo * width * channels, (yhi + 1) * width * channels, pattern)
-            _paint_marked(cflat, mask, ylo * width, (yhi + 1) * width, rgba, select, paint)
+    return dropped
+
+
+@kernel
+def draw_antialiased_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, bounds, background,
+                           scratch):
+    """:func:`draw_edge_bands` for anti-aliased edges (``MODE_ANTIALIAS``, depth-tested
+    with ``MODE_DEPTH_TEST``): Xiaolin Wu's lines, compiled apart so that the other modes
+    compile none of them."""
+    proj = scratch[0]
+    cflat, dflat, width, row_bytes, clear, pattern = _buffers(color, depth, background)
+    depth_test = (mode & MODE_DEPTH_TEST) != 0
+    dropped = 0
+    while True:  # claim the next band until none is left
+        band, ylo, yhi = _next_band(counter, bounds, cflat, row_bytes, clear, pattern)
+        if band < 0:
+            break
+        lost = _band_antialiased(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, ylo, yhi, depth_test,
+                                 bias)
+        if band == DROPPED_BAND:
+            dropped = lost
     return dropped
 
 

@@ -163,7 +163,7 @@ def bin_records(slot, counter, n_faces, n_fan, fan_start, tri_box, band_counts, 
         drawn[ch] = _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, band_counts, items, listed)
 
 
-@kernel(inline="always")
+@kernel
 def _clear_depth(band_depth):
     """Every depth of a band's rows to +inf (a plain loop with unsigned indices: Numba's
     slice assignment is ten times slower here)."""
@@ -173,7 +173,7 @@ def _clear_depth(band_depth):
             band_depth[ru, np.uint64(i)] = np.inf
 
 
-@kernel(inline="always")
+@kernel
 def _clear_band(y0, y1, target, clear):
     """Clear image rows ``y0 .. y1 - 1`` of the ids (-1) and the colour (background)."""
     _, _, height, _, write_ids, ids = target
