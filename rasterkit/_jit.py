@@ -147,6 +147,17 @@ if hasattr(os, "register_at_fork"):
     os.register_at_fork(after_in_child=_forget_pool)
 
 
+_intercept = None
+
+
+def intercept(hook) -> None:
+    """Have ``hook(worker, args)`` see every :func:`run_parallel` call first (None: no
+    hook); when it returns a list, that is the call's result and the worker does not run.
+    :mod:`rasterkit._warm` uses it to compile the band workers in a second process."""
+    global _intercept
+    _intercept = hook
+
+
 def run_parallel(worker, *args, threads: int | None = None) -> list:
     """Call ``worker(slot, *args)`` on ``threads`` threads at once (default
     :func:`get_threads`), slots ``0 .. threads - 1``; returns their results in slot order.
@@ -155,6 +166,10 @@ def run_parallel(worker, *args, threads: int | None = None) -> list:
     on the caller's thread alone (slot 0 only): a worker must claim its work from a shared
     counter, never assume that every slot runs.
     """
+    if _intercept is not None:
+        result = _intercept(worker, args)
+        if result is not None:
+            return result
     n = get_threads() if threads is None else threads
     pool = _pool
     if n <= 1 or not pool.busy.acquire(blocking=False):

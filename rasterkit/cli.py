@@ -192,6 +192,7 @@ def _camera(args, center, radius):
 def _render_job(job: _Job, args) -> None:
     import numpy as np
 
+    from . import _warm
     from .image import atomic_write, save_animation
     from .obj import load_obj
     from .render import render
@@ -199,6 +200,8 @@ def _render_job(job: _Job, args) -> None:
     from .shapes import demo
     from .transform import rotate_axis
 
+    _warm.start(dict(mode=args.mode, cull=args.cull, shading=args.shading, background=args.background,
+                     aa=args.aa), depth=bool(args.depth), loading=job.source is not None)
     mesh = demo() if job.source is None else load_obj(job.source)
     for warning in mesh.warnings:
         print(f"rasterkit: warning: {warning}", file=sys.stderr)

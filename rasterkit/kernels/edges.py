@@ -24,7 +24,7 @@ from rasterkit.kernels.clear import PATTERN_BYTES, background_pattern, fill_byte
 from rasterkit.kernels.clip import project_segment
 from rasterkit.kernels.edge_setup import REC_PIX, REC_ROWS, REC_STEPS
 from rasterkit.kernels.intrinsics import fetch_add
-from rasterkit.kernels.line import blend_pixel, minor_steps, put_pixel, step_range, step_line, tie_offset
+from rasterkit.kernels.line import blend_pixel, minor_steps, put_pixel, step_line, step_mask, step_range, tie_offset
 
 MODE_PLAIN = 0
 MODE_DEPTH_TEST = 1
@@ -175,15 +175,16 @@ def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bia
 
 
 @kernel(inline="always")
-def _draw_record(cflat, width, channels, rgba, recs, e):
-    """Step the Bresenham line of record ``e`` of :func:`plain_setup`."""
+def _record_steps(width, recs, e):
+    """The Bresenham loop state of record ``e`` of :func:`plain_setup`: ``(pix, count, r,
+    two_a, two_n, ustride, vstride)`` as :func:`rasterkit.kernels.line.step_line` takes it."""
     packed = np.int64(recs[REC_STEPS, e]) & 0xFFFFFFFF
     n, a = packed & 0x7FFF, (packed >> 15) & 0x7FFF
     steep, negative = (packed >> 30) & 1, packed >> 31
     ustride = 1 + steep * (width - 1)
     vstride = (1 - 2 * negative) * (width - steep * (width - 1))
     r = n - (negative | np.int64(a == 0))  # tie_offset: dv <= 0
-    step_line(cflat, channels, rgba, np.int64(recs[REC_PIX, e]), n + 1, r, 2 * a, 2 * n, ustride, vstride)
+    return np.int64(recs[REC_PIX, e]), n + 1, r, 2 * a, 2 * n, ustride, vstride
 
 
 #: ``bits = (word * _GATHER) >> 56`` turns 8 mask bytes of 0 or 1 into 8 bits (bit k = byte k).
@@ -263,10 +264,11 @@ def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, 
             if jhi < ylo or jlo > yhi:
                 continue
             if jlo >= ylo and jhi <= yhi:
-                if channels == 1:  # a band's mask: one byte per pixel, a copy of its own
-                    _draw_record(cflat, width, 1, rgba, recs, e)
+                pix, count, r, two_a, two_n, ustride, vstride = _record_steps(width, recs, e)
+                if channels == 1:  # a band's mask
+                    step_mask(cflat, rgba[0], pix, count, r, two_a, two_n, ustride, vstride)
                 else:
-                    _draw_record(cflat, width, channels, rgba, recs, e)
+                    step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride)
                 continue
         status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
         dropped += status < 0

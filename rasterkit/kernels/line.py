@@ -20,10 +20,10 @@ produce exactly the pixels of the unclipped line.
 
 Stepping
 --------
-:func:`step_line` and :func:`_short_steps` write a line's pixels into a flattened colour (or
-one-byte mask) buffer with the same error term, branch-free; :func:`put_pixel` and
-:func:`blend_pixel` write or blend one pixel. The edge kernels (:mod:`rasterkit.kernels.edges`)
-use them.
+:func:`step_line` and :func:`step_mask` write a line's pixels into a flattened colour or
+one-byte mask buffer with the same error term, branch-free; :func:`put_pixel` and
+:func:`blend_pixel` write or blend one pixel. The edge kernels
+(:mod:`rasterkit.kernels.edges`) use them.
 """
 
 from __future__ import annotations
@@ -199,13 +199,7 @@ def step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstri
     ``ustride`` pixels per major step, ``vstride`` more on a minor step. The minor step is
     taken branch-free (a branch would be mispredicted on about every other pixel of a
     diagonal line), and an RGB buffer gets three byte stores per pixel, no channel loop.
-    Short lines into a one-channel buffer (a band's mask) take :func:`_short_steps`."""
-    if channels == 1 and count <= 4:
-        _short_steps(cflat, rgba[0], pix, count, r, two_a, two_n, ustride, vstride, 4)
-        return
-    if channels == 1 and count <= 8:
-        _short_steps(cflat, rgba[0], pix, count, r, two_a, two_n, ustride, vstride, 8)
-        return
+    A one-byte mask takes :func:`step_mask`."""
     if channels == 3:
         byte, ubytes, vbytes = 3 * pix, 3 * ustride, 3 * vstride
         red, green, blue = rgba[0], rgba[1], rgba[2]
@@ -224,3 +218,20 @@ def step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstri
         step = r >= two_n
         r -= two_n if step else 0
         pix += ustride + (vstride if step else 0)
+
+
+@kernel(inline="always")
+def step_mask(mask, value, pix, count, r, two_a, two_n, ustride, vstride):
+    """:func:`step_line` into a one-byte-per-pixel buffer (a band's mask): ``value`` into
+    each pixel; lines of up to 4 and 8 pixels by :func:`_short_steps`."""
+    if count <= 4:
+        _short_steps(mask, value, pix, count, r, two_a, two_n, ustride, vstride, 4)
+    elif count <= 8:
+        _short_steps(mask, value, pix, count, r, two_a, two_n, ustride, vstride, 8)
+    else:
+        for _ in range(count):
+            mask[pix] = value
+            r += two_a
+            step = r >= two_n
+            r -= two_n if step else 0
+            pix += ustride + (vstride if step else 0)

@@ -1,0 +1,123 @@
+"""First runs compile in two processes at once: the band kernels in a helper, the rest here.
+
+A first render spends most of its time compiling, and Numba compiles in one thread per
+process. The band workers (:func:`rasterkit.kernels.tiles.draw_bands` and the edge
+workers of :mod:`rasterkit.kernels.edges`) are the largest kernels and run last, so when
+the command line finds the mode's largest one missing from Numba's on-disk cache, it
+starts a helper process that compiles just that one, for the same mode and options, while
+this process loads the model and compiles the others. Before it runs that worker, this
+process waits for the helper; the worker then loads from the cache. On two cores a first
+render takes about as long as the larger half of its compiling instead of all of it.
+
+The helper renders a tiny mesh in the same mode through the ordinary drivers, with
+:func:`rasterkit._jit.run_parallel` intercepted: band workers are compiled for the argument
+types they get (``Dispatcher.compile``) and not run, and the other workers are neither
+compiled nor run (their writable arrays are zeroed, so the few small kernels that read
+them see harmless input). If anything goes wrong in the helper, this process simply
+compiles the kernels itself: the images never depend on it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import numba
+import numpy as np
+
+from . import _jit
+
+#: The band workers, the kernels that a helper may compile.
+BAND_WORKERS = ("draw_bands", "draw_wire_bands", "draw_edge_bands", "draw_antialiased_bands")
+
+_helper: subprocess.Popen | None = None
+_helped: str | None = None  # the worker the helper compiles
+
+
+def _band_worker(style: dict):
+    """The one band worker the helper compiles: the triangles' when the mode draws them
+    (this process compiles the edges' meanwhile, after its setup kernels: the halves come
+    out about even), else the edge worker of the mode."""
+    from .kernels import edges, tiles
+
+    if style["mode"] != "wire":
+        return tiles.draw_bands
+    return edges.draw_antialiased_bands if style["aa"] else edges.draw_wire_bands
+
+
+def _cached(dispatcher) -> bool:
+    """Whether Numba's cache has an index for ``dispatcher`` (any signature). Unknown (a
+    Numba without these internals) counts as cached: no helper."""
+    try:
+        return os.path.exists(dispatcher._cache._cache_file._index_path)
+    except AttributeError:
+        return True
+
+
+def start(style: dict, depth: bool, loading: bool) -> None:
+    """Start the helper for a render with ``style`` (``mode``, ``cull``, ``shading``,
+    ``background``, ``aa``) when its band worker is not cached; ``depth``: the depth
+    buffer is read too; ``loading``: a model file is read (its parser may compile
+    meanwhile). A wireframe of the built-in model leaves too little to do here while the
+    helper works to make up for starting it: no helper then."""
+    global _helper, _helped
+    worker = _band_worker(style)
+    if _helper is not None or _cached(worker) or (style["mode"] == "wire" and not loading):
+        return
+    order = json.dumps({"style": style, "depth": depth, "worker": worker.py_func.__name__})
+    try:
+        _helper = subprocess.Popen([sys.executable, "-m", "rasterkit._warm", order], stdin=subprocess.DEVNULL,
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    except OSError:
+        return
+    _helped = worker.py_func.__name__
+    _jit.intercept(_wait_for_helper)
+
+
+def _wait_for_helper(worker, args):
+    """In this process: before the helper's worker runs, let the helper finish."""
+    global _helper
+    if worker.py_func.__name__ == _helped and _helper is not None:
+        _helper.wait()
+        _helper = None
+        _jit.intercept(None)
+    return None
+
+
+def _compile_only(name: str):
+    """In the helper: compile the worker ``name`` for the arguments it gets, run nothing."""
+
+    def hook(worker, args):
+        if worker.py_func.__name__ == name:
+            worker.compile(tuple(numba.typeof(a) for a in (0, *args)))
+        else:
+            _zero_writable(args)
+        return [0]
+
+    return hook
+
+
+def _zero_writable(values) -> None:
+    for value in values:
+        if isinstance(value, tuple):
+            _zero_writable(value)
+        elif isinstance(value, np.ndarray) and value.flags.writeable:
+            value.fill(0)
+
+
+def _helper_main(order: str) -> None:
+    from . import render, shapes
+    from .camera import Camera
+
+    order = json.loads(order)
+    _jit.intercept(_compile_only(order["worker"]))
+    camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
+    fb = render(shapes.icosphere(1), camera, **order["style"])
+    if order["depth"]:
+        fb.depth  # noqa: B018 - reading it runs the depth pass
+
+
+if __name__ == "__main__":
+    _helper_main(sys.argv[1])
