@@ -29,6 +29,7 @@ from rasterkit.kernels.shade import (
     pack_colors,
 )
 from rasterkit.kernels.tiles import (
+    BAND_HEIGHT,
     BAND_SHIFT,
     bin_cursors,
     bin_records,
@@ -534,8 +535,9 @@ def _run(color, depth, clip, faces, mode, face_colors, vertex_colors, ids, cull_
     else:
         target = (depth, True, height, color_target, ids is not None, ids_target)
     clear = _clear_spec(background, color)
+    spans = ws.take("spans", (n_threads, 2, BAND_HEIGHT), np.int64)
     fragments = sum(_parallel(draw_bands, band_start, items, records, shading, target, clear,
-                              ws.visibility(n_threads, width), threads=n_threads))
+                              ws.visibility(n_threads, width), spans, threads=n_threads))
     return TriangleStats(
         faces=m,
         drawn=int(counts[STATUS_DRAWN]),

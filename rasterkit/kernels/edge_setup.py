@@ -24,7 +24,7 @@ VERTEX_CHUNKS = 16
 ROWS_PER_BIN = 8
 
 
-@kernel
+@kernel(refcounts=False)
 def project_vertices(slot, counter, clip, proj, pixels, width, height, counts):
     """Vertex pass of :func:`draw_edges`: divide every vertex that needs no clipping, once.
 

@@ -142,7 +142,7 @@ def _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi):
     return first, last
 
 
-@kernel
+@kernel(refcounts=False)
 def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
     """Draw one segment anti-aliased (Xiaolin Wu), restricted to rows ``[ylo, yhi]``.
 
@@ -208,7 +208,7 @@ def _paint_tables(rgba):
     return select, paint
 
 
-@kernel
+@kernel(refcounts=False)
 def _paint_marked(cflat, mflat, lo, hi, rgba, select, paint):
     """Colour ``rgba`` into the pixels ``lo .. hi - 1`` whose mask byte is 1 (the others
     are 0): eight pixels per mask word, unmarked groups skipped, each marked group blended
@@ -251,7 +251,7 @@ def _band_segment(clip, proj, edges, e, ylo, yhi):
     return status, seg
 
 
-@kernel
+@kernel(refcounts=False)
 def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, ylo, yhi):
     """Plain edges' parts in rows ``ylo .. yhi``: an edge with a record that lies wholly in
     the band is stepped from its record, any other by the general path without a depth
@@ -277,7 +277,7 @@ def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, 
     return dropped
 
 
-@kernel
+@kernel(refcounts=False)
 def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, ylo, yhi, bias):
     """Depth-tested edges' parts in rows ``ylo .. yhi`` (Bresenham); returns the number of
     dropped edges."""
@@ -290,7 +290,7 @@ def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, y
     return dropped
 
 
-@kernel
+@kernel(refcounts=False)
 def _band_antialiased(cflat, dflat, width, channels, rgba, clip, proj, edges, ylo, yhi, depth_test, bias):
     """Anti-aliased (Wu) edges' parts in rows ``ylo .. yhi``, depth-tested or not; returns
     the number of dropped edges."""

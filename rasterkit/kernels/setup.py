@@ -143,7 +143,7 @@ def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode,
 _V_CODE, _V_X, _V_Y, _V_Z = range(4)
 
 
-@kernel
+@kernel(refcounts=False)
 def _setup_vertex_chunk(ch, clip, width, height, corners, depths):
     """:func:`setup_vertices` for the vertices of chunk ``ch``."""
     start, stop = chunk_range(clip.shape[0], ch)
@@ -239,7 +239,7 @@ def _prefetch_corners(faces, f, corners):
         prefetch_row(corners, faces[f, k])
 
 
-@kernel
+@kernel(refcounts=False)
 def _setup_chunk(
     ch,
     faces,

@@ -380,7 +380,7 @@ def _smooth_rgba(f, px, py, vertex_colors, faces, bary):
     return np.uint32(rgba)
 
 
-@kernel
+@kernel(refcounts=False)
 def resolve_row(mode, lid, r, j, lo, hi, packed, vertex_colors, faces, bary, color, write_ids, ids):
     """Colour (and id) the pixels ``lo..hi`` of image row ``j`` that a triangle won.
 

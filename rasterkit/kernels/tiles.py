@@ -86,7 +86,7 @@ def _bin_record(t, ch, tri_box, cursor, items):
     return 1
 
 
-@kernel
+@kernel(refcounts=False)
 def _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, cursor, items, listed):
     """Bin the records of face chunk ``ch`` in submission order; returns how many are drawn.
 
@@ -163,7 +163,7 @@ def bin_records(slot, counter, n_faces, n_fan, fan_start, tri_box, band_counts, 
         drawn[ch] = _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, band_counts, items, listed)
 
 
-@kernel
+@kernel(refcounts=False)
 def _clear_depth(band_depth):
     """Every depth of a band's rows to +inf (a plain loop with unsigned indices: Numba's
     slice assignment is ten times slower here)."""
@@ -173,7 +173,7 @@ def _clear_depth(band_depth):
             band_depth[ru, np.uint64(i)] = np.inf
 
 
-@kernel
+@kernel(refcounts=False)
 def _clear_band(y0, y1, target, clear):
     """Clear image rows ``y0 .. y1 - 1`` of the ids (-1) and the colour (background)."""
     _, _, height, _, write_ids, ids = target
@@ -200,8 +200,8 @@ def _prefetch_record(t, records, shading):
         prefetch_row(packed, t)
 
 
-@kernel
-def draw_bands(slot, counter, band_start, items, records, shading, target, clear, lid):
+@kernel(refcounts=False)
+def draw_bands(slot, counter, band_start, items, records, shading, target, clear, lid, spans):
     """Rasterize and resolve bands, each the next one no slot has claimed yet (through
     ``counter``), until none are left; returns the number of fragments this slot
     depth-tested. A worker of :func:`rasterkit._jit.run_parallel`: slot ``slot`` draws in
@@ -244,6 +244,11 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
         -1 again on return (the resolve resets what it reads). The number of slots
         (normally the thread count) does not change the image, nor does the number of
         them that run.
+    spans : (n_slots, 2, BAND_HEIGHT) int64
+        Scratch: per slot, the columns each band row may have been written in.
+
+    Compiled without reference counting (nothing is allocated here, and the counts cost
+    atomic operations in the per-record loop).
     """
     tri_xy, tri_z, tri_box = records
     mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
@@ -253,8 +258,7 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
     guard = lid.shape[1] - BAND_HEIGHT  # unused rows before each slot's band rows
     band_lid = lid[slot, guard:]
     scratch_row = np.int64(slot) * lid.shape[1] + guard  # this slot's depth scratch rows
-    row_lo = np.empty(BAND_HEIGHT, np.int64)
-    row_hi = np.empty(BAND_HEIGHT, np.int64)
+    row_lo, row_hi = spans[slot, 0], spans[slot, 1]
     fragments = 0
     while True:  # claim the next piece until none is left
         b = fetch_add(counter, 0, 1)
