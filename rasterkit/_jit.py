@@ -49,41 +49,26 @@ _OPTIONS = dict(cache=True, nogil=True, error_model="numpy", fastmath=set(FASTMA
 MAX_THREADS = max(1, int(numba.config.NUMBA_NUM_THREADS))
 
 
-def _allow_noalias() -> bool:
-    """Let ``numba.njit`` take ``noalias=True``: Numba's own flag (``Flags.noalias``, set
-    for the bodies of ``prange`` loops that share no array) marks a function's array
-    arguments as not overlapping, so LLVM need not reload one array after every store into
-    another. Numba has the flag but no decorator option for it; without it a band loop of
-    edges ran 1.2x as long as inside a ``prange``. False (and kernels compile without it)
-    where this Numba lacks the flag."""
-    from numba.core import compiler, cpu, options
-
-    if not isinstance(getattr(compiler.Flags, "noalias", None), property) and "noalias" not in dir(compiler.Flags):
-        return False
-    if not hasattr(cpu.CPUTargetOptions, "noalias"):
-        cpu.CPUTargetOptions.noalias = options.TargetOptions.Mapping("noalias")
-    return True
-
-
-_NOALIAS = _allow_noalias()
-
-
-def kernel(fn=None, *, inline: str = "never", noalias: bool = False, refcounts: bool = True):
+def kernel(fn=None, *, inline: str = "never", refcounts: bool = True):
     """Compile ``fn`` with rasterkit's jit policy.
 
     Use as ``@kernel`` or ``@kernel(inline="always")``; ``inline="always"`` inlines a small
     helper into its callers at the Numba IR level (keep it for a few lines in a hot loop:
-    inlined code is compiled again in every caller). ``noalias=True`` promises that no two
-    array arguments share memory (see :func:`_allow_noalias`): only for functions whose
-    callers never pass views of one buffer.
+    inlined code is compiled again in every caller, but a call that passes arrays costs
+    atomic reference counts, which IR inlining avoids).
+
+    ``refcounts=False`` compiles without Numba's reference counting (``_nrt=False``): for
+    the band and chunk loops, which allocate nothing. Numba counts references around every
+    IR-inlined call that passes an array; in a loop over edges or triangles those atomic
+    operations cost 20 % (a ``prange`` body escapes them: Numba drops them there, which is
+    why the band loops were fast as ``prange`` bodies). Such a kernel must not allocate,
+    nor call anything IR-inlined that does.
     """
 
     def wrap(f):
-        extra = {"noalias": True} if noalias and _NOALIAS else {}
-        # Always explicit: a callee compiled while its caller is typed inherits an unset
-        # option, and a kernel that allocates needs the runtime whoever calls it first.
-        extra["_nrt"] = refcounts
-        return numba.njit(inline=inline, **_OPTIONS, **extra)(f)
+        # _nrt always explicit: a callee compiled while its caller is typed inherits an
+        # unset option, and a kernel that allocates needs the runtime whoever calls it first.
+        return numba.njit(inline=inline, _nrt=refcounts, **_OPTIONS)(f)
 
     return wrap if fn is None else wrap(fn)
 
