@@ -1,0 +1,151 @@
+"""rasterkit._warm, the first run's helper process: it compiles only the mode's band worker
+into Numba's cache, the main process then loads that worker instead of compiling it, and a
+first CLI render (with the helper) draws the same image as a cached one.
+
+Each test compiles kernels into an empty NUMBA_CACHE_DIR of its own, in fresh interpreters
+(about 5-15 s each on two cores)."""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+import rasterkit
+from rasterkit._notice import MESSAGE
+from rasterkit.cli import _camera, _parser
+from rasterkit.obj import load_obj
+
+ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+
+SOLID_ORDER = {
+    "style": {"mode": "solid", "cull": "back", "shading": "flat", "background": "white", "aa": False},
+    "depth": False,
+    "worker": "draw_bands",
+}
+
+CUBE_OBJ = """\
+# a cube, quads counter-clockwise seen from outside
+v -1 -1 -1
+v 1 -1 -1
+v 1 1 -1
+v -1 1 -1
+v -1 -1 1
+v 1 -1 1
+v 1 1 1
+v -1 1 1
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 3 4 8 7
+f 2 3 7 6
+f 1 5 8 4
+"""
+
+
+def _env(cache: Path) -> dict:
+    cache.mkdir(exist_ok=True)
+    assert not any(cache.iterdir())
+    return {**ENV, "NUMBA_CACHE_DIR": str(cache)}
+
+
+def _run(argv, env, timeout=180) -> subprocess.CompletedProcess:
+    return subprocess.run(argv, capture_output=True, text=True, env=env, timeout=timeout, stdin=subprocess.DEVNULL)
+
+
+def _indexes(cache: Path) -> list[str]:
+    """File names of Numba's cache indexes (``module.function-line.pyXY.nbi``)."""
+    return sorted(p.name for p in cache.rglob("*.nbi"))
+
+
+def _kernel_indexes(cache: Path, module: str, function: str) -> list[str]:
+    return [name for name in _indexes(cache) if name.startswith(f"{module}.{function}-")]
+
+
+# Renders a small solid mesh and prints, as JSON, the names of the functions Numba compiled
+# (numba:compile fires only for a real compile, after the on-disk cache was tried).
+SOLID_RENDER = """
+import json
+from numba.core import event
+
+compiled = []
+
+class Record(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__name__)
+
+    def on_end(self, ev):
+        pass
+
+event.register("numba:compile", Record())
+
+import rasterkit
+from rasterkit import shapes
+from rasterkit.camera import Camera
+
+camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=40, height=30)
+fb = rasterkit.render(shapes.icosphere(1), camera, mode="solid")
+print(json.dumps({"compiled": sorted(set(compiled)), "colours": len({tuple(p) for p in fb.color.reshape(-1, 3)})}))
+"""
+
+
+def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path):
+    cache = tmp_path / "cache"
+    env = _env(cache)
+    helper = _run([sys.executable, "-m", "rasterkit._warm", json.dumps(SOLID_ORDER)], env)
+    assert helper.returncode == 0, helper.stderr
+    assert helper.stdout == ""
+    assert len(_kernel_indexes(cache, "tiles", "draw_bands")) == 1, _indexes(cache)
+    # The setup, binning and edge workers went through run_parallel's hook: not compiled.
+    for module, function in [("setup", "setup_faces"), ("setup", "setup_vertices"), ("setup", "_setup_chunk"),
+                             ("tiles", "bin_records"), ("fans", "setup_cut_faces"),
+                             ("edges", "draw_edge_bands"), ("edges", "draw_wire_bands")]:
+        assert not _kernel_indexes(cache, module, function), _indexes(cache)
+    assert not [name for name in _indexes(cache) if "setup_" in name], _indexes(cache)
+
+    main = _run([sys.executable, "-c", textwrap.dedent(SOLID_RENDER)], env)
+    assert main.returncode == 0, main.stderr
+    report = json.loads(main.stdout.splitlines()[-1])
+    assert "draw_bands" not in report["compiled"]  # loaded from the helper's cache entry
+    assert "setup_faces" in report["compiled"]  # the listener does see this process's compiles
+    assert report["colours"] > 2  # background and some shades: the loaded worker drew
+    assert len(_kernel_indexes(cache, "tiles", "draw_bands")) == 1
+
+
+def _png(path: Path) -> np.ndarray:
+    with Image.open(path) as image:
+        return np.asarray(image.convert("RGB"))
+
+
+def test_first_cli_render_with_the_helper_equals_a_cached_one_and_the_api(tmp_path):
+    model = tmp_path / "cube.obj"
+    model.write_text(CUBE_OBJ)
+    env = _env(tmp_path / "cache")
+    options = ["--mode", "solid", "--size", "64x48"]
+    images = []
+    for k in range(2):
+        out = tmp_path / f"out{k}.png"
+        done = _run([sys.executable, "-m", "rasterkit", "render", str(model), "-o", str(out), *options], env)
+        assert done.returncode == 0, done.stderr
+        assert done.stderr == (MESSAGE + "\n" if k == 0 else "")  # the notice on the first run only
+        images.append(_png(out))
+    assert _kernel_indexes(tmp_path / "cache", "tiles", "draw_bands")
+
+    first, second = images
+    assert first.shape == (48, 64, 3)
+    np.testing.assert_array_equal(first, second)
+    colours = {tuple(p) for p in first.reshape(-1, 3)}
+    assert (255, 255, 255) in colours and len(colours) >= 3  # background and several lit faces
+
+    # The same picture in this process, through the API, with the command line's camera.
+    args = _parser().parse_args(["render", str(model), "-o", "unused.png", *options])
+    mesh = load_obj(model)
+    fb = rasterkit.render(mesh, _camera(args, *mesh.bounding_sphere()), mode="solid", cull=args.cull,
+                          shading=args.shading, color=args.color, line_color=args.line_color,
+                          background=args.background, aa=args.aa)
+    np.testing.assert_array_equal(fb.color, first)
+
