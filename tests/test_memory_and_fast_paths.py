@@ -304,7 +304,8 @@ def test_camera_matrix_is_computed_once_and_cannot_be_changed_through_a_result()
     first[...] = 0.0  # the caller's copy
     again = camera.matrix()
     assert np.array_equal(again, rasterkit.transform.compose(*(m for _, m in camera.chain())))
-    assert camera._matrix() is camera._matrix() and not camera._matrix().flags.writeable
+    k = camera.world_to_raster()
+    assert camera.world_to_raster() is k and not k.flags.writeable
     other = camera.with_size(80, 30)  # a new camera has its own matrix
     assert not np.array_equal(other.matrix(), again)
 
@@ -477,7 +478,7 @@ def test_slot_band_buffers_lie_apart_and_draws_write_only_their_band_rows():
     rows (the guard rows keep a sentinel), leaves the visibility rows all -1, and a buffer
     of more slots is reused, not refilled, by a draw on fewer threads."""
     from rasterkit.kernels.tiles import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
-    from rasterkit.triangles import _WORKSPACE
+    from rasterkit._triangles import WORKSPACE
 
     for width in (1, 7, 48, 1920, 40000):
         rows = slot_rows(width)
@@ -495,8 +496,8 @@ def test_slot_band_buffers_lie_apart_and_draws_write_only_their_band_rows():
     expected = draw(1)
     draw(threads)
     rows = slot_rows(48)
-    lid = _WORKSPACE._buffers["lid"]
-    scratch = _WORKSPACE._buffers["band_depth"][: threads * rows * 48].reshape(threads, rows, 48)
+    lid = WORKSPACE.held("lid")
+    scratch = WORKSPACE.held("band_depth")[: threads * rows * 48].reshape(threads, rows, 48)
     assert lid.shape[1:] == (rows, 48) and lid.shape[0] >= threads
     guard = np.zeros(rows, bool)
     guard[: rows - BAND_HEIGHT] = True
@@ -504,7 +505,7 @@ def test_slot_band_buffers_lie_apart_and_draws_write_only_their_band_rows():
     scratch[:, guard] = np.nan
     for n in (threads, 1, threads):
         assert np.array_equal(draw(n), expected)
-        assert _WORKSPACE._buffers["lid"] is lid  # kept, not refilled, when the slots change
+        assert WORKSPACE.held("lid") is lid  # kept, not refilled, when the slots change
         assert np.all(lid[:, guard] == 7) and np.all(lid[:, ~guard] == -1)
         assert np.all(np.isnan(scratch[:, guard])) and np.isfinite(scratch[:, ~guard]).any()
 

@@ -1,0 +1,264 @@
+"""Driver of the triangle path (solid faces, the depth pass of hidden-line renders):
+vertex pass -> face pass (and cut faces' fans) -> bins -> draw the bands (raster, z-test,
+resolve).
+
+The kernels are in :mod:`rasterkit.kernels.setup`, :mod:`rasterkit.kernels.fans`,
+:mod:`rasterkit.kernels.tiles`, :mod:`rasterkit.kernels.triangle` and
+:mod:`rasterkit.kernels.shade`; this module picks the resolve mode once per draw, the scratch
+memory and the threads, and runs the passes in order. Its caller
+(:func:`rasterkit.triangles.rasterize_triangles`) has validated the inputs.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import threading
+from typing import NamedTuple
+
+import numpy as np
+
+from rasterkit._jit import readonly, run_parallel
+from rasterkit.kernels.clear import PATTERN_BYTES
+from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
+from rasterkit.kernels.fans import count_fans, setup_cut_faces
+from rasterkit.kernels.setup import (
+    MAX_FAN,
+    N_CHUNKS,
+    N_STATUS,
+    STATUS_CULLED,
+    STATUS_DRAWN,
+    STATUS_EMPTY,
+    STATUS_NONFINITE,
+    STATUS_OUTSIDE,
+    setup_faces,
+    setup_vertices,
+)
+from rasterkit.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, SHADE_TAGGED, bary_matrices, pack_colors
+from rasterkit.kernels.tiles import BAND_HEIGHT, BAND_SHIFT, bin_cursors, bin_records, draw_bands, n_bands, slot_rows
+from rasterkit.kernels.triangle import offset_depths
+
+CULL_CODES = {"none": CULL_NONE, "back": CULL_BACK, "front": CULL_FRONT}
+"""The cull kernel's code of each name of :data:`rasterkit.options.CULL`."""
+
+MAX_FACES = (2**31 - 1) // (MAX_FAN + 1)
+"""Faces per draw at most: record indices are int32 in the visibility buffer, and a face
+becomes at most MAX_FAN records."""
+
+#: Draws of fewer faces run their setup passes on the calling thread alone: handing work to
+#: a thread costs about 15 microseconds a pass.
+_PARALLEL_FACES = 4096
+
+
+class Lighting(NamedTuple):
+    """Validated terms of :class:`rasterkit.triangles.FlatLambert`, as the face pass
+    (:func:`rasterkit.kernels.setup.setup_faces`) takes them."""
+
+    normals: np.ndarray  # (M, 3) float32, read-only
+    base: np.ndarray  # (1, 3) or (M, 3) float32, read-only
+    scale: np.float32
+    light: np.ndarray  # (3,) float64, read-only
+    ambient: float
+    two_sided: bool
+
+
+class _Workspace(threading.local):
+    """Named scratch arrays kept between draws, one set per Python thread; they only grow.
+
+    Not :func:`rasterkit._memory.take`, which hands out blocks of exactly the size asked
+    for, 1 MiB and more, uninitialised, and takes them back when nothing refers to them
+    (memory that leaves the call: framebuffers). Here the arrays never leave the draw, so
+    one per name per thread is enough, whatever its size: no reference counting, no lock.
+    A draw of a few hundred thousand faces needs tens of megabytes of per-face records
+    whose number changes from frame to frame (the cut faces' fans): a buffer that grows by
+    a quarter is reused for all of them, where exact sizes would need fresh (zero-filled
+    by the operating system, as costly as the setup itself) memory each time. Two needs
+    only this one meets: records grown while keeping their first rows (:meth:`reserve`'s
+    ``keep``), and the visibility buffer, whose contents (all -1) are kept between draws.
+    """
+
+    def __init__(self):
+        self._buffers = {}
+
+    def reserve(self, name, shape, dtype, keep=0):
+        """A C-contiguous ``shape`` array of ``dtype``; its first ``keep`` rows are kept
+        from the previous ``reserve`` of the same name (when the buffer has to grow)."""
+        size = math.prod(shape)
+        buffer = self._buffers.get(name)
+        if buffer is None or buffer.dtype != dtype or buffer.size < size:
+            grown = np.empty(size + size // 4, dtype)
+            if keep and buffer is not None:
+                row = size // shape[0]
+                grown[: keep * row] = buffer[: keep * row]
+            self._buffers[name] = buffer = grown
+        return buffer[:size].reshape(shape)
+
+    def visibility(self, slots, width):
+        """(slots, slot_rows(width), width) int32, all -1 (draw_bands leaves it so). A
+        buffer of more slots is kept, and its first ``slots`` handed out: a caller that
+        changes the thread count between draws does not fill a new one each time."""
+        rows = slot_rows(width)
+        lid = self._buffers.get("lid")
+        if lid is None or lid.shape[0] < slots or lid.shape[1:] != (rows, width):
+            self._buffers["lid"] = lid = np.full((slots, rows, width), -1, np.int32)
+        return lid[:slots]
+
+    def held(self, name):
+        """The whole buffer kept under ``name`` (for tests), or None."""
+        return self._buffers.get(name)
+
+
+WORKSPACE = _Workspace()
+"""This module's scratch arrays (the calling thread's)."""
+
+_NO_NORMALS = readonly(np.zeros((0, 3), np.float32))
+_NO_BASE = readonly(np.zeros((1, 3), np.float32))
+_NO_LIGHT = readonly(np.zeros(3))
+_NO_BYTES = np.empty(0, np.uint8)
+_NO_PATTERN = readonly(np.empty(0, np.uint8))
+
+
+def _lit(lighting, packed):
+    """The ``lit`` tuple of :func:`rasterkit.kernels.setup.setup_faces` (the same types
+    with and without lighting: one compiled kernel)."""
+    if lighting is None:
+        return (False, _NO_NORMALS, _NO_BASE, np.float32(1.0), _NO_LIGHT, 0.0, False, packed)
+    return (True, lighting.normals, lighting.base, lighting.scale, lighting.light, lighting.ambient,
+            lighting.two_sided, packed)
+
+
+def _records(ws, rows, keep=0):
+    """Record arrays ``tri_xy, tri_z, tri_box`` of ``rows`` records, the first ``keep`` kept."""
+    return (
+        ws.reserve("tri_xy", (rows, 6), np.int32, keep),
+        ws.reserve("tri_z", (rows, 3), np.float32, keep),
+        ws.reserve("tri_box", (rows, 4), np.int32, keep),
+    )
+
+
+def _clear_spec(background, color):
+    """``(clear, color_bytes, pattern)`` as draw_bands takes it."""
+    if background is None or color is None:
+        return background is not None, _NO_BYTES, _NO_PATTERN
+    return True, color.reshape(-1), _pattern(background.tobytes())
+
+
+@functools.lru_cache(maxsize=64)
+def _pattern(background: bytes) -> np.ndarray:
+    """The background colour repeated over PATTERN_BYTES bytes (read-only, kept per colour)."""
+    pattern = np.tile(np.frombuffer(background, np.uint8), PATTERN_BYTES // len(background))
+    pattern.flags.writeable = False
+    return pattern
+
+
+def _parallel(worker, *args, threads):
+    """``worker`` on ``threads`` threads, with a fresh work counter."""
+    return run_parallel(worker, np.zeros(1, np.int64), *args, threads=threads)
+
+
+def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
+    """Vertex pass, face pass and (when needed) the cut faces' fans; binning counted.
+
+    Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts, listed)`` for
+    :func:`rasterkit.kernels.tiles.bin_records` and the resolve; ``counts`` (N_STATUS + 1,)
+    are the faces per STATUS_* and, last, the faces cut with something left.
+    """
+    n, m = clip.shape[0], faces.shape[0]
+    corners = ws.reserve("corners", (n, 4), np.int32)
+    depths = corners.view(np.float32)  # the same rows: z as float32
+    _parallel(setup_vertices, clip, width, height, corners, depths, threads=threads)
+    tri_xy, tri_z, tri_box = _records(ws, m)
+    cut_mask, n_fan = ws.reserve("cut_mask", (m,), np.int8), ws.reserve("n_fan", (m,), np.int8)
+    band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
+    tally = np.zeros((N_CHUNKS, N_STATUS + 1), np.int64)
+    listed = (ws.reserve("listed", (m,), np.int32), np.zeros(N_CHUNKS, np.int64))
+    cut = np.zeros(N_CHUNKS, np.int64)
+    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_SHIFT, band_counts, tally, lit, listed, cut)
+    _parallel(setup_faces, faces, corners, depths, width, height, cull_mode, *face_pass, threads=threads)
+    if cut.min() < 0:
+        raise ValueError(f"faces must index vertices 0..{n - 1}")
+    n_cut = int(cut.sum())
+    fan_start = np.full(N_CHUNKS, m, np.int64)
+    fan_face = np.empty(0, np.int32)
+    if n_cut:
+        fans = np.zeros(N_CHUNKS, np.int64)
+        _parallel(count_fans, clip, faces, width, height, cut_mask, n_fan, fans, threads=threads)
+        fan_start += np.cumsum(fans) - fans
+        tri_xy, tri_z, tri_box = _records(ws, m + int(fans.sum()), keep=m)
+        fan_face = ws.reserve("fan_face", (int(fans.sum()),), np.int32)
+        fan_pass = (fan_start, fan_face, tri_xy, tri_z, tri_box, cut_mask, BAND_SHIFT, band_counts, tally)
+        _parallel(setup_cut_faces, clip, faces, width, height, cull_mode, *fan_pass, threads=threads)
+    return (tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0), listed
+
+
+def _flat_colors(ws, m, face_colors, lighting):
+    """Packed RGBA (M,) uint32 per face: made by the face pass when ``lighting`` is given
+    (for the faces drawn only), else ``face_colors`` packed."""
+    if lighting is not None:
+        return ws.reserve("packed", (m,), np.uint32)
+    return face_colors if face_colors.dtype == np.uint32 else pack_colors(face_colors)
+
+
+def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,
+                   threads, lighting=None) -> dict:
+    """Draw the triangles ``faces`` (M, 3) int64 of the vertices ``clip`` (N, 4) float64
+    (homogeneous raster space) as :func:`rasterkit.triangles.rasterize_triangles` describes.
+
+    The resolve mode follows from the colours: none without ``color``; smooth with
+    ``vertex_colors`` (N, 3) float32; else flat, by ``face_colors`` ((M, 3) float32 or
+    packed (M,) uint32) or ``lighting`` (a :class:`Lighting`, colours made by the face
+    pass). ``cull`` is a name of :data:`CULL_CODES`, ``background`` (C,) uint8 or None,
+    ``offset`` ``(factor, units)`` floats; ``threads`` draw the bands (the setup passes of
+    a few faces run on one). Returns the counts of
+    :class:`rasterkit.triangles.TriangleStats`, by field name.
+    """
+    ws = WORKSPACE
+    height, width = (depth if depth is not None else color).shape[:2]
+    faces = readonly(faces)  # as a Mesh's: one compiled kernel for both
+    m = faces.shape[0]
+    if color is None:
+        mode, packed = SHADE_NONE, np.empty(0, np.uint32)
+    elif vertex_colors is not None:
+        mode, packed = SHADE_SMOOTH, np.empty(0, np.uint32)
+    else:
+        mode, packed = SHADE_FLAT, _flat_colors(ws, m, face_colors, lighting)
+    lit = _lit(lighting, packed if lighting is not None else np.empty(0, np.uint32))
+    setup_threads = 1 if m < _PARALLEL_FACES else threads
+    records, n_fan, fan_start, fan_face, band_counts, counts, listed = _set_up(
+        ws, clip, faces, width, height, CULL_CODES[cull], lit, setup_threads
+    )
+    band_start = bin_cursors(band_counts)
+    items = ws.reserve("items", (int(band_start[-1]),), np.int32)
+    drawn = np.zeros(N_CHUNKS, np.int64)
+    _parallel(bin_records, m, n_fan, fan_start, records[2], band_counts, listed, items, drawn,
+              threads=setup_threads)
+    if offset != (0.0, 0.0):
+        _parallel(offset_depths, *records, records[0].shape[0], *offset, threads=setup_threads)
+    bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
+    # Flat colours without ids: the visibility buffer carries the colour itself.
+    resolve = SHADE_TAGGED if mode == SHADE_FLAT and ids is None else mode
+    no_colors = np.zeros((0, 3), np.float32)
+    shading = (resolve, m, fan_face, packed, vertex_colors if vertex_colors is not None else no_colors, faces,
+               bary)
+    color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
+    ids_target = ids if ids is not None else np.empty((0, 0), np.int32)
+    if depth is None:  # a band-sized depth scratch per thread, never written to memory whole
+        band_depth = ws.reserve("band_depth", (threads * slot_rows(width), width), np.float32)
+        target = (band_depth, False, height, color_target, ids is not None, ids_target)
+    else:
+        target = (depth, True, height, color_target, ids is not None, ids_target)
+    clear = _clear_spec(background, color)
+    spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
+    fragments = sum(_parallel(draw_bands, band_start, items, records, shading, target, clear,
+                              ws.visibility(threads, width), spans, threads=threads))
+    return dict(
+        faces=m,
+        drawn=int(counts[STATUS_DRAWN]),
+        culled=int(counts[STATUS_CULLED]),
+        empty=int(counts[STATUS_EMPTY]),
+        outside=int(counts[STATUS_OUTSIDE]),
+        dropped_nonfinite=int(counts[STATUS_NONFINITE]),
+        clipped=int(counts[N_STATUS]),
+        triangles=int(drawn.sum()),
+        fragments=int(fragments),
+    )
