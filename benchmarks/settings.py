@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from rasterkit import options
+
 MODELS_DIR = Path(__file__).resolve().parents[2] / "shared" / "models"
 """The shared test models (``../shared/models`` beside the repository)."""
 
@@ -14,7 +16,8 @@ TARGET_SIZE = (1920, 1080)
 TARGET_MODELS = ("stanford-bunny", "ogre", "sportsCar")
 """The models whose 1920x1080 frames carry the render targets."""
 
-MODES = ("wire", "hidden", "solid", "solid+wire")
+MODES = options.MODES
+"""The render modes timed: every one of :data:`rasterkit.options.MODES`."""
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from ._obj_statements import Elements, latest_above
 from .kernels import obj_corners, obj_polygons
 from .kernels.obj_scan import KIND_V
 
-__all__ = ["face_labels", "finite_vertices", "triangulate", "unique_edges", "vertex_normals",
+__all__ = ["face_labels", "finite_vertices", "polygon_sides", "triangulate", "vertex_normals",
            "vertex_texcoords"]
 
 
@@ -43,15 +43,10 @@ def triangulate(vertices, faces: Elements, keep: np.ndarray):
     return np.ascontiguousarray(triangles[valid]), polygon[valid]
 
 
-def unique_edges(faces: Elements, keep: np.ndarray, segments: np.ndarray,
-                 n_vertices: int) -> np.ndarray:
-    """(E, 2) int64 sorted unique undirected edges (lo < hi): the sides of the kept polygons
-    and the segments (K, 2)."""
-    sides = obj_polygons.side_keys(faces.vertex_indices, faces.offsets, keep, n_vertices)
-    ends = np.sort(segments, axis=1)
-    keys = np.sort(np.concatenate([sides, ends[:, 0] * n_vertices + ends[:, 1]]))
-    keys = keys[np.diff(keys, prepend=-1) != 0]
-    return np.stack([keys // n_vertices, keys % n_vertices], axis=1)
+def polygon_sides(faces: Elements, keep: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(E,) int64 keys ``lo * N + hi`` of the sides of the kept polygons, for
+    :func:`rasterkit.mesh.unique_edges`."""
+    return obj_polygons.side_keys(faces.vertex_indices, faces.offsets, keep, n_vertices)
 
 
 def vertex_normals(faces: Elements, normals: np.ndarray, n_vertices: int):

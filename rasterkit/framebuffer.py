@@ -32,7 +32,7 @@ class Framebuffer:
     cleared : bool
         False leaves the colour and id buffers uninitialised, for a renderer that clears
         them itself (faster, in parallel); :meth:`clear` does it in NumPy. The depth buffer
-        is made on first use either way (by renderers through ``_uncleared_depth``).
+        is made on first use either way (by renderers through :meth:`uncleared_depth`).
 
     Attributes
     ----------
@@ -64,7 +64,7 @@ class Framebuffer:
         alpha = bool(alpha) or self.background[3] < 255
         self.width, self.height = int(width), int(height)
         self.color = _memory.take((self.height, self.width, 4 if alpha else 3), np.uint8)
-        self._depth = None  # not made yet: all farthest, or what _depth_source draws
+        self._depth = None  # not made yet: all farthest, or what _depth_source draws (defer_depth)
         self._depth_source = None
         self.ids = _memory.take((self.height, self.width), np.int32) if ids else None
         if cleared:
@@ -73,7 +73,7 @@ class Framebuffer:
     @property
     def depth(self) -> np.ndarray:
         if self._depth is None:
-            self._uncleared_depth().fill(FARTHEST)
+            self.uncleared_depth().fill(FARTHEST)
             source, self._depth_source = self._depth_source, None
             if source is not None:
                 source(self._depth)
@@ -87,12 +87,39 @@ class Framebuffer:
         self._depth = value
         self._depth_source = None
 
-    def _uncleared_depth(self) -> np.ndarray:
-        """The depth buffer for a renderer that clears it itself: made uninitialised when it
-        does not exist yet (reading :attr:`depth` would first fill it with +inf)."""
+    def uncleared_depth(self) -> np.ndarray:
+        """The depth buffer, for a renderer that writes every pixel of it (it clears the
+        buffer itself, band by band in its drawing threads).
+
+        Made uninitialised when it does not exist yet: reading :attr:`depth` instead would
+        first fill it with +inf, a pass over the whole buffer that the renderer's own clear
+        makes useless. An existing buffer is returned as it is.
+
+        Returns
+        -------
+        (H, W) float32
+        """
         if self._depth is None:
             self._depth = _memory.take((self.height, self.width), np.float32)
         return self._depth
+
+    def defer_depth(self, source) -> None:
+        """Have the depth buffer made only when it is first read, by ``source``.
+
+        For a renderer that tests depth in scratch memory of its own and keeps no
+        image-sized depth buffer: it leaves the recipe of the depth it tested, and a caller
+        that never reads :attr:`depth` never pays for it. The current depth buffer is
+        dropped; the first read of :attr:`depth` fills a new one with +inf and calls
+        ``source(depth)`` with it, once. :meth:`clear` and assigning :attr:`depth` forget
+        the recipe.
+
+        Parameters
+        ----------
+        source : callable
+            ``source(depth)``: draws into the (H, W) float32 buffer, cleared to +inf.
+        """
+        self._depth = None
+        self._depth_source = source
 
     @property
     def alpha(self) -> bool:

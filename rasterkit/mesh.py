@@ -15,7 +15,7 @@ from functools import cached_property
 
 import numpy as np
 
-__all__ = ["Mesh", "polygon_edges"]
+__all__ = ["Mesh", "as_mesh", "polygon_edges", "unique_edges"]
 
 
 def polygon_edges(polygons) -> np.ndarray:
@@ -30,13 +30,33 @@ def polygon_edges(polygons) -> np.ndarray:
         pairs.append(np.stack([p, np.roll(p, -1)], axis=1))
     if not pairs:
         return np.zeros((0, 2), np.int64)
-    return _unique_edges(np.concatenate(pairs))
+    # Any integers: numbered 0..n-1 in order first, which keeps the edges' order.
+    values, compact = np.unique(np.concatenate(pairs), return_inverse=True)
+    return values[unique_edges(compact.reshape(-1, 2), len(values))]
 
 
-def _unique_edges(pairs: np.ndarray) -> np.ndarray:
+def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = None) -> np.ndarray:
+    """Sorted unique undirected edges (E, 2) int64, ``(lo, hi)`` with lo < hi.
+
+    Parameters
+    ----------
+    pairs : (K, 2) int
+        Vertex index pairs, either way round; a pair from a vertex to itself is left out.
+    n_vertices : int
+        N: every index is in 0..N-1.
+    keys : (J,) int64, optional
+        More edges, as keys ``lo * N + hi`` (lo < hi), as
+        :func:`rasterkit.kernels.obj_polygons.side_keys` makes them.
+    """
     pairs = np.sort(np.asarray(pairs, dtype=np.int64).reshape(-1, 2), axis=1)
     pairs = pairs[pairs[:, 0] != pairs[:, 1]]
-    return np.ascontiguousarray(np.unique(pairs, axis=0))
+    n = max(int(n_vertices), 1)
+    codes = pairs[:, 0] * n + pairs[:, 1]
+    if keys is not None:
+        codes = np.concatenate([keys, codes])
+    codes = np.sort(codes)
+    codes = codes[np.diff(codes, prepend=-1) != 0]
+    return np.stack([codes // n, codes % n], axis=1)
 
 
 def _array(a, dtype, shape_tail, name, n_rows=None):
@@ -123,7 +143,7 @@ class Mesh:
         f = _indices(self.faces, n, 3, "faces")
         lines = _indices(self.lines if self.lines is not None else (), n, 2, "lines")
         if self.edges is None:
-            edges = _unique_edges(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]], lines]))
+            edges = unique_edges(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]], lines]), n)
         else:
             edges = _indices(self.edges, n, 2, "edges")
         set_ = object.__setattr__
@@ -181,3 +201,16 @@ class Mesh:
     def __repr__(self) -> str:
         return (f"Mesh({len(self.vertices)} vertices, {len(self.faces)} faces, "
                 f"{len(self.edges)} edges, {len(self.lines)} lines)")
+
+
+def as_mesh(mesh) -> Mesh:
+    """A :class:`Mesh` from a Mesh, a ``(vertices, faces)`` pair or an object with
+    ``.vertices`` and ``.faces`` (a trimesh mesh, for example)."""
+    if isinstance(mesh, Mesh):
+        return mesh
+    if isinstance(mesh, tuple) and len(mesh) == 2:
+        return Mesh(*mesh)
+    if hasattr(mesh, "vertices") and hasattr(mesh, "faces"):
+        return Mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces))
+    raise TypeError("mesh must be a rasterkit.Mesh, a (vertices, faces) tuple, "
+                    "or an object with .vertices and .faces")

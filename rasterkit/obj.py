@@ -69,14 +69,14 @@ from __future__ import annotations
 import os
 
 from ._obj_assemble import (
-    face_labels, finite_vertices, triangulate, unique_edges, vertex_normals, vertex_texcoords,
+    face_labels, finite_vertices, polygon_sides, triangulate, vertex_normals, vertex_texcoords,
 )
 from ._obj_document import Document
 from ._obj_errors import ObjError, Report, count
 from ._obj_materials import DEFAULT_KD, face_colors, material_names
 from ._obj_statements import note_skipped, read_elements, read_numbers, read_vertices
 from .kernels.obj_scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
-from .mesh import Mesh
+from .mesh import Mesh, unique_edges
 
 __all__ = ["DEFAULT_KD", "ObjError", "load_obj"]
 
@@ -132,7 +132,7 @@ def load_obj(path) -> Mesh:
     keep_polygons = faces.uses_only(finite)
     triangles, triangle_polygon = triangulate(vertices, faces, keep_polygons)
     segments = lines.segments(lines.uses_only(finite))
-    edges = unique_edges(faces, keep_polygons, segments, len(vertices))
+    edges = unique_edges(segments, len(vertices), keys=polygon_sides(faces, keep_polygons, len(vertices)))
     groups, group_names = face_labels(doc, (KIND_G, KIND_O), faces, triangle_polygon)
     return Mesh(
         vertices, triangles, edges=edges, lines=segments,

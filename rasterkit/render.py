@@ -21,15 +21,12 @@ from .framebuffer import Framebuffer
 from .kernels import edges as edge_kernels
 from .kernels import shade as shade_kernels
 from ._vertex import transform_points
-from .mesh import Mesh
+from .mesh import Mesh, as_mesh
+from .options import CULL, MODES, SHADING
 from .scene import Scene
 from .triangles import FlatLambert, rasterize_triangles
 
 __all__ = ["LINE_DEPTH_BIAS", "MODES", "POLYGON_OFFSET", "render"]
-
-MODES = ("wire", "hidden", "solid", "solid+wire")
-CULL = ("back", "front", "none")
-SHADING = ("flat", "smooth")
 
 LINE_DEPTH_BIAS = 1e-5
 """Depth bias of hidden-line edges (depth units; depth runs 0..1 from near to far plane): an
@@ -55,19 +52,6 @@ class _Options:
     line_color: np.ndarray
     aa: bool
     light: np.ndarray  # (3,) unit world-space direction towards the light
-
-
-def as_mesh(mesh) -> Mesh:
-    """A :class:`Mesh` from a Mesh, a ``(vertices, faces)`` pair or an object with
-    ``.vertices`` and ``.faces`` (a trimesh mesh, for example)."""
-    if isinstance(mesh, Mesh):
-        return mesh
-    if isinstance(mesh, tuple) and len(mesh) == 2:
-        return Mesh(*mesh)
-    if hasattr(mesh, "vertices") and hasattr(mesh, "faces"):
-        return Mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces))
-    raise TypeError("mesh must be a rasterkit.Mesh, a (vertices, faces) tuple, "
-                    "or an object with .vertices and .faces")
 
 
 def _choice(name: str, value: str, allowed: tuple) -> str:
@@ -131,7 +115,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
                        parse_color(line_color), bool(aa), light)
     # Every buffer is cleared by the kernels, band by band in the threads that draw it.
     fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
-    clip = transform_points(mesh.vertices, camera._matrix())
+    clip = transform_points(mesh.vertices, camera.world_to_raster())
     if options.mode == "wire":  # no depth buffer: it stays "farthest" until someone asks
         if fb.ids is not None:
             fb.ids.fill(-1)
@@ -148,16 +132,16 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
     """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer."""
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     if options.mode == "hidden":  # the colour buffer is cleared by the edge pass
-        rasterize_triangles(None, fb._uncleared_depth(), clip, mesh.faces, ids=fb.ids,
+        rasterize_triangles(None, fb.uncleared_depth(), clip, mesh.faces, ids=fb.ids,
                             cull=options.cull, clear=(), depth_offset=offset)
         return
     face_colors, vertex_colors = _shade(mesh, options)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
     if options.mode == "solid":  # nothing is drawn after: keep the depth only if it is read
         depth = None
-        fb._depth_source = partial(_depth_pass, clip, mesh.faces, options.cull)
+        fb.defer_depth(partial(_depth_pass, clip, mesh.faces, options.cull))
     else:
-        depth = fb._uncleared_depth()
+        depth = fb.uncleared_depth()
     rasterize_triangles(fb.color, depth, clip, mesh.faces, face_colors=face_colors,
                         vertex_colors=vertex_colors, ids=fb.ids, cull=options.cull,
                         clear=background, depth_offset=offset)
@@ -199,7 +183,7 @@ def _shade(mesh: Mesh, options: _Options):
 def _light_direction(light, camera: Camera) -> np.ndarray:
     """Unit direction towards the light; None is the headlight (from the target to the eye)."""
     if light is None:
-        return camera._backward()
+        return camera.backward()
     d = np.asarray(light, dtype=np.float64)
     if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.any(d):
         raise ValueError(f"light must be a non-zero direction of 3 finite numbers, got {light!r}")

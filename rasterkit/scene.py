@@ -13,7 +13,7 @@ import numpy as np
 
 from .camera import Camera
 from .colors import ColorLike, parse_color
-from .mesh import Mesh
+from .mesh import Mesh, as_mesh
 from .transform import apply_normals, apply_points
 
 __all__ = ["Scene", "SceneObject"]
@@ -59,8 +59,6 @@ class Scene:
     def add(self, mesh: Mesh, matrix: np.ndarray | None = None,
             color: ColorLike | None = None) -> "Scene":
         """Place ``mesh`` in the world by ``matrix`` (4x4, default identity); returns self."""
-        from .render import as_mesh
-
         m = np.eye(4) if matrix is None else np.array(matrix, dtype=np.float64)
         if m.shape != (4, 4) or not np.all(np.isfinite(m)):
             raise ValueError(f"a model matrix must be a finite 4x4 array, got shape {m.shape}")

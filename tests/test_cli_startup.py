@@ -3,9 +3,11 @@ the first render says that the kernels are compiling (and a cached run says noth
 
 import argparse
 import importlib
+import importlib.util
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -81,15 +83,26 @@ def test_render_stays_the_function_after_its_module_is_imported():
     assert rasterkit.render is module.render and callable(rasterkit.render)
 
 
-def test_each_list_of_choices_has_one_home():
+def _benchmark_settings(monkeypatch):
+    """benchmarks/settings.py, loaded by its path (the benchmark suite is not installed)."""
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "settings.py"
+    spec = importlib.util.spec_from_file_location("_benchmark_settings", path)
+    module = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, spec.name, module)  # its dataclass looks itself up there
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_each_list_of_choices_has_one_home(monkeypatch):
     from rasterkit.camera import PROJECTIONS
     from rasterkit.kernels.clip import MAX_IMAGE_SIZE
 
     assert PROJECTIONS is options.PROJECTIONS is rasterkit.PROJECTIONS
     assert MAX_IMAGE_SIZE is options.MAX_IMAGE_SIZE
     render_module = importlib.import_module("rasterkit.render")
-    assert (render_module.MODES, render_module.CULL, render_module.SHADING) == (
-        options.MODES, options.CULL, options.SHADING)
+    assert render_module.MODES is options.MODES  # imported, not a copy
+    assert render_module.CULL is options.CULL and render_module.SHADING is options.SHADING
+    assert _benchmark_settings(monkeypatch).MODES is options.MODES
     commands = next(a for a in _parser()._actions if isinstance(a, argparse._SubParsersAction))
     choices = {a.dest: tuple(a.choices) for a in commands.choices["render"]._actions if a.choices}
     assert choices == {"mode": options.MODES, "projection": options.PROJECTIONS,

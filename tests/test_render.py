@@ -7,7 +7,8 @@ from reference_raster import reference_raster
 
 import rasterkit
 from rasterkit import Camera, shapes
-from rasterkit.render import AMBIENT, as_mesh
+from rasterkit.mesh import as_mesh
+from rasterkit.render import AMBIENT
 
 BLACK = np.array([0, 0, 0], np.uint8)
 

@@ -334,14 +334,6 @@ class Camera:
         """
         return self._cached("_cached_backward", lambda: self.basis()[2])
 
-    def _matrix(self) -> np.ndarray:
-        """:meth:`world_to_raster`, under the name render.py still uses."""
-        return self.world_to_raster()
-
-    def _backward(self) -> np.ndarray:
-        """:meth:`backward`, under the name render.py still uses."""
-        return self.backward()
-
     def _cached(self, name: str, compute) -> np.ndarray:
         value = self.__dict__.get(name)
         if value is None:
