@@ -118,8 +118,8 @@ class _Worker:
     def _loop(self):
         while True:
             self._start.acquire()
-            fn, args = self._call
             try:
+                fn, args = self._call
                 self._result = (True, fn(*args))
             except BaseException as error:  # handed to the caller by wait()
                 self._result = (False, error)
@@ -131,9 +131,20 @@ class _Worker:
         self._start.release()
 
     def wait(self):
-        self._done.acquire()
+        """The call's result (or its exception). An interrupt (Ctrl-C) while waiting is
+        raised only once the call has finished: the next call must not find this one's
+        result, nor share the thread with it."""
+        interrupted = None
+        while True:
+            try:
+                self._done.acquire()
+                break
+            except BaseException as error:  # noqa: PERF203 - KeyboardInterrupt: wait on
+                interrupted = interrupted or error
         ok, value = self._result
         self._result = None
+        if interrupted is not None:
+            raise interrupted
         if not ok:
             raise value
         return value

@@ -172,9 +172,6 @@ print("hung" if caller.is_alive() else "done", results)
 
 
 @needs_two
-@pytest.mark.xfail(strict=True, reason="a KeyboardInterrupt while run_parallel waits for a helper leaves that "
-                   "helper's finished call behind: the next call returns its result and kills the helper "
-                   "thread, the one after hangs")
 def test_calls_after_an_interrupted_call_get_their_own_results():
     done = _python(INTERRUPTED, timeout=60)
     assert done.stdout.splitlines() == [
