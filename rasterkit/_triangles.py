@@ -71,10 +71,12 @@ class _Workspace(threading.local):
     one per name per thread is enough, whatever its size: no reference counting, no lock.
     A draw of a few hundred thousand faces needs tens of megabytes of per-face records
     whose number changes from frame to frame (the cut faces' fans): a buffer that grows by
-    a quarter is reused for all of them, where exact sizes would need fresh (zero-filled
-    by the operating system, as costly as the setup itself) memory each time. Two needs
-    only this one meets: records grown while keeping their first rows (:meth:`reserve`'s
-    ``keep``), and the visibility buffer, whose contents (all -1) are kept between draws.
+    a quarter is reused for all of them, where exact sizes need fresh memory (zero-filled
+    by the operating system page by page) each time: a 1080p turntable of a 300k-face model
+    with the camera inside its bounding sphere took 4-19 % longer a frame on
+    ``_memory.take``. Two needs only this one meets: records grown while keeping their
+    first rows (:meth:`reserve`'s ``keep``), and the visibility buffer, whose contents
+    (all -1) are kept between draws.
     """
 
     def __init__(self):
