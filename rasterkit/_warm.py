@@ -40,10 +40,12 @@ def _band_worker(style: dict):
     """The one band worker the helper compiles: the triangles' when the mode draws them
     (this process compiles the edges' meanwhile, after its setup kernels: the halves come
     out about even), else the edge worker of the mode."""
-    from .kernels import edges, tiles
-
     if style["mode"] != "wire":
+        from .kernels import tiles
+
         return tiles.draw_bands
+    from .kernels import edges
+
     return edges.draw_antialiased_bands if style["aa"] else edges.draw_wire_bands
 
 

@@ -16,9 +16,7 @@ import numpy as np
 
 from .camera import Camera
 from .colors import ColorLike, parse_color
-from ._edges import draw_edges
 from .framebuffer import Framebuffer
-from .kernels import edges as edge_kernels
 from .kernels import shade as shade_kernels
 from ._vertex import transform_points
 from .mesh import Mesh, as_mesh
@@ -207,6 +205,10 @@ def _base_colors(mesh: Mesh, options: _Options, per_face: bool):
 
 def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options,
                 depth_test: bool, clear: bool) -> None:
+    # imported here: a solid render (and the command line drawing one) loads no edge kernels
+    from ._edges import draw_edges
+    from .kernels import edges as edge_kernels
+
     mode = edge_kernels.MODE_PLAIN
     if depth_test:
         mode |= edge_kernels.MODE_DEPTH_TEST
