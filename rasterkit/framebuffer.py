@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _memory
 from .colors import ColorLike, parse_color
-from .image import save_image, to_pil
+from .image import encode_png, save_image, to_pil
 from .options import MAX_IMAGE_SIZE
 
 __all__ = ["Framebuffer"]
@@ -143,11 +143,7 @@ class Framebuffer:
         save_image(self.color, path)
 
     def _repr_png_(self) -> bytes:
-        import io
-
-        buf = io.BytesIO()
-        self.to_image().save(buf, format="PNG")
-        return buf.getvalue()
+        return encode_png(self.color)
 
     def __repr__(self) -> str:
         kind = "RGBA" if self.alpha else "RGB"

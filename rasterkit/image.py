@@ -1,4 +1,4 @@
-"""Image files: PNG, GIF and APNG written with Pillow, atomically.
+"""Image files: PNG (encoded here), GIF and APNG (Pillow), written atomically.
 
 Every writer goes through :func:`atomic_write`: the image is written to a temporary file in the
 destination's folder and renamed over the destination only when it is complete, so a failure
@@ -9,14 +9,16 @@ from __future__ import annotations
 
 import contextlib
 import os
+import struct
 import tempfile
+import zlib
 from pathlib import Path
 from typing import Iterator, Sequence
 
 import numpy as np
 from PIL import Image
 
-__all__ = ["to_pil", "save_image", "save_animation", "atomic_write"]
+__all__ = ["to_pil", "encode_png", "save_image", "save_animation", "atomic_write"]
 
 
 @contextlib.contextmanager
@@ -51,18 +53,41 @@ def _format(path: Path, allowed: Sequence[str]) -> str:
     return fmt
 
 
-#: zlib level of PNG files: 1 writes a 1920x1080 render in 39 ms instead of 62 (Pillow's
-#: default 6), for files about a fifth larger.
+#: zlib level of still PNG files. Level 1 without PNG's row filters writes a 1920x1080
+#: render in about 15 ms (Pillow: 39 ms at level 1, 62 ms at its default 6), for files about
+#: a third larger than Pillow's default.
 PNG_COMPRESS_LEVEL = 1
+
+_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def _png_chunk(tag: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(data, zlib.crc32(tag)))
+
+
+def encode_png(color: np.ndarray) -> bytes:
+    """The PNG file of a uint8 (H, W, 3) RGB or (H, W, 4) RGBA array: 8 bits per channel,
+    no interlacing, filter type 0 (none) on every row, one zlib stream at
+    :data:`PNG_COMPRESS_LEVEL`."""
+    color = np.asarray(color)
+    if color.dtype != np.uint8 or color.ndim != 3 or color.shape[2] not in (3, 4) or 0 in color.shape:
+        raise ValueError(f"colour must be uint8 (H, W, 3|4), got {color.dtype} {color.shape}")
+    height, width, channels = color.shape
+    rows = np.empty((height, 1 + width * channels), np.uint8)
+    rows[:, 0] = 0  # the filter type of each row
+    rows[:, 1:] = color.reshape(height, width * channels)
+    header = struct.pack(">IIBBBBB", width, height, 8, 2 if channels == 3 else 6, 0, 0, 0)
+    return (_PNG_SIGNATURE + _png_chunk(b"IHDR", header)
+            + _png_chunk(b"IDAT", zlib.compress(rows.data, PNG_COMPRESS_LEVEL)) + _png_chunk(b"IEND", b""))
 
 
 def save_image(color: np.ndarray, path: str | os.PathLike) -> None:
     """Write one image as PNG (the only still format), atomically."""
     path = Path(path)
-    fmt = _format(path, ("png",))
-    image = to_pil(color)
+    _format(path, ("png",))
+    data = encode_png(color)
     with atomic_write(path) as tmp:
-        image.save(tmp, format=fmt, compress_level=PNG_COMPRESS_LEVEL)
+        tmp.write_bytes(data)
 
 
 def save_animation(frames: Sequence[np.ndarray], path: str | os.PathLike, fps: float = 25.0) -> None:

@@ -73,3 +73,29 @@ def test_animation_gif_and_apng(tmp_path):
         save_animation(frames, tmp_path / name, fps=10)
         with Image.open(tmp_path / name) as im:
             assert im.n_frames == 4
+
+
+@pytest.mark.parametrize("shape", [(1, 1, 3), (1, 1, 4), (7, 5, 3), (33, 17, 4), (480, 641, 3)])
+def test_encode_png_round_trips_through_pillow(shape):
+    import io
+
+    from PIL import Image
+
+    from rasterkit.image import encode_png
+
+    pixels = np.random.default_rng(sum(shape)).integers(0, 256, shape, dtype=np.uint8)
+    data = encode_png(pixels)
+    with Image.open(io.BytesIO(data)) as image:
+        image.verify()  # CRCs and structure
+    with Image.open(io.BytesIO(data)) as image:
+        assert image.mode == ("RGB" if shape[2] == 3 else "RGBA")
+        assert np.array_equal(np.asarray(image), pixels)
+
+
+def test_encode_png_rejects_what_it_cannot_write():
+    from rasterkit.image import encode_png
+
+    for bad in (np.zeros((2, 2, 3), np.float32), np.zeros((2, 2), np.uint8), np.zeros((0, 2, 3), np.uint8),
+                np.zeros((2, 2, 2), np.uint8)):
+        with pytest.raises(ValueError):
+            encode_png(bad)
