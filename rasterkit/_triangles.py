@@ -22,6 +22,7 @@ from rasterkit._jit import readonly, run_parallel
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.kernels.fans import count_fans, setup_cut_faces
+from rasterkit.kernels.records import Counts, Cuts, Records
 from rasterkit.kernels.setup import (
     MAX_FAN,
     N_CHUNKS,
@@ -175,8 +176,9 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
     tally = np.zeros((N_CHUNKS, N_STATUS + 1), np.int64)
     listed = (ws.reserve("listed", (m,), np.int32), np.zeros(N_CHUNKS, np.int64))
     cut = np.zeros(N_CHUNKS, np.int64)
-    face_pass = (tri_xy, tri_z, tri_box, cut_mask, n_fan, BAND_SHIFT, band_counts, tally, lit, listed, cut)
-    _parallel(setup_faces, faces, corners, depths, width, height, cull_mode, *face_pass, threads=threads)
+    cuts, counts = Cuts(cut_mask, n_fan), Counts(BAND_SHIFT, band_counts, tally)
+    _parallel(setup_faces, faces, corners, depths, width, height, cull_mode, Records(tri_xy, tri_z, tri_box), cuts,
+              counts, lit, listed, cut, threads=threads)
     if cut.min() < 0:
         raise ValueError(f"faces must index vertices 0..{n - 1}")
     n_cut = int(cut.sum())
@@ -188,9 +190,9 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
         fan_start += np.cumsum(fans) - fans
         tri_xy, tri_z, tri_box = _records(ws, m + int(fans.sum()), keep=m)
         fan_face = ws.reserve("fan_face", (int(fans.sum()),), np.int32)
-        fan_pass = (fan_start, fan_face, tri_xy, tri_z, tri_box, cut_mask, BAND_SHIFT, band_counts, tally)
-        _parallel(setup_cut_faces, clip, faces, width, height, cull_mode, *fan_pass, threads=threads)
-    return (tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0), listed
+        _parallel(setup_cut_faces, clip, faces, width, height, cull_mode, fan_start, fan_face,
+                  Records(tri_xy, tri_z, tri_box), cuts, counts, threads=threads)
+    return Records(tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0), listed
 
 
 def _flat_colors(ws, m, face_colors, lighting):
@@ -232,10 +234,10 @@ def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, c
     band_start = bin_cursors(band_counts)
     items = ws.reserve("items", (int(band_start[-1]),), np.int32)
     drawn = np.zeros(N_CHUNKS, np.int64)
-    _parallel(bin_records, m, n_fan, fan_start, records[2], band_counts, listed, items, drawn,
+    _parallel(bin_records, m, n_fan, fan_start, records.box, band_counts, listed, items, drawn,
               threads=setup_threads)
     if offset != (0.0, 0.0):
-        _parallel(offset_depths, *records, records[0].shape[0], *offset, threads=setup_threads)
+        _parallel(offset_depths, *records, records.xy.shape[0], *offset, threads=setup_threads)
     bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
     # Flat colours without ids: the visibility buffer carries the colour itself.
     resolve = SHADE_TAGGED if mode == SHADE_FLAT and ids is None else mode

@@ -67,25 +67,11 @@ def count_fans(slot, counter, clip, faces, width, height, cut_mask, n_fan, recor
 
 
 @kernel
-def _setup_fan_chunk(
-    ch,
-    clip,
-    faces,
-    width,
-    height,
-    cull_mode,
-    planes,
-    t,
-    fan_face,
-    tri_xy,
-    tri_z,
-    tri_box,
-    cut_mask,
-    band_shift,
-    band_counts,
-    tally,
-):
+def _setup_fan_chunk(ch, clip, faces, width, height, cull_mode, planes, t, fan_face, records, cuts, counts):
     """:func:`setup_cut_faces` for the faces of chunk ``ch``, from record ``t`` on."""
+    tri_xy, tri_z, tri_box = records
+    cut_mask = cuts.mask
+    band_shift, band_counts, tally = counts
     p = np.empty((MAX_POLYGON, 3))
     start, stop = chunk_range(faces.shape[0], ch)
     m = faces.shape[0]
@@ -126,32 +112,16 @@ def _setup_fan_chunk(
 
 
 @kernel
-def setup_cut_faces(
-    slot,
-    counter,
-    clip,
-    faces,
-    width,
-    height,
-    cull_mode,
-    fan_start,
-    fan_face,
-    tri_xy,
-    tri_z,
-    tri_box,
-    cut_mask,
-    band_shift,
-    band_counts,
-    tally,
-):
+def setup_cut_faces(slot, counter, clip, faces, width, height, cull_mode, fan_start, fan_face, records, cuts, counts):
     """Cut pass 2: cut the flagged faces again and set up their fans.
 
     The fans of chunk ``ch`` go to consecutive records from ``fan_start[ch]`` (>= M), in
     face order (binning walks them in the same order); ``fan_face[t - M]`` is the face of
     fan record ``t``. A cut face is STATUS_DRAWN when any of its triangles is drawn, else
     STATUS_CULLED when any is culled, else STATUS_EMPTY (STATUS_OUTSIDE when nothing was
-    left of it). Drawn fan records are added to ``band_counts``, and the new statuses to
-    ``tally``, as in :func:`setup_faces`. A worker of :func:`rasterkit._jit.run_parallel`
+    left of it). Drawn fan records are added to ``counts.bands``, and the new statuses to
+    ``counts.tally``, as in :func:`setup_faces` (``records``, ``cuts`` and ``counts`` are its
+    named records, :mod:`rasterkit.kernels.records`). A worker of :func:`rasterkit._jit.run_parallel`
     (``slot`` unused).
     """
     planes = clip_planes(width, height)
@@ -159,21 +129,5 @@ def setup_cut_faces(
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        _setup_fan_chunk(
-            ch,
-            clip,
-            faces,
-            width,
-            height,
-            cull_mode,
-            planes,
-            fan_start[ch],
-            fan_face,
-            tri_xy,
-            tri_z,
-            tri_box,
-            cut_mask,
-            band_shift,
-            band_counts,
-            tally,
-        )
+        _setup_fan_chunk(ch, clip, faces, width, height, cull_mode, planes, fan_start[ch], fan_face, records, cuts,
+                         counts)

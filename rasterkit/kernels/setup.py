@@ -248,14 +248,9 @@ def _setup_chunk(
     width,
     height,
     cull_mode,
-    tri_xy,
-    tri_z,
-    tri_box,
-    cut_mask,
-    n_fan,
-    band_shift,
-    band_counts,
-    tally,
+    records,
+    cuts,
+    counts,
     lit,
     listed,
 ):
@@ -266,6 +261,9 @@ def _setup_chunk(
     :func:`setup_cut_faces` has cut it).
     """
     start, stop = chunk_range(faces.shape[0], ch)
+    tri_xy, tri_z, tri_box = records
+    cut_mask, n_fan = cuts
+    band_shift, band_counts, tally = counts
     on, normals, base, scale, light, ambient, two_sided, packed = lit
     seen, n_listed = listed
     cut = 0
@@ -304,27 +302,8 @@ def _setup_chunk(
 
 
 @kernel
-def setup_faces(
-    slot,
-    counter,
-    faces,
-    corners,
-    depths,
-    width,
-    height,
-    cull_mode,
-    tri_xy,
-    tri_z,
-    tri_box,
-    cut_mask,
-    n_fan,
-    band_shift,
-    band_counts,
-    tally,
-    lit,
-    listed,
-    cut,
-):
+def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode, records, cuts, counts, lit, listed,
+                cut):
     """Face pass: classify every face; set up the ones that need no cutting.
 
     Record ``f`` belongs to face ``f`` (empty unless the face is drawn uncut). Faces that
@@ -338,17 +317,17 @@ def setup_faces(
     corners, depths
         From :func:`setup_vertices`.
     width, height, cull_mode : int
-    tri_xy, tri_z, tri_box
-        Record arrays with at least M records.
-    cut_mask, n_fan : (M,) int8
-        Out: the planes cutting each face (0: none); 0 (filled in by :func:`count_fans`).
-    band_shift : int
-        log2 of the rows per band of the binning (:data:`rasterkit.kernels.tiles.BAND_SHIFT`).
-    band_counts : (N_CHUNKS, n_bands) int64
-        Zeros in; out: drawn records per chunk and band (:func:`count_bands`).
-    tally : (N_CHUNKS, N_STATUS + 1) int64
-        Zeros in; out: faces per chunk and STATUS_* (column N_STATUS: faces cut with
-        something left, counted by :func:`setup_cut_faces`).
+    records : Records
+        :class:`rasterkit.kernels.records.Records` with at least M records.
+    cuts : Cuts
+        :class:`rasterkit.kernels.records.Cuts`; out: the planes cutting each face (0:
+        none) in ``mask``, 0 in ``n_fan`` (filled in by :func:`count_fans`).
+    counts : Counts
+        :class:`rasterkit.kernels.records.Counts`: ``shift`` is log2 of the rows per band
+        of the binning (:data:`rasterkit.kernels.tiles.BAND_SHIFT`); ``bands`` and
+        ``tally`` zeros in; out: drawn records per chunk and band (:func:`count_bands`), and
+        faces per chunk and STATUS_* (column N_STATUS: faces cut with something left,
+        counted by :func:`setup_cut_faces`).
     lit : tuple
         ``(on, normals, base, scale, light, ambient, two_sided, packed)``: when ``on``,
         each face that is drawn uncut or is to be cut gets its flat Lambert colour in
@@ -358,7 +337,6 @@ def setup_faces(
         ``(faces_listed, n_listed)``: out, the faces drawn uncut or to be cut, in order,
         chunk ``ch``'s from ``chunk_range(M, ch)[0]`` in ``faces_listed`` (M,) int32, their
         number in ``n_listed`` (N_CHUNKS,) int64. Binning and shading visit only these.
-
     cut : (N_CHUNKS,) int64
         Out: per chunk, the number of faces to cut, or -1 when a face has a vertex index
         outside ``0 .. N - 1`` (checked here, where every index is read anyway, instead of
@@ -372,22 +350,5 @@ def setup_faces(
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        cut[ch] = _setup_chunk(
-            ch,
-            faces,
-            corners,
-            depths,
-            width,
-            height,
-            cull_mode,
-            tri_xy,
-            tri_z,
-            tri_box,
-            cut_mask,
-            n_fan,
-            band_shift,
-            band_counts,
-            tally,
-            lit,
-            listed,
-        )
+        cut[ch] = _setup_chunk(ch, faces, corners, depths, width, height, cull_mode, records, cuts, counts, lit,
+                               listed)
