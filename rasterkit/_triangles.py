@@ -22,7 +22,7 @@ from rasterkit._jit import readonly, run_parallel
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.kernels.fans import count_fans, setup_cut_faces
-from rasterkit.kernels.records import Counts, Cuts, Records
+from rasterkit.kernels.records import Clear, Counts, Cuts, Lit, Records, Shading, Target
 from rasterkit.kernels.setup import (
     MAX_FAN,
     N_CHUNKS,
@@ -125,9 +125,9 @@ def _lit(lighting, packed):
     """The ``lit`` tuple of :func:`rasterkit.kernels.setup.setup_faces` (the same types
     with and without lighting: one compiled kernel)."""
     if lighting is None:
-        return (False, _NO_NORMALS, _NO_BASE, np.float32(1.0), _NO_LIGHT, 0.0, False, packed)
-    return (True, lighting.normals, lighting.base, lighting.scale, lighting.light, lighting.ambient,
-            lighting.two_sided, packed)
+        return Lit(False, _NO_NORMALS, _NO_BASE, np.float32(1.0), _NO_LIGHT, 0.0, False, packed)
+    return Lit(True, lighting.normals, lighting.base, lighting.scale, lighting.light, lighting.ambient,
+               lighting.two_sided, packed)
 
 
 def _records(ws, rows, keep=0):
@@ -140,10 +140,10 @@ def _records(ws, rows, keep=0):
 
 
 def _clear_spec(background, color):
-    """``(clear, color_bytes, pattern)`` as draw_bands takes it."""
+    """The :class:`rasterkit.kernels.records.Clear` of a draw."""
     if background is None or color is None:
-        return background is not None, _NO_BYTES, _NO_PATTERN
-    return True, color.reshape(-1), _pattern(background.tobytes())
+        return Clear(background is not None, _NO_BYTES, _NO_PATTERN)
+    return Clear(True, color.reshape(-1), _pattern(background.tobytes()))
 
 
 @functools.lru_cache(maxsize=64)
@@ -242,15 +242,15 @@ def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, c
     # Flat colours without ids: the visibility buffer carries the colour itself.
     resolve = SHADE_TAGGED if mode == SHADE_FLAT and ids is None else mode
     no_colors = np.zeros((0, 3), np.float32)
-    shading = (resolve, m, fan_face, packed, vertex_colors if vertex_colors is not None else no_colors, faces,
-               bary)
+    colors = vertex_colors if vertex_colors is not None else no_colors
+    shading = Shading(resolve, m, fan_face, packed, colors, faces, bary)
     color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
     ids_target = ids if ids is not None else np.empty((0, 0), np.int32)
     if depth is None:  # a band-sized depth scratch per thread, never written to memory whole
         band_depth = ws.reserve("band_depth", (threads * slot_rows(width), width), np.float32)
-        target = (band_depth, False, height, color_target, ids is not None, ids_target)
+        target = Target(band_depth, False, height, color_target, ids is not None, ids_target)
     else:
-        target = (depth, True, height, color_target, ids is not None, ids_target)
+        target = Target(depth, True, height, color_target, ids is not None, ids_target)
     clear = _clear_spec(background, color)
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     fragments = sum(_parallel(draw_bands, band_start, items, records, shading, target, clear,

@@ -17,3 +17,27 @@ Cuts = namedtuple("Cuts", "mask n_fan")
 #: int64, drawn records per face chunk and band; ``tally`` (N_CHUNKS, N_STATUS + 1) int64,
 #: faces per chunk and outcome (the last column: cut faces with something left).
 Counts = namedtuple("Counts", "shift bands tally")
+
+#: Flat Lambert colours made during the face pass (:func:`rasterkit.kernels.setup.setup_faces`):
+#: when ``on``, each face drawn or to be cut gets its colour in ``packed`` (M,) uint32 from
+#: ``normals`` (M, 3) float32, ``base`` (1 or M, 3) float32 times ``scale``, the unit
+#: direction ``light`` (3,) float64, ``ambient`` and ``two_sided``
+#: (:func:`rasterkit.kernels.shade.flat_colors`).
+Lit = namedtuple("Lit", "on normals base scale light ambient two_sided packed")
+
+#: How :func:`rasterkit.kernels.tiles.draw_bands` colours a visible pixel
+#: (:func:`rasterkit.kernels.shade.resolve_row`): the resolve ``mode`` (SHADE_*), ``n_faces``
+#: M (record ``t`` is face ``t`` below M, else face ``fan_face[t - M]``), ``packed`` (M,)
+#: uint32 face colours, ``vertex_colors`` (N, 3) float32, ``faces`` (M, 3) int64 and
+#: ``bary`` (M, 9) float64 perspective-correct barycentric rows (smooth shading).
+Shading = namedtuple("Shading", "mode n_faces fan_face packed vertex_colors faces bary")
+
+#: Where :func:`rasterkit.kernels.tiles.draw_bands` draws: ``depth`` (H, W) float32 when
+#: ``keep_depth``, else a band-sized scratch per slot; the image ``height``; ``color`` (H, W,
+#: C) uint8; whether to write face indices (``write_ids``) into ``ids`` (H, W) int32.
+Target = namedtuple("Target", "depth keep_depth height color write_ids ids")
+
+#: Clearing a band before it is drawn: when ``on``, depth +inf, ids -1 and the band's part of
+#: ``color_bytes`` (the colour buffer as 1-D uint8, empty without one) to ``pattern``, the
+#: background repeated over 24 bytes (:func:`rasterkit.kernels.clear.fill_bytes`).
+Clear = namedtuple("Clear", "on color_bytes pattern")

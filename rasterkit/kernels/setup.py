@@ -328,11 +328,10 @@ def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode,
         ``tally`` zeros in; out: drawn records per chunk and band (:func:`count_bands`), and
         faces per chunk and STATUS_* (column N_STATUS: faces cut with something left,
         counted by :func:`setup_cut_faces`).
-    lit : tuple
-        ``(on, normals, base, scale, light, ambient, two_sided, packed)``: when ``on``,
-        each face that is drawn uncut or is to be cut gets its flat Lambert colour in
-        ``packed`` (M,) uint32 (:func:`rasterkit.kernels.shade.flat_colors`); the other
-        entries are left as they were.
+    lit : Lit
+        :class:`rasterkit.kernels.records.Lit`: when on, each face that is drawn uncut or
+        is to be cut gets its flat Lambert colour in ``lit.packed``; the other entries are
+        left as they were.
     listed : tuple
         ``(faces_listed, n_listed)``: out, the faces drawn uncut or to be cut, in order,
         chunk ``ch``'s from ``chunk_range(M, ch)[0]`` in ``faces_listed`` (M,) int32, their

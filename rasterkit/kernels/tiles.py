@@ -215,29 +215,23 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
         0 on entry; the bands are handed out from it.
     band_start, items
         From :func:`bin_records`.
-    records : tuple
-        ``(tri_xy, tri_z, tri_box)`` (:mod:`rasterkit.kernels.triangle`).
-    shading : tuple
-        ``(mode, n_faces, fan_face, packed, vertex_colors, faces, bary)``: how to colour
-        a visible pixel (:func:`rasterkit.kernels.shade.resolve_row`); record ``t`` is
-        face ``t`` below ``n_faces``, else face ``fan_face[t - n_faces]``. In
-        SHADE_TAGGED (flat colours, no ids) the visibility buffer holds the face's colour
-        instead of its index.
-    target : tuple
-        ``(depth, keep_depth, height, color, write_ids, ids)``: the depth buffer (less-than
-        test), (H, W) float32 when ``keep_depth``, else a scratch of ``BAND_HEIGHT`` rows
-        per slot, (n_slots * slot_rows(W), W) float32 (slot ``s`` draws in the last
-        ``BAND_HEIGHT`` of rows ``s * slot_rows(W)`` onwards), cleared per band, so that a draw
-        whose depth nobody reads never writes an image-sized depth buffer to memory; the
-        image height H; colour (H, W, C) uint8 (untouched in SHADE_NONE); and whether to
-        write face indices into ids (H, W) int32.
-    clear : tuple
-        ``(clear, color_bytes, pattern)``: when ``clear``, each band is cleared right
-        before it is drawn, while its rows are in this thread's cache anyway: depth +inf,
-        ids -1, and the band's part of ``color_bytes`` (the colour buffer seen as 1-D
-        uint8; empty without one) set to the background, repeated in ``pattern`` (24,)
-        uint8 (:func:`rasterkit.kernels.clear.fill_bytes`). A depth scratch (not
-        ``keep_depth``) is cleared in any case.
+    records : Records
+        The triangle records (:class:`rasterkit.kernels.records.Records`).
+    shading : Shading
+        How to colour a visible pixel (:class:`rasterkit.kernels.records.Shading`,
+        :func:`rasterkit.kernels.shade.resolve_row`). In SHADE_TAGGED (flat colours, no
+        ids) the visibility buffer holds the face's colour instead of its index.
+    target : Target
+        Where to draw (:class:`rasterkit.kernels.records.Target`): the depth buffer
+        (less-than test), the whole (H, W) float32 buffer when ``keep_depth``, else a
+        scratch of ``BAND_HEIGHT`` rows per slot, (n_slots * slot_rows(W), W) float32 (slot
+        ``s`` draws in the last ``BAND_HEIGHT`` of rows ``s * slot_rows(W)`` onwards),
+        cleared per band, so that a draw whose depth nobody reads never writes an
+        image-sized depth buffer to memory.
+    clear : Clear
+        :class:`rasterkit.kernels.records.Clear`: when on, each band is cleared right
+        before it is drawn, while its rows are in this thread's cache anyway. A depth
+        scratch (not ``keep_depth``) is cleared in any case.
     lid : (n_slots, slot_rows(W), W) int32
         One visibility buffer per parallel slot (its last ``BAND_HEIGHT`` rows; the rows
         before them keep the slots apart, :data:`SLOT_GUARD_BYTES`), all -1 on entry, all
@@ -253,7 +247,7 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
     tri_xy, tri_z, tri_box = records
     mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
     depth, keep_depth, height, color, write_ids, ids = target
-    do_clear = clear[0]
+    do_clear = clear.on
     width = lid.shape[2]
     guard = lid.shape[1] - BAND_HEIGHT  # unused rows before each slot's band rows
     band_lid = lid[slot, guard:]
