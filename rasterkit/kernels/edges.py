@@ -25,6 +25,7 @@ from rasterkit.kernels.clip import project_segment
 from rasterkit.kernels.edge_setup import REC_PIX, REC_ROWS, REC_STEPS
 from rasterkit.kernels.intrinsics import fetch_add
 from rasterkit.kernels.line import blend_pixel, minor_steps, put_pixel, step_line, step_mask, step_range, tie_offset
+from rasterkit.kernels.paint import paint_marked, paint_tables
 
 MODE_PLAIN = 0
 MODE_DEPTH_TEST = 1
@@ -187,58 +188,6 @@ def _record_steps(width, recs, e):
     return np.int64(recs[REC_PIX, e]), n + 1, r, 2 * a, 2 * n, ustride, vstride
 
 
-#: ``bits = (word * _GATHER) >> 56`` turns 8 mask bytes of 0 or 1 into 8 bits (bit k = byte k).
-_GATHER = 0x0102040810204080
-
-
-@kernel
-def _paint_tables(rgba):
-    """For the masked colour pass of C = ``rgba.size`` channels, 8 pixels (C 64-bit words)
-    at a time: ``select[bits]``, the C words with 0xFF in the bytes of the pixels whose bit
-    is set, and ``paint``, the C words of ``rgba`` repeated over 8 pixels."""
-    channels = rgba.size
-    select = np.zeros((256, channels), np.uint64)
-    paint = np.zeros(channels, np.uint64)
-    for b in range(8 * channels):
-        word, shift = b // 8, np.uint64(8 * (b % 8))
-        paint[word] |= np.uint64(rgba[b % channels]) << shift
-        for bits in range(256):
-            if (bits >> (b // channels)) & 1:
-                select[bits, word] |= np.uint64(0xFF) << shift
-    return select, paint
-
-
-@kernel(refcounts=False)
-def _paint_marked(cflat, mflat, lo, hi, rgba, select, paint):
-    """Colour ``rgba`` into the pixels ``lo .. hi - 1`` whose mask byte is 1 (the others
-    are 0): eight pixels per mask word, unmarked groups skipped, each marked group blended
-    in C 64-bit words by the byte masks of :func:`_paint_tables`."""
-    channels = rgba.size
-    p = lo
-    while p < hi and p % 8 != 0:
-        if mflat[p]:
-            put_pixel(cflat, p, channels, rgba)
-        p += 1
-    groups = (hi - p) // 8
-    if groups > 0:
-        marks = mflat[p: p + 8 * groups].view(np.uint64)
-        words = cflat[p * channels: (p + 8 * groups) * channels].view(np.uint64)
-        for g in range(groups):
-            mark = marks[g]
-            if mark == 0:
-                continue
-            bits = (mark * np.uint64(_GATHER)) >> np.uint64(56)
-            for k in range(channels):
-                sel = select[bits, k]
-                w = g * channels + k
-                words[w] = (words[w] & ~sel) | (paint[k] & sel)
-        p += 8 * groups
-    while p < hi:
-        if mflat[p]:
-            put_pixel(cflat, p, channels, rgba)
-        p += 1
-
-
 @kernel(inline="always")
 def _band_segment(clip, proj, edges, e, ylo, yhi):
     """Edge ``e`` clipped and projected (:func:`_edge_segment`): ``(status, seg)``, status
@@ -345,7 +294,7 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
     pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
     marked = clear and mask.size >= height * width
     # the 8-pixel paint tables, only for the marked (mask) path
-    select, paint = _paint_tables(rgba if marked else rgba[:0])
+    select, paint = paint_tables(rgba if marked else rgba[:0])
     one = np.ones(1, np.uint8)
     zeros = np.zeros(PATTERN_BYTES, np.uint8)
     target, target_channels, ink = (mask, 1, one) if marked else (cflat, channels, rgba)
@@ -365,7 +314,7 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
             dropped = lost
         if marked:
             fill_bytes(cflat, lo * channels, hi * channels, pattern)
-            _paint_marked(cflat, mask, lo, hi, rgba, select, paint)
+            paint_marked(cflat, mask, lo, hi, rgba, select, paint)
     return dropped
 
 
