@@ -21,6 +21,8 @@ _PARALLEL_EDGES = 2048
 
 _NO_DEPTH = np.empty((0, 0), np.float32)
 _NO_BACKGROUND = np.empty(0, np.uint8)
+_NO_POINTS = readonly(np.empty((0, 3), np.float64))
+_NO_MATRIX = readonly(np.eye(4))
 
 
 def _parallel(worker, *args, threads):
@@ -39,7 +41,7 @@ def scratch(n_vertices, n_edges, n_pixels, mode, take=_memory.take):
 
 
 def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None, *, n_bands=None,
-               threads=None, memory=None) -> int:
+               threads=None, memory=None, transform=None) -> int:
     """Draw the edges ``edges`` (E, 2) int64 of the vertices ``clip`` (N, 4) float64
     (homogeneous raster space) into ``color`` (H, W, C) uint8 with ``rgba`` (C,) uint8, as
     :func:`rasterkit.kernels.edges.draw_edge_bands` describes; ``depth`` (H, W) float32 is
@@ -48,8 +50,9 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
 
     ``n_bands`` (default: the thread count) and ``threads`` (default
     :func:`rasterkit._jit.get_threads`, one for a few edges) never change the image. ``memory``: scratch arrays
-    as :func:`scratch` makes them (default: recycled ones). Returns the number of edges
-    dropped (a NaN, infinite or too large coordinate).
+    as :func:`scratch` makes them (default: recycled ones). ``transform``: ``(points,
+    matrix)``, (N, 3) and (4, 4) float64, to make ``clip`` (then None) in the vertex pass
+    itself. Returns the number of edges dropped (a NaN, infinite or too large coordinate).
     """
     height, width = color.shape[:2]
     if threads is None:
@@ -57,13 +60,17 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
     n_bands = min(height, threads if n_bands is None else n_bands)
     plain = mode == _kernels.MODE_PLAIN
     background = _NO_BACKGROUND if background is None else background
+    points, matrix = _NO_POINTS, _NO_MATRIX
+    if transform is not None:
+        points, matrix = (readonly(a) for a in transform)
+        clip = _memory.take((len(points), 4), np.float64)
     if memory is None:
         memory = scratch(len(clip), len(edges), height * width if background.size else 0, mode)
     proj, pixels, recs, _ = memory
     edges = readonly(edges)  # as a Mesh's: one compiled kernel for both
     counts = np.zeros((_setup.VERTEX_CHUNKS, -(-height // _setup.ROWS_PER_BIN)), np.int64)
-    _parallel(_setup.project_vertices, clip, proj, pixels if plain else pixels[:0], width, height, counts,
-              threads=threads)
+    _parallel(_setup.project_vertices, clip, proj, pixels if plain else pixels[:0], width, height, counts, points,
+              matrix, threads=threads)
     if plain:
         _parallel(_setup.plain_setup, pixels, edges, width, height, recs, threads=threads)
         work = _setup.record_work(recs, height)

@@ -113,15 +113,17 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
                        parse_color(line_color), bool(aa), light)
     # Every buffer is cleared by the kernels, band by band in the threads that draw it.
     fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
-    clip = transform_points(mesh.vertices, camera.world_to_raster())
     if options.mode == "wire":  # no depth buffer: it stays "farthest" until someone asks
         if fb.ids is not None:
             fb.ids.fill(-1)
-    else:
-        _draw_triangles(fb, mesh, clip, options)
+        # the edges' vertex pass transforms the vertices itself: one pass over them less
+        _draw_edges(fb, mesh, None, options, depth_test=False, clear=True,
+                    transform=(mesh.vertices, camera.world_to_raster()))
+        return fb
+    clip = transform_points(mesh.vertices, camera.world_to_raster())
+    _draw_triangles(fb, mesh, clip, options)
     if options.mode != "solid":
-        _draw_edges(fb, mesh, clip, options, depth_test=options.mode != "wire",
-                    clear=options.mode in ("wire", "hidden"))
+        _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
     return fb
 
 
@@ -203,8 +205,8 @@ def _base_colors(mesh: Mesh, options: _Options, per_face: bool):
     return options.color[None, :3].astype(np.float32)
 
 
-def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options,
-                depth_test: bool, clear: bool) -> None:
+def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, options: _Options,
+                depth_test: bool, clear: bool, transform=None) -> None:
     # imported here: a solid render (and the command line drawing one) loads no edge kernels
     from ._edges import draw_edges
     from .kernels import edges as edge_kernels
@@ -218,4 +220,4 @@ def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray, options: _Options
     rgba = np.ascontiguousarray(options.line_color[:channels])
     background = np.ascontiguousarray(fb.background[:channels]) if clear else None
     depth = fb.depth if depth_test else np.empty((0, 0), np.float32)
-    draw_edges(fb.color, depth, clip, mesh.edges, rgba, mode, LINE_DEPTH_BIAS, background)
+    draw_edges(fb.color, depth, clip, mesh.edges, rgba, mode, LINE_DEPTH_BIAS, background, transform=transform)

@@ -286,7 +286,8 @@ def test_record_work_counts_pixels_and_edges_by_middle_row():
     edges = np.array([[0, 1], [1, 2], [0, 3]])  # the last one leaves the image: general path
     proj, pixels, recs, _ = scratch(4, 3, 0, MODE_PLAIN, take=np.empty)
     counts = np.zeros((line_kernels.VERTEX_CHUNKS, 5), np.int64)
-    line_kernels.project_vertices(0, np.zeros(1, np.int64), clip, proj, pixels, 20, 40, counts)
+    line_kernels.project_vertices(0, np.zeros(1, np.int64), clip, proj, pixels, 20, 40, counts,
+                                  readonly(np.empty((0, 3))), readonly(np.eye(4)))
     assert pixels.tolist() == [2 | 3 << 32, 12 | 7 << 32, 4 | 30 << 32, -1]
     line_kernels.plain_setup(0, np.zeros(1, np.int64), pixels, edges, 20, 40, recs)
     assert recs[2].tolist() == [3 | 7 << 16, 7 | 30 << 16, -1]  # rows jlo | jhi << 16

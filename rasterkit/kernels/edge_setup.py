@@ -19,13 +19,14 @@ import numpy as np
 from rasterkit._jit import kernel
 from rasterkit.kernels.clip import SEGMENT_GUARD_BAND, all_usable, clamp, segment_outcode
 from rasterkit.kernels.intrinsics import fetch_add
+from rasterkit.kernels.vertex import transform_row
 
 VERTEX_CHUNKS = 16
 ROWS_PER_BIN = 8
 
 
 @kernel(refcounts=False)
-def project_vertices(slot, counter, clip, proj, pixels, width, height, counts):
+def project_vertices(slot, counter, clip, proj, pixels, width, height, counts, points, matrix):
     """Vertex pass of :func:`draw_edges`: divide every vertex that needs no clipping, once.
 
     ``proj[i]`` becomes ``(x, y, z, 1.0)`` (raster space, exactly as :func:`project_segment`
@@ -45,16 +46,24 @@ def project_vertices(slot, counter, clip, proj, pixels, width, height, counts):
     when ``pixels`` is given (the plain path balances its bands by :func:`record_work`, and
     the count cost a sixth of this pass).
 
+    Unless ``points`` is empty, ``clip`` is made here first, row by row, as
+    :func:`rasterkit.kernels.vertex.transform_points` makes it from ``points`` (N, 3) float64
+    and ``matrix`` (4, 4) float64 (a wireframe, which needs ``clip`` for nothing else, saves a
+    pass over the vertices).
+
     A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused, chunks claimed
     through ``counter``).
     """
     n = clip.shape[0]
     with_pixels = pixels.size > 0
+    transform = points.shape[0] > 0
     while True:  # claim the next piece until none is left
         ch = fetch_add(counter, 0, 1)
         if ch >= VERTEX_CHUNKS:
             break
         for i in range(n * ch // VERTEX_CHUNKS, n * (ch + 1) // VERTEX_CHUNKS):
+            if transform:
+                transform_row(points, matrix, clip, i)
             p = (clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3])
             pixel = -1
             if not all_usable(p):

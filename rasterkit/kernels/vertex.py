@@ -21,6 +21,12 @@ def transform_points(slot, counter, points, matrix, out):
         if ch >= N_CHUNKS:
             break
         for i in range(n * ch // N_CHUNKS, n * (ch + 1) // N_CHUNKS):
-            x, y, z = points[i, 0], points[i, 1], points[i, 2]
-            for r in range(4):
-                out[i, r] = matrix[r, 0] * x + matrix[r, 1] * y + matrix[r, 2] * z + matrix[r, 3]
+            transform_row(points, matrix, out, i)
+
+
+@kernel(inline="always")
+def transform_row(points, matrix, out, i):
+    """``out[i] = matrix @ (points[i], 1)``."""
+    x, y, z = points[i, 0], points[i, 1], points[i, 2]
+    for r in range(4):
+        out[i, r] = matrix[r, 0] * x + matrix[r, 1] * y + matrix[r, 2] * z + matrix[r, 3]
