@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit import _jit, _memory
-from rasterkit._jit import readonly, run_parallel
+from rasterkit._jit import readonly, run_workers
 from rasterkit.kernels import edge_setup as _setup
 from rasterkit.kernels import edges as _kernels
 
@@ -24,9 +24,6 @@ _NO_BACKGROUND = np.empty(0, np.uint8)
 _NO_POINTS = readonly(np.empty((0, 3), np.float64))
 _NO_MATRIX = readonly(np.eye(4))
 
-
-def _parallel(worker, *args, threads):
-    return run_parallel(worker, np.zeros(1, np.int64), *args, threads=threads)
 
 
 def scratch(n_vertices, n_edges, n_pixels, mode, take=_memory.take):
@@ -69,19 +66,19 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
     proj, pixels, recs, _ = memory
     edges = readonly(edges)  # as a Mesh's: one compiled kernel for both
     counts = np.zeros((_setup.VERTEX_CHUNKS, -(-height // _setup.ROWS_PER_BIN)), np.int64)
-    _parallel(_setup.project_vertices, clip, proj, pixels if plain else pixels[:0], width, height, counts, points,
+    run_workers(_setup.project_vertices, clip, proj, pixels if plain else pixels[:0], width, height, counts, points,
               matrix, threads=threads)
     if plain:
-        _parallel(_setup.plain_setup, pixels, edges, width, height, recs, threads=threads)
+        run_workers(_setup.plain_setup, pixels, edges, width, height, recs, threads=threads)
         work = _setup.record_work(recs, height)
     else:
         work = counts.sum(axis=0)
     bounds = _setup.balanced_bands(work, n_bands, height)
     if plain:  # a kernel of its own: a wireframe compiles nothing of the other modes
-        dropped = _parallel(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,
+        dropped = run_workers(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,
                             threads=threads)
     else:
         worker = _kernels.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _kernels.draw_edge_bands
-        dropped = _parallel(worker, color, depth if depth is not None else _NO_DEPTH, clip, edges, rgba, mode, bias,
+        dropped = run_workers(worker, color, depth if depth is not None else _NO_DEPTH, clip, edges, rgba, mode, bias,
                             bounds, background, memory, threads=threads)
     return max(dropped)

@@ -39,6 +39,7 @@ import os
 import threading
 
 import numba
+import numpy as np
 
 FASTMATH = frozenset({"nsz", "arcp", "contract", "afn", "reassoc"})
 
@@ -209,6 +210,12 @@ def run_parallel(worker, *args, threads: int | None = None) -> list:
         return [first, *_wait_all(helpers)]
     finally:
         pool.busy.release()
+
+
+def run_workers(worker, *args, threads: int | None = None) -> list:
+    """:func:`run_parallel` for the kernels' workers, ``worker(slot, counter, *args)``: with
+    a fresh work counter ((1,) int64, 0) that the slots claim their pieces from."""
+    return run_parallel(worker, np.zeros(1, np.int64), *args, threads=threads)
 
 
 def _wait_all(helpers):

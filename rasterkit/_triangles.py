@@ -18,7 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rasterkit._jit import readonly, run_parallel
+from rasterkit._jit import readonly, run_workers
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.kernels.fans import count_fans, setup_cut_faces
@@ -154,10 +154,6 @@ def _pattern(background: bytes) -> np.ndarray:
     return pattern
 
 
-def _parallel(worker, *args, threads):
-    """``worker`` on ``threads`` threads, with a fresh work counter."""
-    return run_parallel(worker, np.zeros(1, np.int64), *args, threads=threads)
-
 
 def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
     """Vertex pass, face pass and (when needed) the cut faces' fans; binning counted.
@@ -169,7 +165,7 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
     n, m = clip.shape[0], faces.shape[0]
     corners = ws.reserve("corners", (n, 4), np.int32)
     depths = corners.view(np.float32)  # the same rows: z as float32
-    _parallel(setup_vertices, clip, width, height, corners, depths, threads=threads)
+    run_workers(setup_vertices, clip, width, height, corners, depths, threads=threads)
     tri_xy, tri_z, tri_box = _records(ws, m)
     cut_mask, n_fan = ws.reserve("cut_mask", (m,), np.int8), ws.reserve("n_fan", (m,), np.int8)
     band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
@@ -177,7 +173,7 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
     listed = (ws.reserve("listed", (m,), np.int32), np.zeros(N_CHUNKS, np.int64))
     cut = np.zeros(N_CHUNKS, np.int64)
     cuts, counts = Cuts(cut_mask, n_fan), Counts(BAND_SHIFT, band_counts, tally)
-    _parallel(setup_faces, faces, corners, depths, width, height, cull_mode, Records(tri_xy, tri_z, tri_box), cuts,
+    run_workers(setup_faces, faces, corners, depths, width, height, cull_mode, Records(tri_xy, tri_z, tri_box), cuts,
               counts, lit, listed, cut, threads=threads)
     if cut.min() < 0:
         raise ValueError(f"faces must index vertices 0..{n - 1}")
@@ -186,11 +182,11 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
     fan_face = np.empty(0, np.int32)
     if n_cut:
         fans = np.zeros(N_CHUNKS, np.int64)
-        _parallel(count_fans, clip, faces, width, height, cut_mask, n_fan, fans, threads=threads)
+        run_workers(count_fans, clip, faces, width, height, cut_mask, n_fan, fans, threads=threads)
         fan_start += np.cumsum(fans) - fans
         tri_xy, tri_z, tri_box = _records(ws, m + int(fans.sum()), keep=m)
         fan_face = ws.reserve("fan_face", (int(fans.sum()),), np.int32)
-        _parallel(setup_cut_faces, clip, faces, width, height, cull_mode, fan_start, fan_face,
+        run_workers(setup_cut_faces, clip, faces, width, height, cull_mode, fan_start, fan_face,
                   Records(tri_xy, tri_z, tri_box), cuts, counts, threads=threads)
     return Records(tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0), listed
 
@@ -234,10 +230,10 @@ def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, c
     band_start = bin_cursors(band_counts)
     items = ws.reserve("items", (int(band_start[-1]),), np.int32)
     drawn = np.zeros(N_CHUNKS, np.int64)
-    _parallel(bin_records, m, n_fan, fan_start, records.box, band_counts, listed, items, drawn,
+    run_workers(bin_records, m, n_fan, fan_start, records.box, band_counts, listed, items, drawn,
               threads=setup_threads)
     if offset != (0.0, 0.0):
-        _parallel(offset_depths, *records, records.xy.shape[0], *offset, threads=setup_threads)
+        run_workers(offset_depths, *records, records.xy.shape[0], *offset, threads=setup_threads)
     bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
     # Flat colours without ids: the visibility buffer carries the colour itself.
     resolve = SHADE_TAGGED if mode == SHADE_FLAT and ids is None else mode
@@ -253,7 +249,7 @@ def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, c
         target = Target(depth, True, height, color_target, ids is not None, ids_target)
     clear = _clear_spec(background, color)
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
-    fragments = sum(_parallel(draw_bands, band_start, items, records, shading, target, clear,
+    fragments = sum(run_workers(draw_bands, band_start, items, records, shading, target, clear,
                               ws.visibility(threads, width), spans, threads=threads))
     return dict(
         faces=m,

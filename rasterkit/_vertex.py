@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit._jit import readonly, run_parallel
+from rasterkit._jit import readonly, run_workers
 from rasterkit.kernels.vertex import transform_points as _transform_points
 
 #: Fewer points than this are transformed on the calling thread alone (handing work to
@@ -17,7 +17,6 @@ def transform_points(points: np.ndarray, matrix: np.ndarray) -> np.ndarray:
 
     ``matrix`` is (4, 4) float64, C-contiguous. The caller validates both."""
     out = np.empty((points.shape[0], 4), np.float64)
-    counter = np.zeros(1, np.int64)
     threads = 1 if points.shape[0] < _PARALLEL_POINTS else None
-    run_parallel(_transform_points, counter, readonly(points), readonly(matrix), out, threads=threads)
+    run_workers(_transform_points, readonly(points), readonly(matrix), out, threads=threads)
     return out

@@ -36,11 +36,17 @@ def atomic_write(path: str | os.PathLike) -> Iterator[Path]:
         raise
 
 
+def _colour(color) -> np.ndarray:
+    """``color`` as a uint8 (H, W, 3) RGB or (H, W, 4) RGBA array with pixels, or ValueError."""
+    color = np.asarray(color)
+    if color.dtype != np.uint8 or color.ndim != 3 or color.shape[2] not in (3, 4) or 0 in color.shape:
+        raise ValueError(f"colour must be uint8 (H, W, 3|4), got {color.dtype} {color.shape}")
+    return color
+
+
 def to_pil(color: np.ndarray) -> Image.Image:
     """A Pillow image of a uint8 (H, W, 3) RGB or (H, W, 4) RGBA array."""
-    color = np.asarray(color)
-    if color.dtype != np.uint8 or color.ndim != 3 or color.shape[2] not in (3, 4):
-        raise ValueError(f"colour must be uint8 (H, W, 3|4), got {color.dtype} {color.shape}")
+    color = _colour(color)
     return Image.fromarray(np.ascontiguousarray(color), "RGBA" if color.shape[2] == 4 else "RGB")
 
 
@@ -59,6 +65,7 @@ def _format(path: Path, allowed: Sequence[str]) -> str:
 PNG_COMPRESS_LEVEL = 1
 
 _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+_IDAT_BYTES = 1 << 30
 
 
 def _png_chunk(tag: bytes, data: bytes) -> bytes:
@@ -69,16 +76,16 @@ def encode_png(color: np.ndarray) -> bytes:
     """The PNG file of a uint8 (H, W, 3) RGB or (H, W, 4) RGBA array: 8 bits per channel,
     no interlacing, filter type 0 (none) on every row, one zlib stream at
     :data:`PNG_COMPRESS_LEVEL`."""
-    color = np.asarray(color)
-    if color.dtype != np.uint8 or color.ndim != 3 or color.shape[2] not in (3, 4) or 0 in color.shape:
-        raise ValueError(f"colour must be uint8 (H, W, 3|4), got {color.dtype} {color.shape}")
+    color = _colour(color)
     height, width, channels = color.shape
     rows = np.empty((height, 1 + width * channels), np.uint8)
     rows[:, 0] = 0  # the filter type of each row
     rows[:, 1:] = color.reshape(height, width * channels)
     header = struct.pack(">IIBBBBB", width, height, 8, 2 if channels == 3 else 6, 0, 0, 0)
-    return (_PNG_SIGNATURE + _png_chunk(b"IHDR", header)
-            + _png_chunk(b"IDAT", zlib.compress(rows.data, PNG_COMPRESS_LEVEL)) + _png_chunk(b"IEND", b""))
+    data = zlib.compress(rows.data, PNG_COMPRESS_LEVEL)
+    # a chunk holds less than 2**31 bytes: a huge image's stream goes in several IDAT chunks
+    idat = b"".join(_png_chunk(b"IDAT", data[k: k + _IDAT_BYTES]) for k in range(0, len(data), _IDAT_BYTES))
+    return _PNG_SIGNATURE + _png_chunk(b"IHDR", header) + idat + _png_chunk(b"IEND", b"")
 
 
 def save_image(color: np.ndarray, path: str | os.PathLike) -> None:

@@ -99,3 +99,18 @@ def test_encode_png_rejects_what_it_cannot_write():
                 np.zeros((2, 2, 2), np.uint8)):
         with pytest.raises(ValueError):
             encode_png(bad)
+
+
+def test_encode_png_splits_a_long_stream_into_several_idat_chunks(monkeypatch):
+    import io
+
+    from PIL import Image
+
+    from rasterkit import image
+
+    pixels = np.random.default_rng(3).integers(0, 256, (40, 50, 3), dtype=np.uint8)
+    monkeypatch.setattr(image, "_IDAT_BYTES", 1000)
+    data = image.encode_png(pixels)
+    assert data.count(b"IDAT") > 3
+    with Image.open(io.BytesIO(data)) as decoded:
+        assert np.array_equal(np.asarray(decoded), pixels)

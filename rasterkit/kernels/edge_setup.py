@@ -7,7 +7,7 @@ vertex's pixel; :func:`plain_setup` turns every edge into a 12-byte record (firs
 packed ``n``, ``a`` and direction bits, rows spanned) with branch-free arithmetic that
 vectorises; :func:`record_work` counts pixels per row so the bands get equal work; each
 band marks its edges' pixels in a byte mask, then clears its colour rows and paints the
-marked pixels 8 at a time (:func:`_paint_marked`).
+marked pixels 8 at a time (:func:`rasterkit.kernels.paint.paint_marked`).
 """
 
 from __future__ import annotations
