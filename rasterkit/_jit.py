@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import os
 import threading
+import time
 
 import numba
 import numpy as np
@@ -105,19 +106,53 @@ def get_threads() -> int:
     return _threads
 
 
-class _Worker:
-    """A thread that runs one call at a time, handed over through two locks."""
+#: How long a thread watches for the next pass (a helper) or for its helpers' results (the
+#: caller) before it sleeps on its lock: longer than the gaps between the passes of a frame,
+#: short beside the time a process keeps the core (:mod:`rasterkit.kernels.handoff`).
+WATCH_SECONDS = 100e-6
+_watch_steps = None
+#: Slots of the flags: the number of calls handed to a helper and of calls it finished,
+#: and the pool's work counter (128 bytes apart: on cache lines of their own).
+_HANDED, _FINISHED, _CLAIMS = 8, 24, 40
 
-    def __init__(self):
+
+def _steps_for(seconds: float) -> int:
+    """How many steps of :func:`rasterkit.kernels.handoff.wait_for` take ``seconds`` here."""
+    global _watch_steps
+    if _watch_steps is None:
+        from rasterkit.kernels.handoff import wait_for
+
+        flags = np.zeros(64, np.int64)
+        wait_for(flags, 0, 1, 1)
+        steps = 20000
+        t = time.perf_counter()
+        wait_for(flags, 0, 1, steps)
+        _watch_steps = steps / max(time.perf_counter() - t, 1e-9)
+    return max(1, int(_watch_steps * seconds))
+
+
+class _Worker:
+    """A thread that runs one call at a time, handed over through two locks; both sides
+    watch a flag for a moment before they sleep on the lock (:mod:`rasterkit.kernels.handoff`)."""
+
+    def __init__(self, claims):
+        from rasterkit.kernels import handoff
+
+        self._handoff = handoff
+        self._steps = _steps_for(WATCH_SECONDS)
+        self._flags = np.zeros(64, np.int64)
+        self._handed = 0
         self._start, self._done = threading.Lock(), threading.Lock()
         self._start.acquire()
         self._done.acquire()
         self._call = None
         self._result = None
-        threading.Thread(target=self._loop, name="rasterkit-worker", daemon=True).start()
+        threading.Thread(target=self._loop, args=(claims,), name="rasterkit-worker", daemon=True).start()
 
-    def _loop(self):
+    def _loop(self, claims):
+        flags, finished = self._flags, 0
         while True:
+            self._handoff.finish_and_watch(flags, _FINISHED, finished, _HANDED, claims, _CLAIMS, self._steps)
             self._start.acquire()
             try:
                 fn, args = self._call
@@ -125,16 +160,20 @@ class _Worker:
             except BaseException as error:  # handed to the caller by wait()
                 self._result = (False, error)
             self._call = None
+            finished += 1
             self._done.release()
 
     def submit(self, fn, args):
         self._call = (fn, args)
+        self._handed += 1
+        self._flags[_HANDED] = self._handed
         self._start.release()
 
     def wait(self):
         """The call's result (or its exception). An interrupt (Ctrl-C) while waiting is
         raised only once the call has finished: the next call must not find this one's
         result, nor share the thread with it."""
+        self._handoff.wait_for(self._flags, _FINISHED, self._handed, self._steps)
         interrupted = None
         while True:
             try:
@@ -155,6 +194,10 @@ class _Pool:
     def __init__(self):
         self.workers: list[_Worker] = []
         self.busy = threading.Lock()  # one parallel call at a time uses the workers
+        # flags[_CLAIMS]: the work counter of the call in progress, which the helpers
+        # watch for the caller's first claim
+        self.flags = np.zeros(64, np.int64)
+        self.counter = self.flags[_CLAIMS:_CLAIMS + 1]
 
 
 _pool = _Pool()
@@ -188,17 +231,36 @@ def run_parallel(worker, *args, threads: int | None = None) -> list:
     on the caller's thread alone (slot 0 only): a worker must claim its work from a shared
     counter, never assume that every slot runs.
     """
+    return _run(worker, args, threads, counted=False)
+
+
+def run_workers(worker, *args, threads: int | None = None) -> list:
+    """:func:`run_parallel` for the kernels' workers, ``worker(slot, counter, *args)``: with
+    a fresh work counter ((1,) int64, 0) that the slots claim their pieces from."""
+    return _run(worker, args, threads, counted=True)
+
+
+def _run(worker, args, threads, counted):
+    pool = _pool
+    n = get_threads() if threads is None else threads
+    parallel = n > 1 and pool.busy.acquire(blocking=False)
+    if counted:  # the pool's counter, which its helpers watch; a fresh one without them
+        counter = pool.counter if parallel else np.zeros(1, np.int64)
+        counter[0] = 0
+        args = (counter, *args)
     if _intercept is not None:
         result = _intercept(worker, args)
         if result is not None:
+            if parallel:
+                pool.busy.release()
             return result
-    n = get_threads() if threads is None else threads
-    pool = _pool
-    if n <= 1 or not pool.busy.acquire(blocking=False):
+    if not parallel:
         return [worker(0, *args)]
     try:
+        if not counted:
+            pool.counter[0] = 1  # nothing to watch for
         while len(pool.workers) < n - 1:
-            pool.workers.append(_Worker())
+            pool.workers.append(_Worker(pool.flags))
         helpers = pool.workers[: n - 1]
         for slot, helper in enumerate(helpers, start=1):
             helper.submit(worker, (slot, *args))
@@ -210,12 +272,6 @@ def run_parallel(worker, *args, threads: int | None = None) -> list:
         return [first, *_wait_all(helpers)]
     finally:
         pool.busy.release()
-
-
-def run_workers(worker, *args, threads: int | None = None) -> list:
-    """:func:`run_parallel` for the kernels' workers, ``worker(slot, counter, *args)``: with
-    a fresh work counter ((1,) int64, 0) that the slots claim their pieces from."""
-    return run_parallel(worker, np.zeros(1, np.int64), *args, threads=threads)
 
 
 def _wait_all(helpers):

@@ -25,12 +25,14 @@ bit-identical.
 
 from __future__ import annotations
 
+import platform
+
 from llvmlite import ir
 from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-__all__ = ["fetch_add", "prefetch_row"]
+__all__ = ["fetch_add", "load_acquire", "pause", "prefetch_row"]
 
 
 @intrinsic
@@ -81,3 +83,38 @@ def fetch_add(typingctx, array, index, value):
 
     return types.int64(array, index, value), codegen
 
+
+
+@intrinsic
+def load_acquire(typingctx, array, index):
+    """``array[index]`` (a 1-D C-contiguous int64 array) read atomically, with acquire
+    ordering: a read that the compiler may not hoist out of a waiting loop and that sees the
+    writes of another thread. ``index`` is not checked."""
+    if not (isinstance(array, types.Array) and array.ndim == 1 and array.layout == "C"
+            and array.dtype == types.int64 and isinstance(index, types.Integer)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        data = context.make_array(signature.args[0])(context, builder, args[0])
+        index = context.cast(builder, args[1], signature.args[1], types.intp)
+        return builder.load_atomic(builder.gep(data.data, [index]), "acquire", 8)
+
+    return types.int64(array, index), codegen
+
+
+_X86 = platform.machine().lower() in ("x86_64", "amd64", "i686", "i386")
+
+
+@intrinsic
+def pause(typingctx):
+    """The processor's spin-wait hint (x86 ``pause``): a waiting loop gives the core's other
+    hardware thread its resources and does not flood the memory system; nothing elsewhere."""
+
+    def codegen(context, builder, signature, args):
+        if _X86:
+            function = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), []),
+                                                      "llvm.x86.sse2.pause")
+            builder.call(function, [])
+        return context.get_dummy_value()
+
+    return types.void(), codegen
