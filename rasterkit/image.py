@@ -1,39 +1,35 @@
-"""Image files: PNG (encoded here), GIF and APNG (Pillow), written atomically.
+"""Image files: PNG, and animated GIF and APNG streamed frame by frame, written atomically.
 
-Every writer goes through :func:`atomic_write`: the image is written to a temporary file in the
-destination's folder and renamed over the destination only when it is complete, so a failure
-never leaves a half-written file nor replaces a good one.
+Every writer goes through :func:`atomic_write` (:mod:`rasterkit._atomic`): the image is
+written to a temporary file in the destination's folder and renamed over the destination
+only when it is complete, so a failure never leaves a half-written file nor replaces a good
+one. A new file gets the mode the umask gives (0644 under umask 022), a replaced file keeps
+its mode, and an error names the destination, never the temporary file.
+
+PNG is encoded here (:mod:`rasterkit._png`); animations are written one frame at a time
+(:mod:`rasterkit._animation`), so their memory does not grow with the number of frames.
 """
 
 from __future__ import annotations
 
-import contextlib
+import math
+import numbers
 import os
-import struct
-import tempfile
-import zlib
 from pathlib import Path
-from typing import Iterator, Sequence
+from typing import Iterable, Sequence
 
 import numpy as np
 from PIL import Image
 
+from . import _animation, _png
+from ._atomic import atomic_write
+
 __all__ = ["to_pil", "encode_png", "save_image", "save_animation", "atomic_write"]
 
+#: zlib level of PNG files (see :mod:`rasterkit._png`).
+PNG_COMPRESS_LEVEL = _png.PNG_COMPRESS_LEVEL
 
-@contextlib.contextmanager
-def atomic_write(path: str | os.PathLike) -> Iterator[Path]:
-    """Yield a temporary path next to ``path``; rename it onto ``path`` if the block succeeds."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
+_IDAT_BYTES = _png.IDAT_BYTES
 
 
 def _colour(color) -> np.ndarray:
@@ -59,33 +55,14 @@ def _format(path: Path, allowed: Sequence[str]) -> str:
     return fmt
 
 
-#: zlib level of still PNG files. Level 1 without PNG's row filters writes a 1920x1080
-#: render in about 15 ms (Pillow: 39 ms at level 1, 62 ms at its default 6), for files about
-#: a third larger than Pillow's default.
-PNG_COMPRESS_LEVEL = 1
-
-_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-_IDAT_BYTES = 1 << 30
-
-
-def _png_chunk(tag: bytes, data: bytes) -> bytes:
-    return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(data, zlib.crc32(tag)))
-
-
 def encode_png(color: np.ndarray) -> bytes:
     """The PNG file of a uint8 (H, W, 3) RGB or (H, W, 4) RGBA array: 8 bits per channel,
     no interlacing, filter type 0 (none) on every row, one zlib stream at
     :data:`PNG_COMPRESS_LEVEL`."""
     color = _colour(color)
-    height, width, channels = color.shape
-    rows = np.empty((height, 1 + width * channels), np.uint8)
-    rows[:, 0] = 0  # the filter type of each row
-    rows[:, 1:] = color.reshape(height, width * channels)
-    header = struct.pack(">IIBBBBB", width, height, 8, 2 if channels == 3 else 6, 0, 0, 0)
-    data = zlib.compress(rows.data, PNG_COMPRESS_LEVEL)
     # a chunk holds less than 2**31 bytes: a huge image's stream goes in several IDAT chunks
-    idat = b"".join(_png_chunk(b"IDAT", data[k: k + _IDAT_BYTES]) for k in range(0, len(data), _IDAT_BYTES))
-    return _PNG_SIGNATURE + _png_chunk(b"IHDR", header) + idat + _png_chunk(b"IEND", b"")
+    idat = b"".join(_png.chunk(b"IDAT", p) for p in _png.pieces(_png.compressed(color), _IDAT_BYTES))
+    return _png.SIGNATURE + _png.header(color) + idat + _png.chunk(b"IEND", b"")
 
 
 def save_image(color: np.ndarray, path: str | os.PathLike) -> None:
@@ -97,13 +74,25 @@ def save_image(color: np.ndarray, path: str | os.PathLike) -> None:
         tmp.write_bytes(data)
 
 
-def save_animation(frames: Sequence[np.ndarray], path: str | os.PathLike, fps: float = 25.0) -> None:
-    """Write frames as an endlessly looping animated GIF (``.gif``) or APNG (``.png``/``.apng``)."""
+#: The longest a frame can be shown: 655.35 s (a GIF counts hundredths of a second in 16 bits).
+MIN_FPS = 1000.0 / 655350
+
+
+def save_animation(frames: Iterable[np.ndarray], path: str | os.PathLike, fps: float = 25.0) -> None:
+    """Write frames as an endlessly looping animated GIF (``.gif``) or APNG (``.png``/``.apng``).
+
+    ``frames`` is any iterable of uint8 (H, W, 3|4) arrays of one shape (a list, or a
+    generator that renders them one by one): each frame is encoded and written as it comes,
+    so memory does not grow with their number. Each is shown ``round(1000 / fps)``
+    milliseconds (a GIF keeps whole hundredths). Written atomically: if a frame fails, or
+    there is none, nothing is written.
+    """
     path = Path(path)
     fmt = _format(path, ("gif", "png", "apng"))
-    if not frames:
-        raise ValueError("an animation needs at least one frame")
-    images = [to_pil(f) for f in frames]
+    if isinstance(fps, bool) or not isinstance(fps, numbers.Real) or not math.isfinite(fps) or fps < MIN_FPS:
+        raise ValueError(f"fps must be a number of at least {MIN_FPS:.3g}, got {fps!r}")
+    duration = int(round(1000.0 / fps))
+    write = _animation.write_gif if fmt == "GIF" else _animation.write_apng
     with atomic_write(path) as tmp:
-        images[0].save(tmp, format=fmt, save_all=True, append_images=images[1:],
-                       duration=int(round(1000.0 / fps)), loop=0)
+        with open(tmp, "wb") as f:
+            write((_colour(frame) for frame in frames), f, duration)
