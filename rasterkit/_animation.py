@@ -2,7 +2,8 @@
 
 Pillow's writers keep every frame of an animation until the end; these write each frame into
 the (temporary) file as it comes, from any iterable of frames, so a turntable of 100 000
-frames needs the memory of one.
+frames needs the memory of two. As Pillow's did, a frame identical to the one before is not
+written again: the one before is shown longer (up to the longest delay the format holds).
 
 - **APNG**: PNG chunks. ``acTL`` (frame count, loops) is written with a count of 0 and
   rewritten at the end, when the count is known; every frame is the whole image (``fcTL``
@@ -16,8 +17,9 @@ frames needs the memory of one.
   are copied from that. A frame with transparent pixels is disposed of ("restore to
   background") before the next one is drawn, so that no frame shows through the next.
 
-The frames are uint8 (H, W, 3|4) arrays of one shape, checked by the caller; the delay of a
-frame is given in milliseconds, as Pillow takes it (a GIF keeps whole hundredths of a second).
+The frames are uint8 (H, W, 3|4) arrays, checked by the caller; they must have one shape.
+The delay of a frame is given in milliseconds, as Pillow takes it (a GIF keeps whole
+hundredths of a second).
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from __future__ import annotations
 import io
 import struct
 from fractions import Fraction
-from typing import BinaryIO, Iterable
+from typing import BinaryIO, Iterable, Iterator
 
 import numpy as np
 
@@ -43,24 +45,41 @@ def _same_shape(first: tuple, color: np.ndarray, k: int) -> None:
                          f"must all have one size and kind")
 
 
+def _runs(frames: Iterable[np.ndarray], duration_ms: float, longest_ms: float) -> Iterator[tuple[np.ndarray, float]]:
+    """``(frame, milliseconds)`` for each run of identical consecutive frames, a run lasting
+    at most ``longest_ms`` (unless one frame alone lasts longer). A frame is copied as it
+    comes (a generator may draw the next one into the same array) and handed on when the
+    next different one arrives: two frames in memory at most."""
+    pending, shown = None, 0.0
+    for k, color in enumerate(frames):
+        if pending is not None:
+            _same_shape(pending.shape, color, k)
+            if shown + duration_ms <= longest_ms and np.array_equal(color, pending):
+                shown += duration_ms
+                continue
+            yield pending, shown
+        pending, shown = np.array(color, copy=True), duration_ms
+    if pending is not None:
+        yield pending, shown
+
+
 def write_apng(frames: Iterable[np.ndarray], f: BinaryIO, duration_ms: float, loop: int = 0) -> int:
-    """Write ``frames`` to the seekable binary file ``f`` as an APNG; returns the frame count.
+    """Write ``frames`` to the seekable binary file ``f`` as an APNG; returns the number of
+    frames written (identical consecutive frames are one, shown longer).
 
     ``duration_ms``: the time each frame is shown; ``loop``: plays, 0 for endlessly.
     Raises ``ValueError`` for no frames or frames of different shapes.
     """
-    delay = Fraction(duration_ms / 1000).limit_denominator(65535)
-    if delay.numerator > 65535:
+    if Fraction(duration_ms / 1000).limit_denominator(65535).numerator > 65535:
         raise ValueError(f"an APNG cannot show a frame for {duration_ms} ms")
     shape, count, sequence, actl_at = None, 0, 0, 0
-    for color in frames:
+    for color, shown in _runs(frames, duration_ms, 65535):  # a run: whole ms over 1000 at most
+        delay = Fraction(shown / 1000).limit_denominator(65535)
         if shape is None:
             shape = color.shape
             f.write(_png.SIGNATURE + _png.header(color))
             actl_at = f.tell()
             f.write(_png.chunk(b"acTL", struct.pack(">II", 0, loop)))  # the count comes at the end
-        else:
-            _same_shape(shape, color, count)
         height, width = shape[:2]
         f.write(_png.chunk(b"fcTL", struct.pack(">IIIIIHHBB", sequence, width, height, 0, 0,
                                                 delay.numerator, delay.denominator, 0, 0)))
@@ -128,24 +147,23 @@ def gif_frame(color: np.ndarray) -> tuple[bytes, int | None, int, bytes]:
 
 
 def write_gif(frames: Iterable[np.ndarray], f: BinaryIO, duration_ms: float, loop: int = 0) -> int:
-    """Write ``frames`` to the binary file ``f`` as an animated GIF; returns the frame count.
+    """Write ``frames`` to the binary file ``f`` as an animated GIF; returns the number of
+    frames written (identical consecutive frames are one, shown longer).
 
     ``duration_ms``: the time each frame is shown (whole hundredths of a second are kept);
     ``loop``: plays after the first, 0 for endlessly. Raises ``ValueError`` for no frames or
     frames of different shapes.
     """
-    delay = int(duration_ms / 10)
-    if not 0 <= delay <= 65535:
+    if not 0 <= int(duration_ms / 10) <= 65535:
         raise ValueError(f"a GIF cannot show a frame for {duration_ms} ms")
     shape, count = None, 0
-    for color in frames:
+    for color, shown in _runs(frames, duration_ms, 655350):
+        delay = int(shown / 10)
         if shape is None:
             shape = color.shape
             height, width = shape[:2]
             f.write(b"GIF89a" + struct.pack("<HHBBB", width, height, 0, 0, 0))
             f.write(b"!\xff\x0bNETSCAPE2.0\x03\x01" + struct.pack("<H", loop) + b"\x00")
-        else:
-            _same_shape(shape, color, count)
         table, transparency, interlace, lzw = gif_frame(color)
         flags = (1 | 2 << 2) if transparency is not None else 0  # transparent: restore to background
         f.write(b"!\xf9\x04" + struct.pack("<BHB", flags, delay, transparency or 0) + b"\x00")

@@ -84,7 +84,8 @@ def save_animation(frames: Iterable[np.ndarray], path: str | os.PathLike, fps: f
     ``frames`` is any iterable of uint8 (H, W, 3|4) arrays of one shape (a list, or a
     generator that renders them one by one): each frame is encoded and written as it comes,
     so memory does not grow with their number. Each is shown ``round(1000 / fps)``
-    milliseconds (a GIF keeps whole hundredths). Written atomically: if a frame fails, or
+    milliseconds (a GIF keeps whole hundredths); a frame identical to the one before is not
+    stored again, the one before is shown longer. Written atomically: if a frame fails, or
     there is none, nothing is written.
     """
     path = Path(path)

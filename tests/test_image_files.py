@@ -212,15 +212,15 @@ def _pillow_gif(frame, mode):
 @pytest.mark.parametrize("channels", [3, 4])
 def test_apng_frames_read_back_as_drawn(tmp_path, channels):
     frames = _frames(6, (37, 53, channels))
-    frames[3] = frames[2].copy()  # a repeated frame stays a frame of its own
+    frames[3] = frames[2].copy()  # a repeated frame: the one before is shown twice as long
     path = tmp_path / "a.png"
     save_animation(iter(frames), path, fps=20)  # a generator, not a list
     mode = "RGBA" if channels == 4 else "RGB"
     got, durations, info = _read_frames(path, mode)
-    assert info == {"loop": 0, "n": 6}
-    assert durations == [50.0] * 6
-    for k in range(6):
-        assert np.array_equal(got[k], frames[k]), k
+    assert info == {"loop": 0, "n": 5}
+    assert durations == [50.0, 50.0, 100.0, 50.0, 50.0]
+    for k, drawn in enumerate([0, 1, 2, 4, 5]):
+        assert np.array_equal(got[k], frames[drawn]), k
     with Image.open(path) as im:
         im.verify()  # chunk CRCs
 
@@ -228,20 +228,48 @@ def test_apng_frames_read_back_as_drawn(tmp_path, channels):
 @pytest.mark.parametrize("channels", [3, 4])
 def test_gif_frames_are_pillows_quantization_of_each_frame(tmp_path, channels):
     frames = _frames(5, (37, 53, channels), seed=2)
+    frames[1] = frames[0].copy()
     path = tmp_path / "a.gif"
     save_animation((f for f in frames), path, fps=25)
     mode = "RGBA" if channels == 4 else "RGB"
     got, durations, info = _read_frames(path, mode)
-    assert info == {"loop": 0, "n": 5}
-    assert durations == [40] * 5
-    for k in range(5):
-        expected = _pillow_gif(frames[k], mode)
+    assert info == {"loop": 0, "n": 4}
+    assert durations == [80, 40, 40, 40]
+    for k, drawn in enumerate([0, 2, 3, 4]):
+        expected = _pillow_gif(frames[drawn], mode)
         if channels == 4:  # transparent pixels: their colour means nothing; no frame shows through
             assert np.array_equal(got[k][..., 3], expected[..., 3]), k
             seen = expected[..., 3] > 0
             assert np.array_equal(got[k][seen], expected[seen]), k
         else:
             assert np.array_equal(got[k], expected), k
+
+
+@pytest.mark.parametrize("name", ["a.gif", "a.png"])
+def test_a_generator_may_draw_every_frame_into_one_array(tmp_path, name):
+    frames = _frames(4, seed=4)
+    buffer = np.empty_like(frames[0])
+
+    def drawn_in_place():
+        for frame in frames:
+            buffer[...] = frame
+            yield buffer
+
+    save_animation(drawn_in_place(), tmp_path / name)
+    got, _, info = _read_frames(tmp_path / name, "RGB")
+    assert info["n"] == 4
+    expected = [_pillow_gif(f, "RGB") if name.endswith("gif") else f for f in frames]
+    assert all(np.array_equal(g, e) for g, e in zip(got, expected))
+
+
+def test_a_long_run_of_one_frame_is_cut_where_the_delay_field_ends(tmp_path):
+    frame = np.full((4, 4, 3), 7, np.uint8)
+    save_animation((frame for _ in range(2000)), tmp_path / "a.png", fps=25)  # 80 s in all
+    _, durations, info = _read_frames(tmp_path / "a.png", "RGB")
+    assert info["n"] == 2 and durations == pytest.approx([65520, 14480])  # APNG: at most 65.535 s a frame
+    save_animation((frame for _ in range(20000)), tmp_path / "a.gif", fps=25)  # 800 s
+    _, durations, info = _read_frames(tmp_path / "a.gif", "RGB")
+    assert info["n"] == 2 and durations == [655320, 144680]  # GIF: at most 655.35 s a frame
 
 
 def test_a_large_animation_frame_goes_in_several_fdat_chunks(tmp_path, monkeypatch):
