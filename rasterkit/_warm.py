@@ -78,6 +78,23 @@ def start(style: dict, depth: bool, loading: bool) -> None:
     _jit.intercept(_wait_for_helper)
 
 
+def stop() -> None:
+    """Stop the helper now (the command line was interrupted or stopped): it compiles
+    nothing more. Numba writes a cache file under a temporary name and renames it, so no
+    cache file is left half-written (a helper stopped during those milliseconds leaves the
+    temporary one in Numba's cache folder)."""
+    global _helper
+    helper, _helper = _helper, None
+    if helper is None:
+        return
+    _jit.intercept(None)
+    try:
+        helper.terminate()
+        helper.wait(timeout=5)
+    except (OSError, subprocess.TimeoutExpired):
+        pass
+
+
 def _wait_for_helper(worker, args):
     """In this process: before the helper's worker runs, let the helper finish."""
     global _helper

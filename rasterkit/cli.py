@@ -1,28 +1,36 @@
-"""The command line: argument parsing and messages; no mathematics and no kernels here.
+"""The command line: argument parsing, signals and exit codes; no mathematics and no kernels here.
 
-Exit codes: 0 success, 2 bad input or usage (one line on stderr naming the file and line, no
-traceback, no output file), 1 internal error.
+Exit codes (also in ``rasterkit --help``): 0 success; 2 bad input or usage (one line on
+stderr naming the file, and the line where there is one; no traceback, no output file); 1 an
+internal error (a bug of rasterkit, one line too); 130 interrupted by Ctrl-C (SIGINT); 143
+stopped by SIGTERM; 141 stdout closed by its reader (``rasterkit info ... | head``). Interrupted or stopped, rasterkit removes its temporary file and leaves
+the output as it was. A folder of models renders every model it can and reports each failure
+in one line (:mod:`rasterkit._batch`); every message is one line (:mod:`rasterkit._report`).
 
-Startup: at module level this imports only the standard library and :mod:`rasterkit.options`,
-so ``--help`` and the usage errors argparse finds come without NumPy or Numba (0.04 s, not
-0.5 s). Numba loads once a render or ``info`` starts; then the first kernel that has to be
-compiled (no cached copy) prints one notice on stderr (:mod:`rasterkit._notice`).
+Startup: at module level this imports only the standard library and rasterkit's pure-Python
+modules (:mod:`rasterkit.options`, :mod:`rasterkit.limits`), so ``--help`` and the usage
+errors argparse finds come without NumPy or Numba (0.04 s, not 0.5 s). Numba loads once a
+render or ``info`` starts; then the first kernel that has to be compiled (no cached copy)
+prints one notice on stderr (:mod:`rasterkit._notice`).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib.abc
 import math
+import os
+import signal
 import sys
-from dataclasses import dataclass
-from pathlib import Path
+import threading
+from typing import Iterator
 
+from . import _report, limits
+from ._report import UsageError
 from .options import CULL, MAX_IMAGE_SIZE, MODES, PROJECTIONS, SHADING
 
-__all__ = ["main"]
-
-IMAGE_SUFFIXES = (".png", ".gif", ".apng")
+__all__ = ["main", "Terminated"]
 
 EXAMPLES = """\
 examples:
@@ -33,12 +41,23 @@ examples:
   rasterkit render model.obj -o spin.gif --turntable 36 --mode solid
   rasterkit render models/ -o images/ --mode solid      (every .obj in a folder)
   rasterkit info model.obj
+
+exit codes:
+  0    success
+  2    bad input or usage: one line "rasterkit: error: ..." naming the file; no output file.
+       Several models (a folder): each failure is one line, every other model still
+       renders, a last line counts them, and the exit code is 2 if any model failed
+  1    internal error (a bug of rasterkit): one line "rasterkit: internal error: ...";
+       with several models, 1 if any failure was one
+  130  interrupted (Ctrl-C), 143 stopped (SIGTERM): no temporary file is left
+  141  the reader of stdout went away (rasterkit info ... | head): no message
 """
 
 
-class UsageError(Exception):
-    """Bad input or usage: reported as one line, exit code 2."""
-
+class Terminated(BaseException):
+    """SIGTERM arrived: the command line stops as for Ctrl-C (temporary files are removed
+    on the way out) and exits with 143. A BaseException, like KeyboardInterrupt, so that no
+    ``except Exception`` swallows it."""
 
 def _size(text: str) -> tuple[int, int]:
     parts = text.lower().split("x")
@@ -79,6 +98,13 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _size_limit(text: str) -> int:
+    try:
+        return limits.parse_size(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e))
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # argparse prints usage + message; we want one line, exit 2
         raise UsageError(message)
@@ -90,6 +116,7 @@ def _parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     info = commands.add_parser("info", help="print counts, bounds, groups, materials, warnings")
     info.add_argument("models", nargs="+", metavar="MODEL.obj")
+    _add_limits(info)
     r = commands.add_parser("render", help="render models to images", epilog=EXAMPLES,
                             formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("models", nargs="*", metavar="MODEL.obj",
@@ -128,103 +155,18 @@ def _parser() -> argparse.ArgumentParser:
     out.add_argument("--turntable", type=_positive_int, metavar="N",
                      help="N frames around the model, as an animated GIF or APNG")
     out.add_argument("--depth", metavar="OUT.npy", help="also save the depth buffer (float32)")
+    _add_limits(r)
     return parser
 
 
-@dataclass
-class _Job:
-    source: Path | None  # None: the demo model
-    output: Path
-
-
-def _inputs(models: list[str]) -> list[Path]:
-    paths = []
-    for name in models:
-        path = Path(name)
-        if path.is_dir():
-            found = sorted(p for p in path.iterdir() if p.suffix.lower() == ".obj" and p.is_file())
-            if not found:
-                raise UsageError(f"{path}: no .obj files in this folder")
-            paths.extend(found)
-        else:
-            paths.append(path)
-    return paths
-
-
-def _jobs(args) -> list[_Job]:
-    if args.demo and args.models:
-        raise UsageError("give MODEL.obj files or --demo, not both")
-    if not args.demo and not args.models:
-        raise UsageError("give a MODEL.obj (or a folder of them), or --demo")
-    out = Path(args.output)
-    sources = [None] if args.demo else _inputs(args.models)
-    many = len(sources) > 1 or any(Path(m).is_dir() for m in args.models)
-    if many:
-        if out.suffix.lower() in IMAGE_SUFFIXES:
-            raise UsageError(f"{out}: several models render into a folder; give a folder for -o")
-        if args.depth:
-            raise UsageError("--depth takes one model")
-        if out.exists() and not out.is_dir():
-            raise UsageError(f"{out}: not a folder")
-        suffix = ".gif" if args.turntable else ".png"
-        return [_Job(s, out / (s.stem + suffix)) for s in sources]
-    _check_image_path(out, animated=bool(args.turntable))
-    return [_Job(sources[0], out)]
-
-
-def _check_image_path(out: Path, animated: bool) -> None:
-    allowed = IMAGE_SUFFIXES if animated else (".png",)
-    if out.suffix.lower() not in allowed:
-        raise UsageError(f"{out}: the output must end in {' or '.join(allowed)}")
-    if not out.parent.is_dir():
-        raise UsageError(f"{out}: folder {str(out.parent)!r} does not exist")
-
-
-def _camera(args, center, radius):
-    from .camera import Camera
-
-    width, height = args.size
-    return Camera.preset(args.projection, center, radius, width=width, height=height,
-                         azimuth=args.azimuth, elevation=args.elevation, fov_y=args.fov,
-                         distance=args.distance, eye=args.eye, target=args.target, up=args.up,
-                         near=args.near, far=args.far)
-
-
-def _render_job(job: _Job, args) -> None:
-    import numpy as np
-
-    from . import _warm
-    from .image import atomic_write, save_animation
-    from .obj import load_obj
-    from .render import render
-    from .scene import Scene
-    from .shapes import demo
-    from .transform import rotate_axis
-
-    _warm.start(dict(mode=args.mode, cull=args.cull, shading=args.shading, background=args.background,
-                     aa=args.aa), depth=bool(args.depth), loading=job.source is not None)
-    mesh = demo() if job.source is None else load_obj(job.source)
-    for warning in mesh.warnings:
-        print(f"rasterkit: warning: {warning}", file=sys.stderr)
-    center, radius = mesh.bounding_sphere()
-    if radius == 0.0:
-        raise UsageError(f"{job.source}: the model has no extent (all vertices coincide)")
-    camera = _camera(args, center, radius)
-    style = dict(mode=args.mode, cull=args.cull, shading=args.shading, color=args.color,
-                 line_color=args.line_color, background=args.background, aa=args.aa)
-    if args.turntable:
-        frames = []
-        for k in range(args.turntable):
-            spin = rotate_axis(2 * math.pi * k / args.turntable, (0, 1, 0), center)
-            frames.append(render(Scene(camera).add(mesh, spin), **style).color)
-        save_animation(frames, job.output)
-        return
-    fb = render(mesh, camera, **style)
-    if args.depth:
-        with atomic_write(args.depth) as tmp:
-            with open(tmp, "wb") as f:
-                np.save(f, fb.depth)
-    fb.save(job.output)
+def _add_limits(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("limits (sizes in bytes, or with K, M, G, T: 512M, 4G)")
+    group.add_argument("--max-file-size", type=_size_limit, metavar="SIZE",
+                       help="refuse model and material files larger than this "
+                            "(default 2G, or RASTERKIT_MAX_FILE_SIZE)")
+    group.add_argument("--max-memory", type=_size_limit, metavar="SIZE",
+                       help="refuse work that needs more memory than this "
+                            "(default: the machine's memory, or RASTERKIT_MAX_MEMORY)")
 
 
 class _NoScipy(importlib.abc.MetaPathFinder):
@@ -244,9 +186,11 @@ def _without_scipy() -> None:
 
 
 def _render(args) -> int:
-    if args.depth and Path(args.depth).suffix.lower() != ".npy":
+    from . import _batch
+
+    if args.depth and not args.depth.lower().endswith(".npy"):
         raise UsageError(f"{args.depth}: the depth output must end in .npy")
-    jobs = _jobs(args)
+    jobs, batch = _batch.jobs(args)
     _without_scipy()
     from . import _jit  # the first import of Numba: the usage errors above come without it
     from ._notice import compile_notice
@@ -256,36 +200,7 @@ def _render(args) -> int:
     except ValueError as e:
         raise UsageError(str(e)) from None
     with compile_notice():
-        return _render_jobs(jobs, args)
-
-
-def _render_jobs(jobs: list[_Job], args) -> int:
-    if len(jobs) == 1:
-        _render_job(jobs[0], args)
-        return 0
-    jobs[0].output.parent.mkdir(parents=True, exist_ok=True)
-    failed = 0
-    for k, job in enumerate(jobs, 1):
-        _progress(k, len(jobs), job.source.name)
-        try:
-            _render_job(job, args)
-        except _BAD_INPUT as e:
-            failed += 1
-            _report(e)
-    _progress_done()
-    return 2 if failed else 0
-
-
-def _progress(k: int, n: int, name: str) -> None:
-    width = 24
-    bar = "#" * (width * k // n) + "-" * (width - width * k // n)
-    end = "\r" if sys.stderr.isatty() else "\n"
-    print(f"[{bar}] {k}/{n} {name}".ljust(72), end=end, file=sys.stderr, flush=True)
-
-
-def _progress_done() -> None:
-    if sys.stderr.isatty():
-        print(file=sys.stderr)
+        return _batch.render_jobs(jobs, batch, args)
 
 
 def _info(args) -> int:
@@ -298,16 +213,19 @@ def _info(args) -> int:
 def _info_models(models: list[str]) -> int:
     from .obj import load_obj
 
-    failed = 0
+    codes = []
     for name in models:
-        try:
-            mesh = load_obj(name)
-        except _BAD_INPUT as e:
-            failed += 1
-            _report(e)
-            continue
-        print(_describe(name, mesh))
-    return 2 if failed else 0
+        with _report.model(name):
+            try:
+                mesh = load_obj(name)
+            except Exception as e:
+                code, line = _report.error_line(e)
+                print(line, file=sys.stderr)
+                codes.append(code)
+                continue
+        print(_describe(name, mesh), flush=True)  # a closed stdout stops all (main)
+        codes.append(0)
+    return 1 if 1 in codes else max(codes)
 
 
 def _describe(name: str, mesh) -> str:
@@ -329,31 +247,84 @@ def _describe(name: str, mesh) -> str:
     return "\n".join(lines)
 
 
-def _report(e: BaseException) -> None:
-    if isinstance(e, OSError):
-        name = f"{e.filename}: " if e.filename else ""
-        print(f"rasterkit: error: {name}{e.strerror or e}", file=sys.stderr)
-    else:
-        print(f"rasterkit: error: {e}", file=sys.stderr)
+@contextlib.contextmanager
+def _limits(args) -> Iterator[None]:
+    """Apply ``--max-file-size`` and ``--max-memory`` within the block (before anything is
+    loaded), then restore what was set before: a program calling :func:`main` keeps its own."""
+    saved = limits._max_file_size, limits._memory_limit
+    try:
+        if args.max_file_size is not None:
+            limits.set_max_file_size(args.max_file_size)
+        if args.max_memory is not None:
+            limits.set_memory_limit(args.max_memory)
+        yield
+    finally:
+        limits._max_file_size, limits._memory_limit = saved
 
 
-_BAD_INPUT: tuple = (UsageError, ValueError, OSError)  # ObjError is a ValueError
+@contextlib.contextmanager
+def _stop_signals() -> Iterator[None]:
+    """Within the block, SIGINT raises KeyboardInterrupt and SIGTERM :class:`Terminated`, once:
+    a second signal is ignored while the first one's clean-up runs (a temporary file is
+    removed on the way out). A signal that was ignored (``nohup``, a background job) or
+    has a handler of the program's own is left alone, and so is any thread but the main one."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    ours = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}
+    saved = {s: signal.getsignal(s) for s in ours}
+    caught = [s for s in ours if saved[s] is ours[s]]
+
+    def stop(signum, frame):
+        for s in caught:
+            signal.signal(s, signal.SIG_IGN)
+        raise KeyboardInterrupt if signum == signal.SIGINT else Terminated()
+
+    try:
+        for s in caught:
+            signal.signal(s, stop)
+        yield
+    finally:
+        for s in caught:
+            signal.signal(s, saved[s])
+
+
+def _stop_helper() -> None:
+    """Stop the compiling helper of a first run (:mod:`rasterkit._warm`), if there is one."""
+    warm = sys.modules.get(__package__ + "._warm")
+    if warm is not None:
+        warm.stop()
+
+
+def _quiet_stdout() -> None:
+    """Point stdout at /dev/null, so that Python's last flush of it finds no closed pipe."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):  # stdout is not a file (a test's capture)
+        pass
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
-    try:
-        args = _parser().parse_args(argv)
-        return _render(args) if args.command == "render" else _info(args)
-    except _BAD_INPUT as e:
-        _report(e)
-        return 2
-    except KeyboardInterrupt:
-        print("rasterkit: interrupted", file=sys.stderr)
-        return 130
-    except Exception as e:  # a bug of ours: still one line, but a distinct exit code
-        print(f"rasterkit: internal error: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
+    """Run the command line; returns the exit code (see the module's documentation)."""
+    with _stop_signals(), _report.one_line_warnings():
+        try:
+            args = _parser().parse_args(argv)
+            with _limits(args):
+                return _render(args) if args.command == "render" else _info(args)
+        except (KeyboardInterrupt, Terminated) as e:
+            _stop_helper()
+            interrupted = isinstance(e, KeyboardInterrupt)
+            print(f"rasterkit: {'interrupted' if interrupted else 'terminated'}", file=sys.stderr)
+            return 130 if interrupted else 143
+        except Exception as e:  # bad input (2), or a bug of ours (1): one line either way
+            if isinstance(e, BrokenPipeError) and e.filename is None:  # stdout: info | head
+                _quiet_stdout()  # whoever read it has gone: stop without a word
+                return 141
+            code, line = _report.error_line(e)
+            print(line, file=sys.stderr)
+            return code
 
 
 if __name__ == "__main__":

@@ -17,7 +17,8 @@ from PIL import Image
 
 import rasterkit
 from rasterkit._notice import MESSAGE
-from rasterkit.cli import _camera, _parser
+from rasterkit._batch import _camera
+from rasterkit.cli import _parser
 from rasterkit.obj import load_obj
 
 ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
