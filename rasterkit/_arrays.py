@@ -12,10 +12,11 @@ by printing it: an error stays one line whatever was passed.
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 
-__all__ = ["describe", "real_array", "unit_vector"]
+__all__ = ["describe", "length", "real_array", "real_number", "unit", "unit_vector"]
 
 #: dtype kinds of real numbers: signed and unsigned integers, floats.
 REAL_KINDS = "iuf"
@@ -24,7 +25,9 @@ REAL_KINDS = "iuf"
 def describe(value) -> str:
     """A short, one-line description of ``value`` for an error message: a few numbers as
     they are, anything larger by its type, shape and dtype."""
-    if isinstance(value, (int, float, np.number, bool, np.bool_)) or value is None:
+    if isinstance(value, numbers.Integral) and not -10**15 < value < 10**15:
+        return f"an integer of {len(str(abs(int(value))))} digits"
+    if isinstance(value, (numbers.Number, np.number, np.bool_)) or value is None:
         return repr(value)
     if isinstance(value, str):
         return repr(value) if len(value) <= 40 else f"a string of {len(value)} characters"
@@ -38,7 +41,8 @@ def describe(value) -> str:
 
 
 def real_array(value, name: str, dtype=np.float64) -> np.ndarray:
-    """``value`` as an array of ``dtype`` (a view when it already is one).
+    """``value`` as an array of ``dtype`` (a view when it already is one; ``dtype=None``
+    keeps the dtype it has).
 
     Raises ``TypeError`` (naming ``name``) unless ``value`` holds real numbers, and
     ``ValueError`` when it is ragged (lists of unequal lengths).
@@ -53,7 +57,18 @@ def real_array(value, name: str, dtype=np.float64) -> np.ndarray:
         raise ValueError(f"{name} must be a rectangular array of numbers (rows of equal length)") from None
     if a.dtype.kind not in REAL_KINDS:
         raise TypeError(f"{name} must hold real numbers (integers or floats), got dtype {a.dtype}")
-    return a.astype(dtype, copy=False)
+    return a if dtype is None else a.astype(dtype, copy=False)
+
+
+def real_number(value, name: str) -> float:
+    """``value`` as a float; ``TypeError`` (naming ``name``) unless it is a real number: an
+    int, a float, a NumPy integer or float, or a 0-d array of one (not a bool, a string,
+    a complex number or None)."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in REAL_KINDS:
+        return float(value)
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__} {describe(value)}")
+    return float(value)
 
 
 def unit_vector(value, name: str) -> np.ndarray:
@@ -64,6 +79,32 @@ def unit_vector(value, name: str) -> np.ndarray:
     v = real_array(value, name)
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise ValueError(f"{name} must be 3 finite numbers, got {describe(value)}")
+    return unit(v, name)
+
+
+def length(v: np.ndarray) -> float:
+    """The Euclidean length of the (3,) float64 vector ``v``: ``np.linalg.norm(v)``, or,
+    where its squares would underflow or overflow, the length found after dividing by the
+    largest component (inf only when the length itself is beyond float64)."""
+    with np.errstate(over="ignore", under="ignore"):
+        n = float(np.linalg.norm(v))
+        if 1e-150 < n < 1e150:
+            return n
+        largest = float(np.max(np.abs(v)))
+        if largest == 0.0 or not math.isfinite(largest):
+            return largest
+        return largest * math.hypot(*(v / largest))
+
+
+def unit(v: np.ndarray, name: str) -> np.ndarray:
+    """The finite (3,) float64 vector ``v`` scaled to unit length; ``ValueError`` when it is
+    zero. ``v / |v|`` as NumPy computes it, or, where the squares in ``|v|`` would
+    underflow or overflow, the same direction found after dividing by the largest
+    component."""
+    with np.errstate(over="ignore", under="ignore"):
+        length = float(np.linalg.norm(v))
+    if 1e-150 < length < 1e150:
+        return v / length
     largest = float(np.max(np.abs(v)))
     if largest == 0.0:
         raise ValueError(f"{name} must not be the zero vector")
