@@ -99,10 +99,14 @@ class Framebuffer:
     @property
     def depth(self) -> np.ndarray:
         if self._depth is None:
+            source = self._depth_source
+            if source is not None and source[1] != (self.height, self.width):
+                raise ValueError(f"the depth buffer of this {source[1][1]}x{source[1][0]} render cannot be made: "
+                                 f"Framebuffer.color was replaced by a {self.width}x{self.height} one")
             self.uncleared_depth().fill(FARTHEST)
-            source, self._depth_source = self._depth_source, None
+            self._depth_source = None
             if source is not None:
-                source(self._depth)
+                source[0](self._depth)
         return self._depth
 
     @depth.setter
@@ -148,7 +152,7 @@ class Framebuffer:
             ``source(depth)``: draws into the (H, W) float32 buffer, cleared to +inf.
         """
         self._depth = None
-        self._depth_source = source
+        self._depth_source = (source, (self.height, self.width))  # drawn for this size only
 
     @property
     def alpha(self) -> bool:

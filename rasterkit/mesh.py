@@ -22,7 +22,7 @@ import numpy as np
 from ._arrays import real_array
 from .limits import check_memory
 
-__all__ = ["Mesh", "as_mesh", "polygon_edges", "unique_edges"]
+__all__ = ["Mesh", "as_mesh", "mesh_bytes", "polygon_edges", "unique_edges"]
 
 
 def polygon_edges(polygons) -> np.ndarray:
@@ -32,8 +32,12 @@ def polygon_edges(polygons) -> np.ndarray:
     two polygons appears once, as ``(min, max)``, sorted.
     """
     pairs = []
-    for p in polygons:
-        p = np.asarray(p, dtype=np.int64)
+    for k, p in enumerate(polygons):
+        p = np.asarray(p)
+        if p.dtype.kind not in "iu" or p.ndim != 1:
+            raise TypeError(f"polygons[{k}] must be a sequence of integer vertex indices, got dtype {p.dtype} "
+                            f"and shape {p.shape}")
+        p = p.astype(np.int64)
         pairs.append(np.stack([p, np.roll(p, -1)], axis=1))
     if not pairs:
         return np.zeros((0, 2), np.int64)
@@ -55,7 +59,10 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
         More edges, as keys ``lo * N + hi`` (lo < hi), as
         :func:`rasterkit.kernels.obj_polygons.side_keys` makes them.
     """
-    pairs = np.sort(np.asarray(pairs, dtype=np.int64).reshape(-1, 2), axis=1)
+    pairs = np.asarray(pairs)
+    if pairs.dtype.kind not in "iu" and pairs.size:
+        raise TypeError(f"pairs must hold integer vertex indices, got dtype {pairs.dtype}")
+    pairs = np.sort(pairs.astype(np.int64).reshape(-1, 2), axis=1)
     pairs = pairs[pairs[:, 0] != pairs[:, 1]]
     n = max(int(n_vertices), 1)
     codes = pairs[:, 0] * n + pairs[:, 1]
@@ -110,12 +117,12 @@ def _indices(a, n_vertices, width, name):
     return arr
 
 
-#: Bytes a Mesh needs per vertex, face and edge while it is made (the checked arrays and
-#: their immutable copies; the edges worked out from the faces sort several temporary
-#: arrays of 3 pairs per face), for :func:`rasterkit.limits.check_memory`.
-_BYTES_PER_VERTEX = 2 * (24 + 12 + 24 + 16)
-_BYTES_PER_FACE = 2 * (24 + 12 + 4) + 3 * 16 * 6
-_BYTES_PER_EDGE = 2 * 16
+def mesh_bytes(n_vertices: int, n_faces: int, n_edges: int) -> int:
+    """Bytes that making a Mesh needs, at most: per vertex its positions, colours, normals
+    and texture coordinates, checked and then copied; per face its indices, colour and
+    group, and the temporaries of working out the edges (6 arrays of 3 pairs per face);
+    per edge its pair, checked and copied. For :func:`rasterkit.limits.check_memory`."""
+    return n_vertices * 2 * (24 + 12 + 24 + 16) + n_faces * (2 * (24 + 12 + 4) + 3 * 16 * 6) + n_edges * 2 * 16
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,8 +177,7 @@ class Mesh:
         lines = _indices(self.lines if self.lines is not None else (), n, 2, "lines")
         edges = None if self.edges is None else _indices(self.edges, n, 2, "edges")
         n_edges = 3 * len(f) + len(lines) if edges is None else len(edges)
-        check_memory(n * _BYTES_PER_VERTEX + len(f) * _BYTES_PER_FACE + (len(lines) + n_edges) * _BYTES_PER_EDGE,
-                     f"a Mesh of {n} vertices and {len(f)} faces")
+        check_memory(mesh_bytes(n, len(f), len(lines) + n_edges), f"a Mesh of {n} vertices and {len(f)} faces")
         if edges is None:
             edges = unique_edges(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]], lines]), n)
         arrays = {"vertices": v, "faces": f, "lines": lines, "edges": edges}
