@@ -22,6 +22,11 @@ from __future__ import annotations
 import functools
 import os
 
+try:
+    import resource
+except ImportError:  # not a POSIX system
+    resource = None
+
 __all__ = ["LimitError", "check_memory", "format_bytes", "max_file_size", "memory_limit", "parse_size",
            "set_max_file_size", "set_memory_limit"]
 
@@ -68,6 +73,13 @@ def _from_environment(name: str):
     text = os.environ.get(name)
     if not text:
         return None
+    return _parse_setting(name, text)
+
+
+@functools.lru_cache(maxsize=16)
+def _parse_setting(name: str, text: str) -> int:
+    """``text``, the value of the environment variable ``name``, as bytes (kept: renderers
+    check their memory on every frame)."""
     try:
         return parse_size(text)
     except ValueError as e:
@@ -114,9 +126,7 @@ def _installed_memory() -> int:
 def _address_space_left() -> int | None:
     """Bytes of address space this process may still map under its ``RLIMIT_AS``, or None
     without such a limit (the usual case)."""
-    try:
-        import resource
-    except ImportError:  # not a POSIX system
+    if resource is None:  # not a POSIX system
         return None
     soft, _ = resource.getrlimit(resource.RLIMIT_AS)
     if soft == resource.RLIM_INFINITY:

@@ -19,6 +19,7 @@ from .camera import Camera
 from .colors import ColorLike, parse_color
 from . import _triangles
 from .framebuffer import Framebuffer, buffer_bytes
+from ._jit import get_threads
 from .limits import check_memory
 from .kernels import shade as shade_kernels
 from ._vertex import transform_points
@@ -100,6 +101,18 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     Returns
     -------
     Framebuffer
+
+    Raises
+    ------
+    TypeError
+        For a mesh, camera or light that is not one (None, a string, arrays of booleans,
+        complex numbers or objects).
+    ValueError
+        For an unknown option, a bad colour or light, or a Mesh whose arrays were changed
+        after it was made (:meth:`Mesh.check_intact`).
+    rasterkit.limits.LimitError
+        When the render would need more memory than :func:`rasterkit.limits.memory_limit`
+        (:func:`memory_needed` estimates it before anything is allocated).
     """
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
@@ -138,10 +151,6 @@ def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha:
     the triangle path's scratch (per vertex, per face, per thread) in every mode but wire,
     and the edge path's in every mode but solid (with the wireframe's byte mask of the
     image)."""
-    from . import _edges
-    from ._jit import get_threads
-    from .kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
-
     n, m = len(mesh.vertices), len(mesh.faces)
     total = buffer_bytes(width, height, alpha, ids, depth=options.mode in ("hidden", "solid+wire"))
     if options.mode != "wire":
@@ -150,7 +159,10 @@ def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha:
                                                     band_depth=options.mode == "solid")
         if options.mode != "hidden":  # the face normals (float64, then float32), or the vertex colours
             total += m * 36 + (n * 84 if smooth else 0)
-    if options.mode != "solid":
+    if options.mode != "solid":  # imported here, as in _draw_edges: a solid render loads no edge kernels
+        from . import _edges
+        from .kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
+
         edge_mode = MODE_ANTIALIAS if options.aa else MODE_DEPTH_TEST if options.mode != "wire" else MODE_PLAIN
         total += _edges.scratch_bytes(n, len(mesh.edges), width * height, edge_mode,
                                       transform=options.mode == "wire")
@@ -201,7 +213,7 @@ def _shade(mesh: Mesh, options: _Options):
         return FlatLambert(mesh.face_normals, base, towards_light, AMBIENT, two_sided, scale), None
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
     # normals too, so they cannot spoil their neighbours' vertex normals. (A Mesh's faces
-    # index its vertices: checked when it was made, and its arrays are read-only.)
+    # index its vertices: checked when it was made, and its arrays are immutable.)
     faces = mesh.faces
     if not np.isfinite(mesh.vertices).all():
         faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])

@@ -44,7 +44,11 @@ class Camera:
 
     Build cameras with the classmethods (``look_at``, ``orthographic``, ``frame``, the
     axonometric, oblique and 1/2/3-point presets, whose geometry is explained in
-    :mod:`rasterkit.camera.projections`); the constructor validates every field.
+    :mod:`rasterkit.camera.projections`); the constructor validates every field, raising
+    ``TypeError`` for what is not a real number (a string, a bool, None, arrays of them) and
+    ``ValueError`` for values out of range, and makes the world -> raster matrix once: a
+    camera whose matrix is not finite in float64 (sizes and distances too large or too
+    small next to each other) is refused with one line.
 
     Attributes
     ----------
@@ -55,7 +59,7 @@ class Camera:
         World-space eye point, point looked at, and up direction (any length, not parallel
         to the view direction; the camera's +y is up made orthogonal to the view direction).
     width, height : int
-        Image size in pixels.
+        Image size in pixels, 1 to :data:`rasterkit.options.MAX_IMAGE_SIZE`.
     near, far : float
         Distances of the near and far planes from the eye along the view direction,
         ``0 < near < far``, world units.
