@@ -14,28 +14,11 @@ from typing import Sequence
 
 import numpy as np
 
-from .._arrays import describe, real_array, unit
-from ..limits import check_memory
 from ..transform import compose, from_homogeneous, to_homogeneous
 from . import projections
-from .chain import parallel_chain, perspective_chain
-from .checks import KINDS, Vec3, camera_fields
+from .chain import camera_frame, parallel_chain, perspective_chain
+from .checks import KINDS, Vec3, camera_fields, check_matrix
 from .rays import parallel_ray, perspective_ray, window_coordinates
-
-
-def _right(up, w: np.ndarray) -> np.ndarray:
-    """``u = up × w`` normalised; ``up`` made unit first when the cross product is too
-    small or too large to normalise directly (its squares would underflow or overflow)."""
-    with np.errstate(under="ignore", over="ignore"):
-        cross = np.cross(up, w)
-    if not 1e-150 < np.max(np.abs(cross)) < 1e150:
-        cross = np.cross(unit(np.asarray(up, np.float64), "up"), w)
-    return unit(cross, "up × (eye - target)")
-
-
-#: Bytes :meth:`Camera.ray` needs per ray: the window coordinates, origin and direction,
-#: and the temporaries of the arithmetic (float64 each).
-_BYTES_PER_RAY = 8 * 24
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -99,13 +82,7 @@ class Camera:
         for name, value in checked.items():
             object.__setattr__(self, name, value)
         with np.errstate(all="ignore"):
-            k = self.world_to_raster()  # made now, once, to be checked
-        if not np.all(np.isfinite(k)):
-            window = f"fov_y {self.fov_y:g}" if self.kind == "perspective" else f"view_height {self.view_height:g}"
-            raise ValueError(
-                f"the camera's transformation overflows float64 (eye {describe(self.eye)}, target "
-                f"{describe(self.target)}, near {self.near:g}, far {self.far:g}, {window}): its sizes and distances "
-                f"are too large or too small next to each other")
+            check_matrix(self.world_to_raster(), self)  # made now, once, to be checked
 
     # --- constructors ----------------------------------------------------------------------
 
@@ -301,9 +278,7 @@ class Camera:
 
         ``w = (eye - target)/|eye - target|``, ``u = up × w`` normalised, ``v = w × u``.
         """
-        w = unit(np.subtract(self.eye, self.target), "eye - target")
-        u = _right(self.up, w)
-        return u, np.cross(w, u), w
+        return camera_frame(self.eye, self.target, self.up)
 
     def _half_window(self) -> tuple[float, float]:
         """Half width and half height of the window: at distance 1 (perspective), or world units."""
@@ -428,12 +403,6 @@ class Camera:
         origin, direction : float64 ndarray, shape (..., 3)
             World-space origin and unit direction; t in r(t) is in world units.
         """
-        x, y = real_array(x, "x"), real_array(y, "y")
-        try:
-            n = math.prod(np.broadcast_shapes(x.shape, y.shape))
-        except ValueError:
-            raise ValueError(f"x and y must broadcast together, got shapes {x.shape} and {y.shape}") from None
-        check_memory(n * _BYTES_PER_RAY, f"{n} rays")
         a, b = window_coordinates(x, y, self.width, self.height)
         frame = dict(eye=np.asarray(self.eye), basis=self.basis(), half_window=self._half_window())
         if self.kind == "perspective":

@@ -143,3 +143,15 @@ def _check_parallel(f: dict[str, Any]) -> None:
         raise ValueError("fov_y and shift belong to perspective cameras")
     if f["oblique_ratio"] < 0.0:
         raise ValueError(f"oblique_ratio must not be negative, got {f['oblique_ratio']}")
+
+
+def check_matrix(k: np.ndarray, camera) -> None:
+    """Raise ``ValueError`` unless the world -> raster matrix ``k`` of ``camera`` is finite
+    (it is not when the camera's sizes and distances are too large or too small next to
+    each other: ``1 / far`` or ``1 / tan(fov_y / 2)`` beyond float64, say)."""
+    if not np.all(np.isfinite(k)):
+        window = f"fov_y {camera.fov_y:g}" if camera.kind == "perspective" else f"view_height {camera.view_height:g}"
+        raise ValueError(
+            f"the camera's transformation overflows float64 (eye {describe(camera.eye)}, target "
+            f"{describe(camera.target)}, near {camera.near:g}, far {camera.far:g}, {window}): its sizes and "
+            f"distances are too large or too small next to each other")
