@@ -148,9 +148,10 @@ def test_meshes_scenes_shapes_transforms_and_rays_are_refused_when_they_would_no
 
 @pytest.mark.parametrize("mode", ["wire", "hidden", "solid", "solid+wire"])
 def test_a_render_needs_about_what_it_estimates(mode):
-    """Measured in a child: the peak resident memory a 4096x4096 render adds. A limit just
-    below it refuses the render (the estimate is no smaller than what it measures); a limit
-    twice as large, plus some slack, lets it through (the estimate is not wildly larger)."""
+    """Measured in a child: the peak resident memory a 4096x4096 render adds. A limit of 97 %
+    of it refuses the render (the estimate is no smaller than what it measures, give or take
+    pages touched by anything else); a limit twice as large, plus some slack, lets it through
+    (the estimate is not wildly larger)."""
     outcome = run_python(f"""
         import resource
         import rasterkit
@@ -165,7 +166,7 @@ def test_a_render_needs_about_what_it_estimates(mode):
         used = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 - before
         del fb
         assert used > 40 * 2**20, used  # at least the 48 MiB colour buffer, give or take a page
-        limits.set_memory_limit(used)
+        limits.set_memory_limit(int(0.97 * used))
         try:
             rasterkit.render(mesh, camera, mode={mode!r})
             print("not refused at", used)
