@@ -111,7 +111,8 @@ class _Workspace(threading.local):
         if buffer is None or buffer.dtype != dtype or buffer.size < size:
             new_bytes = (size + size // 4) * np.dtype(dtype).itemsize
             held = sum(b.nbytes for n, b in self._buffers.items() if n != name)
-            check_memory(held + new_bytes, f"the triangle path's scratch memory ({name}: {size} entries)")
+            check_memory(held + new_bytes, f"the triangle path's scratch memory (kept between draws; {name} "
+                                           f"grown to {size} entries)")
             grown = np.empty(size + size // 4, dtype)
             if keep and buffer is not None:
                 row = size // shape[0]
