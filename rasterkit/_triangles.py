@@ -105,7 +105,11 @@ class _Workspace(threading.local):
 
     def reserve(self, name, shape, dtype, keep=0):
         """A C-contiguous ``shape`` array of ``dtype``; its first ``keep`` rows are kept
-        from the previous ``reserve`` of the same name (when the buffer has to grow)."""
+        from the previous ``reserve`` of the same name (when the buffer has to grow).
+
+        Growing checks the workspace's total against :func:`rasterkit.limits.memory_limit`
+        first (``LimitError``): the number of cut faces' fans and of bin entries is known
+        only here."""
         size = math.prod(shape)
         buffer = self._buffers.get(name)
         if buffer is None or buffer.dtype != dtype or buffer.size < size:
