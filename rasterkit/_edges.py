@@ -26,6 +26,16 @@ _NO_MATRIX = readonly(np.eye(4))
 
 
 
+def scratch_bytes(n_vertices, n_edges, n_pixels, mode, transform=False) -> int:
+    """Bytes of the scratch arrays of a :func:`draw_edges` call (:func:`scratch`, and the
+    vertices made in the vertex pass with ``transform``), for
+    :func:`rasterkit.limits.check_memory`."""
+    plain = mode == _kernels.MODE_PLAIN
+    per_vertex = 32 + (8 if plain else 0) + (32 if transform else 0)
+    per_edge = 4 * _setup.REC_FIELDS if plain else 0
+    return n_vertices * per_vertex + n_edges * per_edge + (n_pixels if plain else 0)
+
+
 def scratch(n_vertices, n_edges, n_pixels, mode, take=_memory.take):
     """``(proj, pixels, recs, mask)`` for :func:`rasterkit.kernels.edges.draw_edge_bands`
     (``n_pixels``: mask bytes, 0 for none), from recycled memory unless ``take`` says

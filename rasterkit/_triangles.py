@@ -19,6 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from rasterkit._jit import readonly, run_workers
+from rasterkit.limits import check_memory
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.kernels.fans import count_fans, setup_cut_faces
@@ -63,6 +64,25 @@ class Lighting(NamedTuple):
     two_sided: bool
 
 
+#: Bytes of per-face scratch of a draw, each record array grown by a quarter: the records
+#: (xy 24, z 12, box 16), the cut mask and fan count (2), the face list (4), the packed
+#: colour (4) and at least one bin entry (4).
+_BYTES_PER_FACE = (24 + 12 + 16 + 2 + 4 + 4 + 4) * 5 // 4
+#: Bytes of the perspective-correct colour terms of smooth shading, per face.
+_BYTES_PER_SMOOTH_FACE = 72
+
+
+def scratch_bytes(n_vertices, n_faces, width, threads, smooth=False, band_depth=False) -> int:
+    """Bytes of the scratch memory of a :func:`draw_triangles` call before its cut faces
+    and bins are counted: per vertex, per face, and per thread (the visibility buffer and,
+    with ``band_depth``, the band-sized depth buffer). For
+    :func:`rasterkit.limits.check_memory`; the workspace checks its own growth again once
+    the fans and the bins are counted (:meth:`_Workspace.reserve`)."""
+    per_face = _BYTES_PER_FACE + (_BYTES_PER_SMOOTH_FACE if smooth else 0)
+    per_thread = slot_rows(width) * width * 4 * (2 if band_depth else 1)
+    return n_vertices * 16 * 5 // 4 + n_faces * per_face + threads * per_thread
+
+
 class _Workspace(threading.local):
     """Named scratch arrays kept between draws, one set per Python thread; they only grow.
 
@@ -85,10 +105,18 @@ class _Workspace(threading.local):
 
     def reserve(self, name, shape, dtype, keep=0):
         """A C-contiguous ``shape`` array of ``dtype``; its first ``keep`` rows are kept
-        from the previous ``reserve`` of the same name (when the buffer has to grow)."""
+        from the previous ``reserve`` of the same name (when the buffer has to grow).
+
+        Growing checks the workspace's total against :func:`rasterkit.limits.memory_limit`
+        first (``LimitError``): the number of cut faces' fans and of bin entries is known
+        only here."""
         size = math.prod(shape)
         buffer = self._buffers.get(name)
         if buffer is None or buffer.dtype != dtype or buffer.size < size:
+            new_bytes = (size + size // 4) * np.dtype(dtype).itemsize
+            held = sum(b.nbytes for n, b in self._buffers.items() if n != name)
+            check_memory(held + new_bytes, f"the triangle path's scratch memory (kept between draws; {name} "
+                                           f"grown to {size} entries)")
             grown = np.empty(size + size // 4, dtype)
             if keep and buffer is not None:
                 row = size // shape[0]

@@ -11,7 +11,9 @@ import numbers
 
 import numpy as np
 
-from rasterkit._edges import draw_edges
+from rasterkit._arrays import real_array
+from rasterkit._edges import draw_edges, scratch_bytes
+from rasterkit.limits import check_memory
 from rasterkit.kernels import line as _line
 from rasterkit.kernels.clip import SEGMENT_GUARD_BAND
 from rasterkit.kernels.edges import MODE_ANTIALIAS, MODE_PLAIN
@@ -28,6 +30,14 @@ LINE_METHODS = {
 """Names accepted by :func:`line`'s ``method``, mapped to the kernel's method codes."""
 
 _COORD_LIMIT = 2**29
+
+#: Bytes :func:`line` needs per pixel: the minor coordinates (8), the (x, y) pairs (16)
+#: and, for a line drawn backwards, their reversed copy (16).
+_LINE_BYTES_PER_PIXEL = 40
+#: Bytes :func:`lines` needs per segment: its float64 row (32, and as much again for a
+#: conversion), two homogeneous points (64), the edge (16) and the edge path's scratch
+#: (:func:`rasterkit._edges.scratch_bytes`).
+_LINES_BYTES_PER_SEGMENT = 32 * 2 + 64 + 16
 
 
 def _check_coordinate(name: str, value) -> int:
@@ -75,6 +85,9 @@ def line(x0: int, y0: int, x1: int, y1: int, method: str = "bresenham") -> np.nd
         If a coordinate is not an integer (bools and floats are rejected).
     ValueError
         If a coordinate is out of range or ``method`` is unknown.
+    rasterkit.limits.LimitError
+        If the pixels would need more than :func:`rasterkit.limits.memory_limit` (40 bytes
+        a pixel: a line 2**29 pixels long needs 20 GiB).
 
     Examples
     --------
@@ -112,6 +125,8 @@ def line(x0: int, y0: int, x1: int, y1: int, method: str = "bresenham") -> np.nd
     coords = [_check_coordinate(name, value) for name, value in zip(("x0", "y0", "x1", "y1"), (x0, y0, x1, y1))]
     if not isinstance(method, str) or method not in LINE_METHODS:
         raise ValueError(f"method must be one of {sorted(LINE_METHODS)}, got {method!r}")
+    n = max(abs(coords[2] - coords[0]), abs(coords[3] - coords[1])) + 1
+    check_memory(n * _LINE_BYTES_PER_PIXEL, f"a line of {n} pixels")
     return _line.line_pixels(*coords, LINE_METHODS[method])
 
 
@@ -139,6 +154,16 @@ def lines(image: np.ndarray, segments, color=(0, 0, 0), aa: bool = False) -> np.
     -------
     image : the same array
 
+    Raises
+    ------
+    TypeError
+        If ``segments`` holds anything but real numbers (bools, strings, objects).
+    ValueError
+        If ``image`` is not a writeable C-contiguous (H, W, 3|4) uint8 array, or
+        ``segments`` has another shape.
+    rasterkit.limits.LimitError
+        If the segments would need more than :func:`rasterkit.limits.memory_limit`.
+
     Examples
     --------
     >>> import numpy as np
@@ -156,18 +181,26 @@ def lines(image: np.ndarray, segments, color=(0, 0, 0), aa: bool = False) -> np.
     if not isinstance(image, np.ndarray) or image.dtype != np.uint8 or image.ndim != 3 \
             or image.shape[2] not in (3, 4) or not image.flags.c_contiguous:
         raise ValueError("image must be a C-contiguous uint8 array of shape (H, W, 3) or (H, W, 4)")
+    if not image.flags.writeable:
+        raise ValueError("image must be writeable")
     if max(image.shape[:2]) >= SEGMENT_GUARD_BAND:
         raise ValueError("image is too large")
-    seg = np.asarray(segments, dtype=np.float64)
-    if seg.size == 0:
+    given = real_array(segments, "segments", dtype=None)
+    if given.size == 0:
         return image
-    if seg.ndim == 3 and seg.shape[1:] == (2, 2):
-        seg = seg.reshape(-1, 4)
-    if seg.ndim != 2 or seg.shape[1] != 4:
+    if given.ndim == 3 and given.shape[1:] == (2, 2):
+        given = given.reshape(-1, 4)
+    if given.ndim != 2 or given.shape[1] != 4:
         raise ValueError(f"segments must have shape (K, 4) or (K, 2, 2), got {np.shape(segments)}")
-    if np.issubdtype(np.asarray(segments).dtype, np.integer):
+    count = len(given)
+    check_memory(count * _LINES_BYTES_PER_SEGMENT
+                 + scratch_bytes(2 * count, count, 0, MODE_ANTIALIAS if aa else MODE_PLAIN),
+                 f"drawing {count} segments")
+    if min(image.shape[:2]) == 0:
+        return image
+    seg = given.astype(np.float64)
+    if given.dtype.kind in "iu":
         seg = seg + 0.5  # pixel centres: the kernel takes the pixel containing each point
-    count = len(seg)
     points = np.empty((2 * count, 4))
     points[:, :2] = seg.reshape(-1, 2)
     points[:, 2] = 0.0  # depth 0: inside the near and far planes
@@ -223,6 +256,9 @@ def triangle(x0: float, y0: float, x1: float, y1: float, x2: float, y2: float) -
     ValueError
         If a coordinate is NaN, infinite or out of range, or the bounding box has more
         than 2**26 pixels.
+    rasterkit.limits.LimitError
+        If the pixels could need more than :func:`rasterkit.limits.memory_limit` (16
+        bytes a pixel of the bounding box).
 
     Examples
     --------
@@ -258,4 +294,5 @@ def triangle(x0: float, y0: float, x1: float, y1: float, x2: float, y2: float) -
     height = np.ceil(max(xs[1::2])) - np.floor(min(xs[1::2])) + 1
     if width * height > _TRIANGLE_MAX_BOX:
         raise ValueError(f"the triangle's bounding box has {width * height:.0f} pixels, more than 2**26")
+    check_memory(int(width * height) * 16, f"the pixels of a triangle with a {width:.0f}x{height:.0f} bounding box")
     return _triangle.triangle_pixels(*xs)

@@ -9,11 +9,18 @@ import numpy as np
 from . import _memory
 from .colors import ColorLike, parse_color
 from .image import encode_png, save_image, to_pil
+from .limits import check_memory
 from .options import MAX_IMAGE_SIZE
 
-__all__ = ["Framebuffer"]
+__all__ = ["Framebuffer", "buffer_bytes"]
 
 FARTHEST = np.float32(np.inf)
+
+
+def buffer_bytes(width: int, height: int, alpha: bool = False, ids: bool = False, depth: bool = False) -> int:
+    """Bytes of a framebuffer's buffers: colour (3 or 4 bytes a pixel), and the id and
+    depth buffers (4 bytes a pixel each) when asked for."""
+    return width * height * ((4 if alpha else 3) + (4 if ids else 0) + (4 if depth else 0))
 
 
 class Framebuffer:
@@ -45,6 +52,14 @@ class Framebuffer:
         (the same depths, by a depth-only pass over the same triangles) when it is read.
     ids : (H, W) int32 or None
         Index of the triangle seen at each pixel, -1 where none.
+    width, height : int
+        The colour buffer's size (read-only).
+
+    Raises
+    ------
+    rasterkit.limits.LimitError
+        When the buffers would need more than :func:`rasterkit.limits.memory_limit`; the
+        depth buffer is checked when it is made.
 
     Notes
     -----
@@ -62,21 +77,36 @@ class Framebuffer:
                 f"size must be whole numbers from 1 to {MAX_IMAGE_SIZE}, got {width}x{height}")
         self.background = parse_color(background)
         alpha = bool(alpha) or self.background[3] < 255
-        self.width, self.height = int(width), int(height)
-        self.color = _memory.take((self.height, self.width, 4 if alpha else 3), np.uint8)
+        width, height = int(width), int(height)
+        check_memory(buffer_bytes(width, height, alpha, ids), f"a {width}x{height} framebuffer")
+        self.color = _memory.take((height, width, 4 if alpha else 3), np.uint8)
         self._depth = None  # not made yet: all farthest, or what _depth_source draws (defer_depth)
         self._depth_source = None
-        self.ids = _memory.take((self.height, self.width), np.int32) if ids else None
+        self.ids = _memory.take((height, width), np.int32) if ids else None
         if cleared:
             self.clear()
 
     @property
+    def width(self) -> int:
+        """Image width in pixels: the colour buffer's."""
+        return self.color.shape[1]
+
+    @property
+    def height(self) -> int:
+        """Image height in pixels: the colour buffer's."""
+        return self.color.shape[0]
+
+    @property
     def depth(self) -> np.ndarray:
         if self._depth is None:
+            source = self._depth_source
+            if source is not None and source[1] != (self.height, self.width):
+                raise ValueError(f"the depth buffer of this {source[1][1]}x{source[1][0]} render cannot be made: "
+                                 f"Framebuffer.color was replaced by a {self.width}x{self.height} one")
             self.uncleared_depth().fill(FARTHEST)
-            source, self._depth_source = self._depth_source, None
+            self._depth_source = None
             if source is not None:
-                source(self._depth)
+                source[0](self._depth)
         return self._depth
 
     @depth.setter
@@ -100,7 +130,10 @@ class Framebuffer:
         (H, W) float32
         """
         if self._depth is None:
-            self._depth = _memory.take((self.height, self.width), np.float32)
+            height, width = self.height, self.width
+            check_memory(buffer_bytes(width, height, self.alpha, self.ids is not None, depth=True),
+                         f"the depth buffer of a {width}x{height} framebuffer")
+            self._depth = _memory.take((height, width), np.float32)
         return self._depth
 
     def defer_depth(self, source) -> None:
@@ -119,7 +152,7 @@ class Framebuffer:
             ``source(depth)``: draws into the (H, W) float32 buffer, cleared to +inf.
         """
         self._depth = None
-        self._depth_source = source
+        self._depth_source = (source, (self.height, self.width))  # drawn for this size only
 
     @property
     def alpha(self) -> bool:

@@ -8,7 +8,8 @@ Two of them are settings (documented in ``docs/limits.md``):
   a device, a FIFO or a directory is refused whatever its size.
 - **Memory**: a call whose arrays would need more than :func:`memory_limit` bytes is refused
   before anything is allocated, with one line that says how much it needs and why (default:
-  the memory of the machine, or of its container when that is smaller;
+  the memory of the machine, or of its container, or the address space left to the process
+  under ``ulimit -v``, whichever is smallest;
   ``RASTERKIT_MAX_MEMORY``, the command line's ``--max-memory``, or :func:`set_memory_limit`).
 
 Sizes are given in bytes, or with a suffix K, M, G, T (powers of 1024), as in ``"512M"``.
@@ -18,7 +19,13 @@ Pure Python: importing this module imports neither NumPy nor Numba.
 
 from __future__ import annotations
 
+import functools
 import os
+
+try:
+    import resource
+except ImportError:  # not a POSIX system
+    resource = None
 
 __all__ = ["LimitError", "check_memory", "format_bytes", "max_file_size", "memory_limit", "parse_size",
            "set_max_file_size", "set_memory_limit"]
@@ -66,6 +73,13 @@ def _from_environment(name: str):
     text = os.environ.get(name)
     if not text:
         return None
+    return _parse_setting(name, text)
+
+
+@functools.lru_cache(maxsize=16)
+def _parse_setting(name: str, text: str) -> int:
+    """``text``, the value of the environment variable ``name``, as bytes (kept: renderers
+    check their memory on every frame)."""
     try:
         return parse_size(text)
     except ValueError as e:
@@ -89,8 +103,10 @@ def set_max_file_size(n: int | str | None) -> None:
     _max_file_size = None if n is None else parse_size(n)
 
 
-def machine_memory() -> int:
-    """The memory of this machine in bytes, or of its container (cgroup) when smaller."""
+@functools.lru_cache(maxsize=1)
+def _installed_memory() -> int:
+    """The memory of this machine in bytes, or of its container (cgroup) when smaller; read
+    once (it takes some 20 us, and renderers check their memory on every frame)."""
     total = 0
     try:
         total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
@@ -105,6 +121,35 @@ def machine_memory() -> int:
         if text.isdigit() and 0 < int(text) < (total or 1 << 62):
             total = int(text)
     return total or 1 << 62
+
+
+def _address_space_left() -> int | None:
+    """Bytes of address space this process may still map under its ``RLIMIT_AS``, or None
+    without such a limit (the usual case)."""
+    if resource is None:  # not a POSIX system
+        return None
+    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    if soft == resource.RLIM_INFINITY:
+        return None
+    used = 0
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmSize:"):
+                    used = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError):
+        pass
+    return max(soft - used, 0)
+
+
+def machine_memory() -> int:
+    """The memory of this machine in bytes, or of its container (cgroup) when smaller, or
+    the address space the process may still map when it runs under an ``RLIMIT_AS`` that
+    leaves less (``ulimit -v``: an allocation beyond it fails however much memory is free)."""
+    total = _installed_memory()
+    left = _address_space_left()
+    return total if left is None else min(total, left)
 
 
 def memory_limit() -> int:
@@ -126,6 +171,13 @@ def check_memory(nbytes: float, what: str) -> None:
     solid+wire render"``."""
     limit = memory_limit()
     if nbytes > limit:
+        if _memory_limit is not None:
+            source = "set by --max-memory or rasterkit.limits.set_memory_limit"
+        elif os.environ.get("RASTERKIT_MAX_MEMORY"):
+            source = "set by RASTERKIT_MAX_MEMORY"
+        elif limit < _installed_memory():
+            source = "the address space left to this process under its ulimit -v"
+        else:
+            source = "the memory this machine has; raise it with --max-memory or RASTERKIT_MAX_MEMORY"
         raise LimitError(f"{what} needs about {format_bytes(nbytes)} of memory, more than the limit of "
-                         f"{format_bytes(limit)} (the machine's memory; raise it with --max-memory or "
-                         f"RASTERKIT_MAX_MEMORY)")
+                         f"{format_bytes(limit)} ({source})")

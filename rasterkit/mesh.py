@@ -2,20 +2,27 @@
 
 A Mesh never holds an index out of range, a face with repeated shape errors or arrays of the
 wrong dtype: the constructor checks everything once, so the kernels can trust its arrays.
-They are the Mesh's own and read-only (an array passed in is copied when the Mesh would
-otherwise share it), so what was checked stays true, and what is worked out from them once
-(:attr:`Mesh.face_normals`) stays valid. To move a mesh, make a new one
-(``dataclasses.replace(mesh, vertices=...)`` keeps its edges).
+They are the Mesh's own and immutable: read-only views of ``bytes`` objects the Mesh made
+(an array passed in is copied), which NumPy cannot make writeable again nor resize, so what
+was checked stays true, and what is worked out from them once (:attr:`Mesh.face_normals`)
+stays valid. What NumPy still lets anyone change in place, an array's ``shape``, ``dtype``
+and ``strides``, or an attribute replaced behind the frozen dataclass's back, is caught by
+:meth:`Mesh.check_intact` (a few attribute reads), which the renderer calls before any
+kernel runs. To move a mesh, make a new one (``dataclasses.replace(mesh, vertices=...)``
+keeps its edges).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import cached_property
 
 import numpy as np
 
-__all__ = ["Mesh", "as_mesh", "polygon_edges", "unique_edges"]
+from ._arrays import real_array
+from .limits import check_memory
+
+__all__ = ["Mesh", "as_mesh", "mesh_bytes", "polygon_edges", "unique_edges"]
 
 
 def polygon_edges(polygons) -> np.ndarray:
@@ -25,8 +32,12 @@ def polygon_edges(polygons) -> np.ndarray:
     two polygons appears once, as ``(min, max)``, sorted.
     """
     pairs = []
-    for p in polygons:
-        p = np.asarray(p, dtype=np.int64)
+    for k, p in enumerate(polygons):
+        p = np.asarray(p)
+        if p.dtype.kind not in "iu" or p.ndim != 1:
+            raise TypeError(f"polygons[{k}] must be a sequence of integer vertex indices, got dtype {p.dtype} "
+                            f"and shape {p.shape}")
+        p = p.astype(np.int64)
         pairs.append(np.stack([p, np.roll(p, -1)], axis=1))
     if not pairs:
         return np.zeros((0, 2), np.int64)
@@ -48,7 +59,10 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
         More edges, as keys ``lo * N + hi`` (lo < hi), as
         :func:`rasterkit.kernels.obj_polygons.side_keys` makes them.
     """
-    pairs = np.sort(np.asarray(pairs, dtype=np.int64).reshape(-1, 2), axis=1)
+    pairs = np.asarray(pairs)
+    if pairs.dtype.kind not in "iu" and pairs.size:
+        raise TypeError(f"pairs must hold integer vertex indices, got dtype {pairs.dtype}")
+    pairs = np.sort(pairs.astype(np.int64).reshape(-1, 2), axis=1)
     pairs = pairs[pairs[:, 0] != pairs[:, 1]]
     n = max(int(n_vertices), 1)
     codes = pairs[:, 0] * n + pairs[:, 1]
@@ -60,7 +74,7 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
 
 
 def _array(a, dtype, shape_tail, name, n_rows=None):
-    arr = np.ascontiguousarray(np.asarray(a, dtype=dtype))
+    arr = np.ascontiguousarray(real_array(a, name, dtype))
     if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
         want = ", ".join(["N", *map(str, shape_tail)])
         raise ValueError(f"{name} must have shape ({want}), got {arr.shape}")
@@ -69,28 +83,46 @@ def _array(a, dtype, shape_tail, name, n_rows=None):
     return arr
 
 
-def _own(arr, source) -> np.ndarray:
-    """``arr`` (made from ``source``, what the caller passed) made read-only; copied first
-    unless it is a fresh array or ``source`` itself already frozen (another Mesh's array):
-    the caller's arrays stay writeable, and writing to them cannot change the Mesh."""
-    fresh = arr is not source and arr.base is None
-    frozen = arr is source and not arr.flags.writeable and arr.flags.owndata
-    if not (fresh or frozen):
-        arr = arr.copy()
-    arr.flags.writeable = False
-    return arr
+def immutable(arr) -> bool:
+    """Whether ``arr`` is a read-only, C-contiguous, aligned view of a ``bytes`` object:
+    memory that NumPy offers no way to write to (its ``WRITEABLE`` flag cannot be set
+    again, on it or on any array made from it, and it cannot be resized)."""
+    if not isinstance(arr, np.ndarray) or arr.flags.writeable or not (arr.flags.c_contiguous and arr.flags.aligned):
+        return False
+    base = arr
+    while isinstance(base, np.ndarray):
+        base = base.base
+    return type(base) is bytes
+
+
+def seal(arr: np.ndarray) -> np.ndarray:
+    """``arr`` as an immutable array (:func:`immutable`): itself when it is one already,
+    else a copy over a new ``bytes`` object (``arr`` stays as it was)."""
+    if immutable(arr):
+        return arr
+    return np.frombuffer(np.ascontiguousarray(arr).tobytes(), dtype=arr.dtype).reshape(arr.shape)
 
 
 def _indices(a, n_vertices, width, name):
+    if a is None:
+        raise TypeError(f"{name} must be an array of integers, got None")
     a = np.asarray(a)
-    if a.size == 0:
+    if a.size == 0 and a.dtype.kind in "iufO":  # [] is float64 to NumPy
         a = np.zeros((0, width), np.int64)
     if a.dtype.kind not in "iu":
-        raise TypeError(f"{name} must hold integers, got {a.dtype}")
+        raise TypeError(f"{name} must hold integers, got dtype {a.dtype}")
     arr = _array(a, np.int64, (width,), name)
     if len(arr) and (arr.min() < 0 or arr.max() >= n_vertices):
         raise ValueError(f"{name} index out of range [0, {n_vertices})")
     return arr
+
+
+def mesh_bytes(n_vertices: int, n_faces: int, n_edges: int) -> int:
+    """Bytes that making a Mesh needs, at most: per vertex its positions, colours, normals
+    and texture coordinates, checked and then copied; per face its indices, colour and
+    group, and the temporaries of working out the edges (6 arrays of 3 pairs per face);
+    per edge its pair, checked and copied. For :func:`rasterkit.limits.check_memory`."""
+    return n_vertices * 2 * (24 + 12 + 24 + 16) + n_faces * (2 * (24 + 12 + 4) + 3 * 16 * 6) + n_edges * 2 * 16
 
 
 @dataclass(frozen=True, eq=False)
@@ -121,7 +153,8 @@ class Mesh:
     warnings : tuple of str
         What the loader noticed but accepted.
 
-    The arrays are read-only; the Mesh does not share them with the arrays it was made from.
+    The arrays are immutable (read-only views of ``bytes``); the Mesh shares them with no
+    array it was made from, except another Mesh's (immutable too).
     """
 
     vertices: np.ndarray
@@ -142,16 +175,12 @@ class Mesh:
         n = len(v)
         f = _indices(self.faces, n, 3, "faces")
         lines = _indices(self.lines if self.lines is not None else (), n, 2, "lines")
-        if self.edges is None:
+        edges = None if self.edges is None else _indices(self.edges, n, 2, "edges")
+        n_edges = 3 * len(f) + len(lines) if edges is None else len(edges)
+        check_memory(mesh_bytes(n, len(f), len(lines) + n_edges), f"a Mesh of {n} vertices and {len(f)} faces")
+        if edges is None:
             edges = unique_edges(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]], lines]), n)
-        else:
-            edges = _indices(self.edges, n, 2, "edges")
-        set_ = object.__setattr__
-        # each array the Mesh's own and read-only (self.<name> is still what was passed)
-        set_(self, "vertices", _own(v, self.vertices))
-        set_(self, "faces", _own(f, self.faces))
-        set_(self, "lines", _own(lines, self.lines))
-        set_(self, "edges", _own(edges, self.edges))
+        arrays = {"vertices": v, "faces": f, "lines": lines, "edges": edges}
         optional = {
             "vertex_colors": (np.float32, (3,), n),
             "normals": (np.float64, (3,), n),
@@ -161,26 +190,53 @@ class Mesh:
         for name, (dtype, tail, rows) in optional.items():
             value = getattr(self, name)
             if value is not None:
-                set_(self, name, _own(_array(value, dtype, tail, name, rows), value))
+                arrays[name] = _array(value, dtype, tail, name, rows)
         if self.face_groups is not None:
-            g = np.ascontiguousarray(np.asarray(self.face_groups, dtype=np.int32))
-            if g.shape != (len(f),) or (len(g) and (g.min() < 0 or g.max() >= len(self.group_names))):
-                raise ValueError("face_groups must be (M,) indices into group_names")
-            set_(self, "face_groups", _own(g, self.face_groups))
+            g = _groups(self.face_groups, len(f), len(self.group_names))
+            arrays["face_groups"] = g
+        # Each array the Mesh's own and immutable; what check_intact compares them with.
+        set_ = object.__setattr__
+        record = {}
+        for name, arr in arrays.items():
+            arr = seal(arr)
+            set_(self, name, arr)
+            record[name] = (arr, arr.shape, arr.dtype)
+        set_(self, "_arrays", record)
         set_(self, "group_names", tuple(self.group_names))
         set_(self, "material_names", tuple(self.material_names))
         set_(self, "warnings", tuple(self.warnings))
 
+    def check_intact(self) -> "Mesh":
+        """Raise ``ValueError`` unless every array of the Mesh is still the one it was made
+        with, with its shape, dtype and layout; returns the Mesh.
+
+        The arrays' contents cannot change (they are immutable), but NumPy lets anyone set
+        an array's ``shape``, ``dtype`` or ``strides`` in place, and an attribute of the
+        frozen dataclass can be replaced with ``object.__setattr__``: kernels reading such
+        an array would read outside it. A few attribute reads: the renderer calls it on
+        every draw.
+        """
+        for name, (arr, shape, dtype) in self._arrays.items():
+            now = getattr(self, name)
+            if now is not arr or now.shape != shape or now.dtype != dtype or not now.flags.c_contiguous:
+                raise ValueError(f"Mesh.{name} was changed after the Mesh was made (a Mesh's arrays are fixed: "
+                                 f"make a new Mesh, e.g. with dataclasses.replace)")
+        return self
+
+    def __reduce__(self):
+        """Pickled and copied through the constructor: the copy checks and seals its own
+        arrays (a plain copy of the instance's state would hold writeable ones)."""
+        return (Mesh, tuple(getattr(self, f.name) for f in fields(self)))
+
     @cached_property
     def face_normals(self) -> np.ndarray:
-        """(M, 3) float32, read-only: unit face normals (right-hand rule: counter-clockwise
+        """(M, 3) float32, immutable: unit face normals (right-hand rule: counter-clockwise
         seen from the front points out), zero for a degenerate face, NaN for a face with a
         non-finite corner. Worked out on first use and kept: flat shading needs them in every
         frame, and they do not depend on the camera."""
         from .kernels.shade import face_normals
-        normals = face_normals(self.vertices, self.faces).astype(np.float32)
-        normals.flags.writeable = False
-        return normals
+        self.check_intact()
+        return seal(face_normals(self.vertices, self.faces).astype(np.float32))
 
     @property
     def bounds(self) -> np.ndarray:
@@ -191,11 +247,28 @@ class Mesh:
         return np.stack([finite.min(axis=0), finite.max(axis=0)])
 
     def bounding_sphere(self) -> tuple[np.ndarray, float]:
-        """Centre (3,) and radius of a sphere holding every finite vertex (box centre based)."""
-        lo, hi = self.bounds
-        centre = (lo + hi) / 2.0
+        """Centre (3,) and radius of a sphere holding every finite vertex (box centre based).
+
+        A mesh without vertices gives the origin and radius 0. Raises ``ValueError`` when
+        every vertex is NaN or infinite, or when the radius is beyond float64 (coordinates
+        near 1e308 of both signs)."""
         finite = self.vertices[np.all(np.isfinite(self.vertices), axis=1)]
-        radius = float(np.linalg.norm(finite - centre, axis=1).max()) if len(finite) else 0.0
+        if len(finite) == 0:
+            if len(self.vertices):
+                raise ValueError(f"all {len(self.vertices)} vertices are NaN or infinite: the model has no extent")
+            return np.zeros(3), 0.0
+        lo, hi = finite.min(axis=0), finite.max(axis=0)
+        centre = lo / 2.0 + hi / 2.0  # (lo + hi) / 2 to the bit, without overflowing
+        offsets = finite - centre
+        with np.errstate(over="ignore", under="ignore"):
+            radius = float(np.linalg.norm(offsets, axis=1).max())
+            if not 0.0 < radius < np.inf and np.any(offsets):
+                # squares overflowed or underflowed: the same length, in units of the largest offset
+                largest = float(np.abs(offsets).max())
+                radius = largest * float(np.linalg.norm(offsets / largest, axis=1).max())
+        if not np.isfinite(radius):
+            raise ValueError(f"the model's extent overflows float64 (coordinates from {lo.min():.3g} "
+                             f"to {hi.max():.3g}): scale it down")
         return centre, radius
 
     def __repr__(self) -> str:
@@ -203,14 +276,24 @@ class Mesh:
                 f"{len(self.edges)} edges, {len(self.lines)} lines)")
 
 
+def _groups(value, n_faces, n_groups) -> np.ndarray:
+    g = np.asarray(value)
+    if g.dtype.kind not in "iu" and not (g.size == 0 and g.dtype.kind == "f"):
+        raise TypeError(f"face_groups must hold integers, got dtype {g.dtype}")
+    if g.shape != (n_faces,) or (len(g) and (g.min() < 0 or g.max() >= n_groups)):
+        raise ValueError("face_groups must be (M,) indices into group_names")
+    return np.ascontiguousarray(g, dtype=np.int32)
+
+
 def as_mesh(mesh) -> Mesh:
     """A :class:`Mesh` from a Mesh, a ``(vertices, faces)`` pair or an object with
-    ``.vertices`` and ``.faces`` (a trimesh mesh, for example)."""
+    ``.vertices`` and ``.faces`` (a trimesh mesh, for example). A Mesh is checked with
+    :meth:`Mesh.check_intact`."""
     if isinstance(mesh, Mesh):
-        return mesh
+        return mesh.check_intact()
     if isinstance(mesh, tuple) and len(mesh) == 2:
         return Mesh(*mesh)
     if hasattr(mesh, "vertices") and hasattr(mesh, "faces"):
-        return Mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces))
+        return Mesh(mesh.vertices, mesh.faces)
     raise TypeError("mesh must be a rasterkit.Mesh, a (vertices, faces) tuple, "
                     "or an object with .vertices and .faces")

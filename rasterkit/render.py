@@ -14,9 +14,13 @@ from functools import partial
 
 import numpy as np
 
+from ._arrays import unit_vector
 from .camera import Camera
 from .colors import ColorLike, parse_color
-from .framebuffer import Framebuffer
+from . import _triangles
+from .framebuffer import Framebuffer, buffer_bytes
+from ._jit import get_threads
+from .limits import check_memory
 from .kernels import shade as shade_kernels
 from ._vertex import transform_points
 from .mesh import Mesh, as_mesh
@@ -97,6 +101,18 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     Returns
     -------
     Framebuffer
+
+    Raises
+    ------
+    TypeError
+        For a mesh, camera or light that is not one (None, a string, arrays of booleans,
+        complex numbers or objects).
+    ValueError
+        For an unknown option, a bad colour or light, or a Mesh whose arrays were changed
+        after it was made (:meth:`Mesh.check_intact`).
+    rasterkit.limits.LimitError
+        When the render would need more memory than :func:`rasterkit.limits.memory_limit`
+        (:func:`memory_needed` estimates it before anything is allocated).
     """
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
@@ -111,6 +127,8 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     options = _Options(_choice("mode", mode, MODES), _choice("cull", cull, CULL),
                        _choice("shading", shading, SHADING), parse_color(color),
                        parse_color(line_color), bool(aa), light)
+    check_memory(memory_needed(mesh, camera.width, camera.height, options, parse_color(background)[3] < 255, ids),
+                 f"a {camera.width}x{camera.height} {options.mode} render of {len(mesh.faces)} faces")
     # Every buffer is cleared by the kernels, band by band in the threads that draw it.
     fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
     if options.mode == "wire":  # no depth buffer: it stays "farthest" until someone asks
@@ -125,6 +143,30 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     if options.mode != "solid":
         _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
     return fb
+
+
+def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha: bool, ids: bool) -> int:
+    """Bytes a render needs, estimated before anything is allocated (the rule of
+    ``docs/limits.md``): the framebuffer (colour, ids, and depth in the modes that keep it),
+    the triangle path's scratch (per vertex, per face, per thread) in every mode but wire,
+    and the edge path's in every mode but solid (with the wireframe's byte mask of the
+    image)."""
+    n, m = len(mesh.vertices), len(mesh.faces)
+    total = buffer_bytes(width, height, alpha, ids, depth=options.mode in ("hidden", "solid+wire"))
+    if options.mode != "wire":
+        smooth = options.shading == "smooth" and options.mode != "hidden"
+        total += n * 32 + _triangles.scratch_bytes(n, m, width, get_threads(), smooth=smooth,
+                                                    band_depth=options.mode == "solid")
+        if options.mode != "hidden":  # the face normals (float64, then float32), or the vertex colours
+            total += m * 36 + (n * 84 if smooth else 0)
+    if options.mode != "solid":  # imported here, as in _draw_edges: a solid render loads no edge kernels
+        from . import _edges
+        from .kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
+
+        edge_mode = MODE_ANTIALIAS if options.aa else MODE_DEPTH_TEST if options.mode != "wire" else MODE_PLAIN
+        total += _edges.scratch_bytes(n, len(mesh.edges), width * height, edge_mode,
+                                      transform=options.mode == "wire")
+    return total
 
 
 def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
@@ -171,7 +213,7 @@ def _shade(mesh: Mesh, options: _Options):
         return FlatLambert(mesh.face_normals, base, towards_light, AMBIENT, two_sided, scale), None
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
     # normals too, so they cannot spoil their neighbours' vertex normals. (A Mesh's faces
-    # index its vertices: checked when it was made, and its arrays are read-only.)
+    # index its vertices: checked when it was made, and its arrays are immutable.)
     faces = mesh.faces
     if not np.isfinite(mesh.vertices).all():
         faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
@@ -184,10 +226,7 @@ def _light_direction(light, camera: Camera) -> np.ndarray:
     """Unit direction towards the light; None is the headlight (from the target to the eye)."""
     if light is None:
         return camera.backward()
-    d = np.asarray(light, dtype=np.float64)
-    if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.any(d):
-        raise ValueError(f"light must be a non-zero direction of 3 finite numbers, got {light!r}")
-    return d / np.linalg.norm(d)
+    return unit_vector(light, "light")
 
 
 def _lambert(normals, base, light, two_sided):

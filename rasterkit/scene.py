@@ -13,7 +13,9 @@ import numpy as np
 
 from .camera import Camera
 from .colors import ColorLike, parse_color
-from .mesh import Mesh, as_mesh
+from ._arrays import real_array
+from .limits import check_memory
+from .mesh import Mesh, as_mesh, mesh_bytes
 from .transform import apply_normals, apply_points
 
 __all__ = ["Scene", "SceneObject"]
@@ -59,11 +61,7 @@ class Scene:
     def add(self, mesh: Mesh, matrix: np.ndarray | None = None,
             color: ColorLike | None = None) -> "Scene":
         """Place ``mesh`` in the world by ``matrix`` (4x4, default identity); returns self."""
-        m = np.eye(4) if matrix is None else np.array(matrix, dtype=np.float64)
-        if m.shape != (4, 4) or not np.all(np.isfinite(m)):
-            raise ValueError(f"a model matrix must be a finite 4x4 array, got shape {m.shape}")
-        if not np.array_equal(m[3], [0.0, 0.0, 0.0, 1.0]):
-            raise ValueError("a model matrix must be affine (last row 0, 0, 0, 1)")
+        m = np.eye(4) if matrix is None else _model_matrix(matrix)
         rgb = None if color is None else parse_color(color)[:3].astype(np.float32) / 255.0
         self.objects.append(SceneObject(as_mesh(mesh), m, rgb))
         return self
@@ -77,6 +75,17 @@ class Scene:
         """
         if not self.objects:
             raise ValueError("the scene is empty: add a mesh first")
+        for o in self.objects:  # Scene.objects is a plain list: what was appended to it is checked here
+            if not isinstance(o, SceneObject):
+                raise TypeError(f"Scene.objects must hold SceneObjects (use Scene.add), got {type(o).__name__}")
+            as_mesh(o.mesh)
+            _model_matrix(o.matrix)
+        n = sum(len(o.mesh.vertices) for o in self.objects)
+        m = sum(len(o.mesh.faces) for o in self.objects)
+        e = sum(len(o.mesh.edges) for o in self.objects)
+        # world-space copies (and their homogeneous temporaries), then the Mesh made of them
+        check_memory(n * (24 * 4 + 32 + 12) + m * (24 + 12) + e * 16 + mesh_bytes(n, m, e),
+                     f"the world mesh of a scene of {len(self.objects)} objects ({n} vertices, {m} faces)")
         offsets = np.cumsum([0] + [len(o.mesh.vertices) for o in self.objects])
         vertices = np.concatenate([apply_points(o.matrix, o.mesh.vertices) for o in self.objects])
         faces = np.concatenate([o.mesh.faces + k for o, k in zip(self.objects, offsets)])
@@ -92,7 +101,9 @@ class Scene:
         return self.world_mesh().bounding_sphere()
 
     def _normals(self):
-        if all(o.mesh.normals is not None for o in self.objects):
+        """The objects' normals in world space, when every object has normals and a model
+        matrix whose linear part can be inverted (normals need its inverse transpose)."""
+        if all(o.mesh.normals is not None and _invertible(o.matrix) for o in self.objects):
             return np.concatenate([apply_normals(o.matrix, o.mesh.normals) for o in self.objects])
         return None
 
@@ -109,6 +120,25 @@ class Scene:
             c if c is not None else np.tile(default_rgb, (len(o.mesh.faces), 1))
             for c, o in zip(own, self.objects)
         ]).astype(np.float32)
+
+
+def _model_matrix(matrix) -> np.ndarray:
+    """A model matrix checked: a finite, affine 4x4 array of real numbers (a new array)."""
+    m = np.array(real_array(matrix, "a model matrix"), dtype=np.float64)
+    if m.shape != (4, 4) or not np.all(np.isfinite(m)):
+        raise ValueError(f"a model matrix must be a finite 4x4 array, got shape {m.shape}")
+    if not np.array_equal(m[3], [0.0, 0.0, 0.0, 1.0]):
+        raise ValueError("a model matrix must be affine (last row 0, 0, 0, 1)")
+    return m
+
+
+def _invertible(matrix: np.ndarray) -> bool:
+    """Whether the linear part of ``matrix`` has an inverse that is finite in float64."""
+    with np.errstate(all="ignore"):
+        try:
+            return bool(np.all(np.isfinite(np.linalg.inv(matrix[:3, :3]))))
+        except np.linalg.LinAlgError:
+            return False
 
 
 def _own_face_colors(obj: SceneObject) -> np.ndarray | None:

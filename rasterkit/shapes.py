@@ -9,9 +9,26 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mesh import Mesh, polygon_edges
+from ._arrays import real_number
+from .limits import check_memory
+from .mesh import Mesh, mesh_bytes, polygon_edges
 
 __all__ = ["cube", "tetrahedron", "octahedron", "icosahedron", "icosphere", "torus", "grid", "demo"]
+
+
+def _count(value, name: str) -> int:
+    """A whole number of rings, sides, cells or subdivisions (bools, floats and strings are
+    refused with ``TypeError``)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+    return int(value)
+
+
+def _check_quads(n_vertices: int, n_quads: int, what: str) -> None:
+    """Refuse a shape of quads whose arrays would not fit in memory: the grids of
+    coordinates and indices (about 200 bytes a vertex), the polygon lists (about 400
+    bytes a quad, Python objects) and the Mesh made of them."""
+    check_memory(n_vertices * 200 + n_quads * 400 + mesh_bytes(n_vertices, 2 * n_quads, 4 * n_quads), what)
 
 
 def _from_polygons(vertices, polygons) -> Mesh:
@@ -23,7 +40,7 @@ def _from_polygons(vertices, polygons) -> Mesh:
 
 def cube(size: float = 1.0) -> Mesh:
     """Axis-aligned cube with edge length ``size``: 8 vertices, 6 quads (12 triangles), 12 edges."""
-    h = size / 2.0
+    h = real_number(size, "size") / 2.0
     v = [(x, y, z) for x in (-h, h) for y in (-h, h) for z in (-h, h)]  # index = 4x + 2y + z
     quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
     return _from_polygons(v, quads)
@@ -32,13 +49,13 @@ def cube(size: float = 1.0) -> Mesh:
 def tetrahedron(radius: float = 1.0) -> Mesh:
     """Regular tetrahedron inscribed in a sphere of ``radius``."""
     v = np.array([(1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)], np.float64)
-    v *= radius / np.sqrt(3.0)
+    v *= real_number(radius, "radius") / np.sqrt(3.0)
     return _from_polygons(v, [(0, 1, 2), (0, 3, 1), (0, 2, 3), (1, 3, 2)])
 
 
 def octahedron(radius: float = 1.0) -> Mesh:
     """Regular octahedron with vertices on the axes at distance ``radius``."""
-    v = radius * np.array([(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)],
+    v = real_number(radius, "radius") * np.array([(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)],
                           np.float64)
     faces = [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)]
     return _from_polygons(v, faces)
@@ -50,7 +67,7 @@ def icosahedron(radius: float = 1.0) -> Mesh:
     v = np.array([(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
                   (0, -1, -t), (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)],
                  np.float64)
-    v *= radius / np.linalg.norm(v[0])
+    v *= real_number(radius, "radius") / np.linalg.norm(v[0])
     faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
              (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
              (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
@@ -62,13 +79,13 @@ def icosphere(subdivisions: int = 2, radius: float = 1.0) -> Mesh:
 
     Vertices: ``10 * 4**subdivisions + 2``; faces: ``20 * 4**subdivisions``.
     """
-    if not 0 <= int(subdivisions) <= 7:
+    if not 0 <= _count(subdivisions, "subdivisions") <= 7:
         raise ValueError(f"subdivisions must be between 0 and 7, got {subdivisions}")
     base = icosahedron(1.0)
     vertices, faces = base.vertices, base.faces
     for _ in range(int(subdivisions)):
         vertices, faces = _subdivide(vertices, faces)
-    vertices = radius * vertices / np.linalg.norm(vertices, axis=1, keepdims=True)
+    vertices = real_number(radius, "radius") * vertices / np.linalg.norm(vertices, axis=1, keepdims=True)
     return Mesh(vertices, faces)
 
 
@@ -87,8 +104,11 @@ def _subdivide(vertices: np.ndarray, faces: np.ndarray):
 
 def torus(major: float = 1.0, minor: float = 0.35, rings: int = 32, sides: int = 16) -> Mesh:
     """Torus around the y axis: ``rings`` quads around, ``sides`` quads across the tube."""
-    if rings < 3 or sides < 3 or not 0 < minor < major:
-        raise ValueError("torus needs rings >= 3, sides >= 3 and 0 < minor < major")
+    rings, sides = _count(rings, "rings"), _count(sides, "sides")
+    major, minor = real_number(major, "major"), real_number(minor, "minor")
+    if rings < 3 or sides < 3 or not 0 < minor < major < np.inf:
+        raise ValueError("torus needs rings >= 3, sides >= 3 and 0 < minor < major (finite)")
+    _check_quads(rings * sides, rings * sides, f"a torus of {rings}x{sides} quads")
     u = 2 * np.pi * np.arange(rings) / rings
     v = 2 * np.pi * np.arange(sides) / sides
     uu, vv = np.meshgrid(u, v, indexing="ij")
@@ -103,8 +123,11 @@ def torus(major: float = 1.0, minor: float = 0.35, rings: int = 32, sides: int =
 
 def grid(nx: int = 10, nz: int = 10, size: float = 2.0) -> Mesh:
     """Flat square grid in the xz plane facing +y: ``nx`` by ``nz`` quads."""
+    nx, nz = _count(nx, "nx"), _count(nz, "nz")
+    size = real_number(size, "size")
     if nx < 1 or nz < 1:
         raise ValueError("grid needs nx >= 1 and nz >= 1")
+    _check_quads((nx + 1) * (nz + 1), nx * nz, f"a grid of {nx}x{nz} quads")
     xs = np.linspace(-size / 2, size / 2, nx + 1)
     zs = np.linspace(-size / 2, size / 2, nz + 1)
     xx, zz = np.meshgrid(xs, zs, indexing="ij")

@@ -15,6 +15,9 @@ from typing import Sequence
 
 import numpy as np
 
+from ._arrays import describe, real_array, real_number
+from .limits import check_memory
+
 __all__ = [
     "identity",
     "translate",
@@ -50,12 +53,15 @@ def translate(dx: float, dy: float, dz: float) -> np.ndarray:
     array([1., 2., 3., 1.])
     """
     m = np.eye(4)
-    m[:3, 3] = (dx, dy, dz)
+    m[:3, 3] = (real_number(dx, "dx"), real_number(dy, "dy"), real_number(dz, "dz"))
     return m
 
 
 def _rotation(theta: float, i: int, j: int) -> np.ndarray:
     """Rotation by ``theta`` in the plane of axes i -> j (i turns towards j)."""
+    theta = real_number(theta, "theta")
+    if not math.isfinite(theta):
+        raise ValueError(f"theta must be a finite angle, got {theta}")
     c, s = math.cos(theta), math.sin(theta)
     m = np.eye(4)
     m[i, i] = c
@@ -90,10 +96,29 @@ def rotate_z(theta: float) -> np.ndarray:
 
 
 def _vector3(v: Sequence[float], name: str) -> np.ndarray:
-    a = np.asarray(v, dtype=np.float64)
+    a = real_array(v, name)
     if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be 3 finite numbers, got {v!r}")
+        raise ValueError(f"{name} must be 3 finite numbers, got {describe(v)}")
     return a
+
+
+def _matrix(m, name: str = "matrix") -> np.ndarray:
+    """``m`` as a (4, 4) float64 array of real numbers."""
+    a = real_array(m, name)
+    if a.shape != (4, 4):
+        raise ValueError(f"{name} must be a 4x4 array, got shape {a.shape}")
+    return a
+
+
+def _points(points, name: str, width: int, bytes_per_point: int, what: str) -> np.ndarray:
+    """``points`` as an (N, ``width``) float64 array of real numbers, once the
+    ``bytes_per_point`` that the call needs for each are known to fit
+    (:func:`rasterkit.limits.check_memory`)."""
+    p = real_array(points, name, dtype=None)
+    if p.ndim != 2 or p.shape[1] != width:
+        raise ValueError(f"{name} must have shape (N, {width}), got {p.shape}")
+    check_memory(len(p) * bytes_per_point, f"{what} of {len(p)} {name}")
+    return p.astype(np.float64, copy=False)
 
 
 def rotate_axis(
@@ -139,7 +164,7 @@ def scale(sx: float, sy: float | None = None, sz: float | None = None) -> np.nda
         sy = sz = sx
     elif sy is None or sz is None:
         raise TypeError("scale takes one factor (uniform) or three")
-    return np.diag([float(sx), float(sy), float(sz), 1.0])
+    return np.diag([real_number(sx, "sx"), real_number(sy, "sy"), real_number(sz, "sz"), 1.0])
 
 
 def reflect(axis: str) -> np.ndarray:
@@ -185,9 +210,9 @@ def shear(
     ``x' = x + xy·y + xz·z``, ``y' = y + yx·x + yz·z``, ``z' = z + zx·x + zy·y``.
     """
     m = np.eye(4)
-    m[0, 1], m[0, 2] = xy, xz
-    m[1, 0], m[1, 2] = yx, yz
-    m[2, 0], m[2, 1] = zx, zy
+    m[0, 1], m[0, 2] = real_number(xy, "xy"), real_number(xz, "xz")
+    m[1, 0], m[1, 2] = real_number(yx, "yx"), real_number(yz, "yz")
+    m[2, 0], m[2, 1] = real_number(zx, "zx"), real_number(zy, "zy")
     return m
 
 
@@ -197,8 +222,9 @@ def compose(*matrices: np.ndarray) -> np.ndarray:
     ``compose(A, B) == B @ A``; ``compose()`` is the identity.
     """
     result = np.eye(4)
-    for m in matrices:
-        result = np.asarray(m, dtype=np.float64) @ result
+    with np.errstate(over="ignore", invalid="ignore"):  # inf and NaN as IEEE arithmetic gives them
+        for k, m in enumerate(matrices):
+            result = _matrix(m, f"matrices[{k}]") @ result
     return result
 
 
@@ -207,22 +233,28 @@ def invert(m: np.ndarray) -> np.ndarray:
 
     Raises ``ValueError`` when the matrix is not affine or its linear part is singular.
     """
-    m = np.asarray(m, dtype=np.float64)
+    m = real_array(m, "matrix")
     if m.shape != (4, 4) or not np.array_equal(m[3], [0.0, 0.0, 0.0, 1.0]):
         raise ValueError("invert expects an affine 4x4 matrix (last row 0, 0, 0, 1)")
-    a_inv = np.linalg.inv(m[:3, :3])
-    out = np.eye(4)
-    out[:3, :3] = a_inv
-    out[:3, 3] = -a_inv @ m[:3, 3]
+    if not np.all(np.isfinite(m)):
+        raise ValueError("invert expects a finite matrix")
+    with np.errstate(all="ignore"):
+        try:
+            a_inv = np.linalg.inv(m[:3, :3])
+        except np.linalg.LinAlgError:
+            a_inv = None
+        if a_inv is None or not np.all(np.isfinite(a_inv)):
+            raise ValueError("the matrix cannot be inverted: its linear part is singular")
+        out = np.eye(4)
+        out[:3, :3] = a_inv
+        out[:3, 3] = -a_inv @ m[:3, 3]
     return out
 
 
 def to_homogeneous(points: np.ndarray, w: float = 1.0) -> np.ndarray:
     """(N, 3) -> (N, 4) by appending ``w`` (1 for points, 0 for directions)."""
-    p = np.asarray(points, dtype=np.float64)
-    if p.ndim != 2 or p.shape[1] != 3:
-        raise ValueError(f"points must have shape (N, 3), got {p.shape}")
-    return np.concatenate([p, np.full((len(p), 1), float(w))], axis=1)
+    p = _points(points, "points", 3, 24 + 40, "to_homogeneous")
+    return np.concatenate([p, np.full((len(p), 1), real_number(w, "w"))], axis=1)
 
 
 def from_homogeneous(h: np.ndarray) -> np.ndarray:
@@ -231,21 +263,28 @@ def from_homogeneous(h: np.ndarray) -> np.ndarray:
     A row with ``w == 0`` is a point at infinity (a direction): its result is ``±inf`` in the
     non-zero coordinates and ``nan`` where the coordinate is also 0, as IEEE division gives.
     """
-    h = np.asarray(h, dtype=np.float64)
-    if h.ndim != 2 or h.shape[1] != 4:
-        raise ValueError(f"homogeneous points must have shape (N, 4), got {h.shape}")
-    with np.errstate(divide="ignore", invalid="ignore"):
+    h = _points(h, "homogeneous points", 4, 32 + 24, "from_homogeneous")
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         return h[:, :3] / h[:, 3:4]
 
 
 def apply_points(m: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Transform (N, 3) points (w = 1) by ``m``, dividing by the resulting w."""
-    return from_homogeneous(to_homogeneous(points, 1.0) @ np.asarray(m, dtype=np.float64).T)
+    """Transform (N, 3) points (w = 1) by ``m``, dividing by the resulting w.
+
+    Arithmetic that overflows gives ``inf`` (and ``nan``) without a warning, as in
+    :func:`from_homogeneous`."""
+    matrix = _matrix(m)
+    p = _points(points, "points", 3, 24 + 32 * 3 + 24, "apply_points")
+    with np.errstate(over="ignore", invalid="ignore"):
+        return from_homogeneous(to_homogeneous(p, 1.0) @ matrix.T)
 
 
 def apply_vectors(m: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """Transform (N, 3) direction vectors (w = 0): the translation part has no effect."""
-    v = to_homogeneous(vectors, 0.0) @ np.asarray(m, dtype=np.float64).T
+    matrix = _matrix(m)
+    p = _points(vectors, "vectors", 3, 24 + 32 * 3, "apply_vectors")
+    with np.errstate(over="ignore", invalid="ignore"):
+        v = to_homogeneous(p, 0.0) @ matrix.T
     return v[:, :3]
 
 
@@ -255,10 +294,15 @@ def apply_normals(m: np.ndarray, normals: np.ndarray) -> np.ndarray:
     The results are renormalised to unit length (zero normals stay zero). Unlike directions,
     normals stay perpendicular to the surface under non-uniform scaling and shear.
     """
-    n = np.asarray(normals, dtype=np.float64)
-    if n.ndim != 2 or n.shape[1] != 3:
-        raise ValueError(f"normals must have shape (N, 3), got {n.shape}")
-    linear = np.asarray(m, dtype=np.float64)[:3, :3]
-    out = n @ np.linalg.inv(linear)  # row form of inv(A).T @ n
-    length = np.linalg.norm(out, axis=1, keepdims=True)
-    return np.divide(out, length, out=np.zeros_like(out), where=length > 0)
+    linear = _matrix(m)[:3, :3]
+    n = _points(normals, "normals", 3, 24 * 4 + 8, "apply_normals")
+    with np.errstate(all="ignore"):
+        try:
+            inverse = np.linalg.inv(linear)
+        except np.linalg.LinAlgError:
+            inverse = None
+        if inverse is None or not np.all(np.isfinite(inverse)):
+            raise ValueError("normals cannot be transformed by a matrix whose linear part is singular")
+        out = n @ inverse  # row form of inv(A).T @ n
+        length = np.linalg.norm(out, axis=1, keepdims=True)
+        return np.divide(out, length, out=np.zeros_like(out), where=length > 0)

@@ -294,7 +294,11 @@ def rasterize_triangles(
     ------
     TypeError, ValueError
         For a wrong type, dtype, shape or layout, an index out of range, buffers whose sizes
-        disagree, non-finite colours, or an unknown ``cull`` or ``clear``.
+        disagree, ``faces`` in the memory of a buffer drawn into, non-finite colours, or an
+        unknown ``cull`` or ``clear``.
+    rasterkit.limits.LimitError
+        When the per-face scratch memory would grow beyond
+        :func:`rasterkit.limits.memory_limit`.
 
     Notes
     -----
@@ -320,6 +324,10 @@ def rasterize_triangles(
     if ids is not None:
         _check_buffer("ids", ids, np.int32, (height, width))
     _check_geometry(clip, faces)
+    for name, buffer in (("color", color), ("depth", depth), ("ids", ids)):
+        # faces are read again after the draw has written into its buffers: never through them
+        if buffer is not None and np.may_share_memory(faces, buffer):
+            raise ValueError(f"faces must not share memory with {name}, the buffer drawn into")
     if cull not in CULL:
         raise ValueError(f"cull must be one of {sorted(CULL)}, got {cull!r}")
     face_colors, vertex_colors, lighting = _shading(color, face_colors, vertex_colors, faces, clip)

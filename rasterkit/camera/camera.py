@@ -16,13 +16,9 @@ import numpy as np
 
 from ..transform import compose, from_homogeneous, to_homogeneous
 from . import projections
-from .chain import parallel_chain, perspective_chain
-from .checks import KINDS, Vec3, camera_fields
+from .chain import camera_frame, parallel_chain, perspective_chain
+from .checks import KINDS, Vec3, camera_fields, check_matrix
 from .rays import parallel_ray, perspective_ray, window_coordinates
-
-
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -31,7 +27,11 @@ class Camera:
 
     Build cameras with the classmethods (``look_at``, ``orthographic``, ``frame``, the
     axonometric, oblique and 1/2/3-point presets, whose geometry is explained in
-    :mod:`rasterkit.camera.projections`); the constructor validates every field.
+    :mod:`rasterkit.camera.projections`); the constructor validates every field, raising
+    ``TypeError`` for what is not a real number (a string, a bool, None, arrays of them) and
+    ``ValueError`` for values out of range, and makes the world -> raster matrix once: a
+    camera whose matrix is not finite in float64 (sizes and distances too large or too
+    small next to each other) is refused with one line.
 
     Attributes
     ----------
@@ -42,7 +42,7 @@ class Camera:
         World-space eye point, point looked at, and up direction (any length, not parallel
         to the view direction; the camera's +y is up made orthogonal to the view direction).
     width, height : int
-        Image size in pixels.
+        Image size in pixels, 1 to :data:`rasterkit.options.MAX_IMAGE_SIZE`.
     near, far : float
         Distances of the near and far planes from the eye along the view direction,
         ``0 < near < far``, world units.
@@ -81,6 +81,8 @@ class Camera:
         checked = camera_fields(**{f.name: getattr(self, f.name) for f in fields(self)})
         for name, value in checked.items():
             object.__setattr__(self, name, value)
+        with np.errstate(all="ignore"):
+            check_matrix(self.world_to_raster(), self)  # made now, once, to be checked
 
     # --- constructors ----------------------------------------------------------------------
 
@@ -276,9 +278,7 @@ class Camera:
 
         ``w = (eye - target)/|eye - target|``, ``u = up × w`` normalised, ``v = w × u``.
         """
-        w = _unit(np.subtract(self.eye, self.target))
-        u = _unit(np.cross(self.up, w))
-        return u, np.cross(w, u), w
+        return camera_frame(self.eye, self.target, self.up)
 
     def _half_window(self) -> tuple[float, float]:
         """Half width and half height of the window: at distance 1 (perspective), or world units."""
@@ -365,7 +365,8 @@ class Camera:
         h = to_homogeneous(points)
         if not np.all(np.isfinite(h)):
             raise ValueError("points must be finite")
-        return h @ self.matrix().T
+        with np.errstate(over="ignore", invalid="ignore"):  # beyond float64: inf, as IEEE gives it
+            return h @ self.matrix().T
 
     def project(self, points: np.ndarray) -> np.ndarray:
         """World points to raster x, y (pixels) and depth.
@@ -382,7 +383,8 @@ class Camera:
             pixel centres at +0.5; depth in [0, 1] between the near (0) and far (1) planes.
             Points behind the eye (``w <= 0`` in :meth:`project_h`) give meaningless values.
         """
-        return from_homogeneous(self.project_h(points))
+        with np.errstate(over="ignore", invalid="ignore"):
+            return from_homogeneous(self.project_h(points))
 
     def ray(self, x: float | np.ndarray, y: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The world-space ray through raster point (x, y): the lecture's ray-tracer camera.

@@ -17,10 +17,26 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._arrays import unit
 from ..transform import compose, reflect, scale, shear, translate
 
 Factors = list[tuple[str, np.ndarray]]
 """A chain: (lecture name, (4, 4) float64 matrix) pairs, first applied first."""
+
+
+def camera_frame(eye, target, up) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The camera frame (u, v, w): unit right, up and backward vectors in world space.
+
+    ``w = (eye - target)/|eye - target|``, ``u = up × w`` normalised, ``v = w × u``; the
+    unit vectors are found without squaring tiny or huge components (``up`` is made unit
+    first when ``up × w`` is too small or too large to normalise directly)."""
+    w = unit(np.subtract(eye, target), "eye - target")
+    with np.errstate(under="ignore", over="ignore"):
+        cross = np.cross(up, w)
+    if not 1e-150 < np.max(np.abs(cross)) < 1e150:
+        cross = np.cross(unit(np.asarray(up, np.float64), "up"), w)
+    u = unit(cross, "up × (eye - target)")
+    return u, np.cross(w, u), w
 
 
 # --- the factors -------------------------------------------------------------------------------

@@ -12,6 +12,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from .._arrays import describe, real_array, real_number, unit
+from ..options import MAX_IMAGE_SIZE
 from ..transform import _vector3
 
 Vec3 = tuple[float, float, float]
@@ -21,12 +23,11 @@ KINDS = ("perspective", "parallel")
 
 
 def finite(value: float, name: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number, got {value!r}") from None
+    """A finite real number as a float: ``TypeError`` for what is not a real number (a
+    string, a bool, a complex number, None), ``ValueError`` for NaN and infinities."""
+    x = real_number(value, name)
     if not math.isfinite(x):
-        raise ValueError(f"{name} must be a finite number, got {value!r}")
+        raise ValueError(f"{name} must be a finite number, got {x}")
     return x
 
 
@@ -39,8 +40,16 @@ def positive(value: float, name: str) -> float:
 
 def positive_int(value: int, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value <= 0:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
+        raise ValueError(f"{name} must be a positive integer, got {describe(value)}")
     return int(value)
+
+
+def image_size(value: int, name: str) -> int:
+    """An image width or height: a positive integer up to :data:`MAX_IMAGE_SIZE`."""
+    n = positive_int(value, name)
+    if n > MAX_IMAGE_SIZE:
+        raise ValueError(f"{name} must be at most {MAX_IMAGE_SIZE} pixels, got {describe(n)}")
+    return n
 
 
 def fov(value: float) -> float:
@@ -74,8 +83,8 @@ def camera_fields(
         eye=point(eye, "eye"),
         target=point(target, "target"),
         up=point(up, "up"),
-        width=positive_int(width, "width"),
-        height=positive_int(height, "height"),
+        width=image_size(width, "width"),
+        height=image_size(height, "height"),
         near=positive(near, "near"),
         far=positive(far, "far"),
         fov_y=fov_y,
@@ -95,19 +104,24 @@ def camera_fields(
 
 
 def _shift(value: Sequence[float]) -> tuple[float, float]:
-    if np.shape(value) != (2,):
-        raise ValueError(f"shift must be 2 finite numbers, got {value!r}")
-    return (finite(value[0], "shift[0]"), finite(value[1], "shift[1]"))
+    shift = real_array(value, "shift")
+    if shift.shape != (2,):
+        raise ValueError(f"shift must be 2 finite numbers, got {describe(value)}")
+    return (finite(shift[0], "shift[0]"), finite(shift[1], "shift[1]"))
 
 
 def _check_frame(eye: Vec3, target: Vec3, up: Vec3) -> None:
-    view = np.subtract(target, eye)
+    with np.errstate(over="ignore", invalid="ignore"):
+        view = np.subtract(target, eye)
+    if not np.all(np.isfinite(view)):
+        raise ValueError("eye and target are too far apart: target - eye overflows float64")
     if not np.any(view):
         raise ValueError("eye and target must differ")
     up = np.asarray(up)
     if not np.any(up):
         raise ValueError("up must not be the zero vector")
-    if np.linalg.norm(np.cross(up / np.linalg.norm(up), view / np.linalg.norm(view))) < 1e-9:
+    # unit vectors found without squaring tiny or huge components (which underflow or overflow)
+    if np.linalg.norm(np.cross(unit(up, "up"), unit(view, "target - eye"))) < 1e-9:
         raise ValueError("up must not be parallel to the view direction (target - eye)")
 
 
@@ -129,3 +143,15 @@ def _check_parallel(f: dict[str, Any]) -> None:
         raise ValueError("fov_y and shift belong to perspective cameras")
     if f["oblique_ratio"] < 0.0:
         raise ValueError(f"oblique_ratio must not be negative, got {f['oblique_ratio']}")
+
+
+def check_matrix(k: np.ndarray, camera) -> None:
+    """Raise ``ValueError`` unless the world -> raster matrix ``k`` of ``camera`` is finite
+    (it is not when the camera's sizes and distances are too large or too small next to
+    each other: ``1 / far`` or ``1 / tan(fov_y / 2)`` beyond float64, say)."""
+    if not np.all(np.isfinite(k)):
+        window = f"fov_y {camera.fov_y:g}" if camera.kind == "perspective" else f"view_height {camera.view_height:g}"
+        raise ValueError(
+            f"the camera's transformation overflows float64 (eye {describe(camera.eye)}, target "
+            f"{describe(camera.target)}, near {camera.near:g}, far {camera.far:g}, {window}): its sizes and "
+            f"distances are too large or too small next to each other")

@@ -18,6 +18,7 @@ from typing import Any, Sequence, TypeVar
 import numpy as np
 
 from ..options import PROJECTIONS
+from .._arrays import length, unit
 from .checks import finite, fov, point, positive, positive_int
 
 #: Elevation (degrees) of an isometric view: the view direction is a cube diagonal, whose
@@ -93,8 +94,17 @@ def framing(
         k = oblique_offsets(oblique_angle, oblique_ratio)
         view_height = 2.0 * r * max(math.hypot(1.0, k[1]), math.hypot(1.0, k[0]) / aspect)
         distance = 2.0 * r
-    return dict(kind=kind, eye=tuple(c + distance * direction), target=tuple(c),
-                width=width, height=height, near=(distance - r) / 2.0, far=distance + 2.0 * r,
+    with np.errstate(over="ignore", invalid="ignore"):
+        eye = c + distance * direction
+    near, far = (distance - r) / 2.0, distance + 2.0 * r
+    if not (np.all(np.isfinite(eye)) and math.isfinite(far) and math.isfinite(view_height or 0.0)):
+        raise ValueError(f"a sphere of radius {r:g} is too large to frame: the camera's distances overflow "
+                         f"float64 (scale the model down)")
+    if not near > 0.0 or np.array_equal(eye, c):
+        raise ValueError(f"a sphere of radius {r:g} is too small to frame next to its centre's coordinates (up to "
+                         f"{float(np.max(np.abs(c))):g}): the eye falls on the centre in float64")
+    return dict(kind=kind, eye=tuple(eye), target=tuple(c),
+                width=width, height=height, near=near, far=far,
                 fov_y=fov_y, view_height=view_height,
                 oblique_angle=oblique_angle, oblique_ratio=oblique_ratio)
 
@@ -215,9 +225,18 @@ def preset(
     new_eye = np.array(point(eye, "eye") if eye is not None else cam.eye)
     if distance is not None and eye is None:
         offset = np.subtract(cam.eye, cam.target)
-        new_eye = new_target + positive(distance, "distance") * (offset / np.linalg.norm(offset))
-    d = float(np.linalg.norm(new_eye - np.array(point(center, "center"))))
+        d = positive(distance, "distance")
+        with np.errstate(over="ignore", invalid="ignore"):
+            new_eye = new_target + d * unit(offset, "eye - target")
+        if not np.all(np.isfinite(new_eye)):
+            raise ValueError(f"distance {d:g} is too large: the eye's coordinates overflow float64")
+        if np.array_equal(new_eye, new_target):
+            raise ValueError(f"distance {d:g} is too small: the eye falls on the target in float64")
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = length(new_eye - np.array(point(center, "center")))
     r = positive(radius, "radius")
+    if not math.isfinite(d + 2.0 * r):
+        raise ValueError("the eye is too far from the model: its distance overflows float64")
     auto_near = max(d - r, 1e-3 * r) / 2.0
     return replace(cam, eye=tuple(new_eye), target=tuple(new_target),
                    up=cam.up if up is None else up,

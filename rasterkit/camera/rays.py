@@ -27,15 +27,33 @@ units); going back to the near plane gives the origin
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+
+from .._arrays import real_array
+from ..limits import check_memory
+
+#: Bytes :meth:`rasterkit.Camera.ray` needs per ray: the window coordinates, origin and
+#: direction, and the temporaries of the arithmetic (float64 each).
+_BYTES_PER_RAY = 8 * 24
 
 
 def window_coordinates(
     x: float | np.ndarray, y: float | np.ndarray, width: int, height: int,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(a, b) of raster points (x, y) in pixels, broadcast together, float64, shape (..., 1)."""
-    a = 2.0 * np.asarray(x, dtype=np.float64) / width - 1.0
-    b = 1.0 - 2.0 * np.asarray(y, dtype=np.float64) / height
+    """(a, b) of raster points (x, y) in pixels, broadcast together, float64, shape (..., 1).
+
+    ``TypeError`` unless x and y hold real numbers; ``LimitError`` when the rays of all the
+    points would not fit in memory (:func:`rasterkit.limits.check_memory`)."""
+    x, y = real_array(x, "x"), real_array(y, "y")
+    try:
+        n = math.prod(np.broadcast_shapes(x.shape, y.shape))
+    except ValueError:
+        raise ValueError(f"x and y must broadcast together, got shapes {x.shape} and {y.shape}") from None
+    check_memory(n * _BYTES_PER_RAY, f"{n} rays")
+    a = 2.0 * x / width - 1.0
+    b = 1.0 - 2.0 * y / height
     a, b = np.broadcast_arrays(a, b)
     if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
         raise ValueError("x and y must be finite")
