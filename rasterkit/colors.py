@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+import numbers
 from typing import Sequence, Union
 
 import numpy as np
@@ -32,17 +34,42 @@ def parse_color(value: ColorLike) -> np.ndarray:
     if isinstance(value, str):
         rgba = _parse_string(value.strip().lower())
         if rgba is None:
-            raise ValueError(f"unknown colour {value!r}: use a name, #rrggbb, or (r, g, b)")
+            raise ValueError(f"unknown colour {_short(value)}: use a name, #rrggbb, or (r, g, b)")
     else:
         try:
-            rgba = tuple(int(c) for c in value)
-        except (TypeError, ValueError):
-            raise ValueError(f"a colour tuple must hold 3 or 4 integers, got {value!r}") from None
-        if len(rgba) not in (3, 4) or any(not 0 <= c <= 255 for c in rgba):
-            raise ValueError(f"a colour tuple must hold 3 or 4 integers 0-255, got {value!r}")
+            parts = list(value)
+        except TypeError:
+            raise TypeError(f"a colour must be a name, '#rrggbb' or a tuple of 3 or 4 integers, "
+                            f"got {type(value).__name__}") from None
+        if len(parts) not in (3, 4):
+            raise ValueError(f"a colour tuple must hold 3 or 4 integers 0-255, got {len(parts)} values")
+        rgba = tuple(_component(c) for c in parts)
     if len(rgba) == 3:
         rgba = (*rgba, 255)
     return np.array(rgba, np.uint8)
+
+
+def _short(value) -> str:
+    """``repr(value)`` on one line, cut to 40 characters."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _component(c) -> int:
+    """One colour component: an integer 0-255 (an int, a NumPy integer, or a float with an
+    integer value); a bool, a string or a fraction is refused rather than guessed at."""
+    if isinstance(c, (bool, np.bool_)) or not isinstance(c, (numbers.Integral, numbers.Real)):
+        raise TypeError(f"colour components must be integers 0-255, got {type(c).__name__} {_short(c)}")
+    if isinstance(c, numbers.Integral):
+        value = int(c)
+    elif math.isfinite(c) and float(c).is_integer():
+        value = int(c)
+    else:
+        raise ValueError(f"colour components must be integers 0-255, got {_short(c)} "
+                         "(for colours 0..1, multiply by 255)")
+    if not 0 <= value <= 255:
+        raise ValueError(f"colour components must be integers 0-255, got {value}")
+    return value
 
 
 def _parse_string(s: str):
