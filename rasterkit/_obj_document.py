@@ -5,12 +5,12 @@ single statements for messages and names."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from ._obj_errors import ObjError
-from .kernels.obj_scan import KIND_V, KIND_VN, KIND_VT, scan_statements
+from ._obj_files import read_file
+from .kernels.obj_scan import KIND_V, KIND_VN, KIND_VT, scan_statements, split_tokens
 
 __all__ = ["Document", "decode"]
 
@@ -34,7 +34,7 @@ class Document:
 
     @classmethod
     def read(cls, name: str) -> Document:
-        data = _text_bytes(_read_bytes(name), name)
+        data = _text_bytes(read_file(name), name)
         text = _blank_continuations(data)
         buf = np.frombuffer(text, np.uint8)
         return cls(name, data, text, buf, *scan_statements(buf))
@@ -50,8 +50,8 @@ class Document:
         return self.data.count(b"\n", 0, self.starts[s]) + 1
 
     def tokens(self, s: int) -> list[str]:
-        """The keyword and tokens of statement s."""
-        return decode(self.text[self.starts[s]:self.ends[s]]).split()
+        """The keyword and tokens of statement s, split where the kernels split them."""
+        return [decode(t) for t in split_tokens(self.text[self.starts[s]:self.ends[s]])]
 
     def argument(self, s: int) -> str:
         """Everything after the keyword of statement s, with single spaces."""
@@ -64,13 +64,6 @@ class Document:
 
     def count(self, kind: int) -> int:
         return int(np.count_nonzero(self.kinds == kind))
-
-
-def _read_bytes(name: str) -> bytes:
-    try:
-        return Path(name).read_bytes()
-    except OSError as e:
-        raise ObjError(name, None, f"cannot read: {e.strerror or e}") from None
 
 
 def _text_bytes(data: bytes, name: str) -> bytes:

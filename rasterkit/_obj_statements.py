@@ -11,12 +11,12 @@ from functools import cached_property
 import numpy as np
 
 from ._obj_document import Document
-from ._obj_errors import Report, count
+from ._obj_errors import Report, count, readable
 from .kernels.obj_corners import (
     INDEX_BEFORE_FIRST, INDEX_MALFORMED, INDEX_OK, INDEX_ZERO, parse_corners,
 )
 from .kernels.obj_numbers import NUMBER_MALFORMED, parse_number_rows
-from .kernels.obj_scan import KIND_OTHER, KIND_P, KIND_V, KIND_VN, KIND_VT
+from .kernels.obj_scan import KIND_OTHER, KIND_P, KIND_V, KIND_VN, KIND_VT, split_tokens
 
 __all__ = ["Elements", "latest_above", "note_skipped", "read_elements", "read_numbers",
            "read_vertices"]
@@ -51,7 +51,7 @@ def _reparse_exactly(doc: Document, rows: np.ndarray, values: np.ndarray, inexac
         return
     statements = rows[redo]
     text = b"\n".join(doc.text[s:e] for s, e in zip(doc.starts[statements], doc.ends[statements]))
-    tokens = np.array(text.split())
+    tokens = np.array(split_tokens(text))
     keyword_at = np.concatenate([[0], np.cumsum(doc.ntokens[statements] + 1)[:-1]])
     bits = (inexact[redo, None] >> np.arange(values.shape[1])) & 1
     r, column = np.nonzero(bits)
@@ -134,14 +134,16 @@ def read_elements(doc: Document, kind: int, minimum: int, what: str,
     before = doc.counts_before(rows)
     corners, problems = parse_corners(doc.buf, doc.starts[rows], doc.ends[rows], offsets,
                                       before, totals)
-    for r in np.flatnonzero(sizes < minimum)[:1]:
-        given = {0: "no vertices", 1: "1 vertex"}.get(int(sizes[r]), f"{sizes[r]} vertices")
-        report.error(doc.line(rows[r]), f"{what} with {given}: a {what} needs at least "
-                                        f"{minimum}")
+    # A bad reference first: on a line that has both, "malformed vertex reference '2\x1d3'"
+    # says more than "face with 2 vertices".
     vertex_bad = (problems[:, 0] != INDEX_OK) & (problems[:, 2] == 0)
     for r in np.flatnonzero(vertex_bad)[:1]:
         report.error(doc.line(rows[r]), _index_message(doc, rows[r], problems[r], before[r],
                                                         totals))
+    for r in np.flatnonzero(sizes < minimum)[:1]:
+        given = {0: "no vertices", 1: "1 vertex"}.get(int(sizes[r]), f"{sizes[r]} vertices")
+        report.error(doc.line(rows[r]), f"{what} with {given}: a {what} needs at least "
+                                        f"{minimum}")
     for attribute in (1, 2):
         bad = np.flatnonzero((problems[:, 0] != INDEX_OK) & (problems[:, 2] == attribute))
         if len(bad):
@@ -179,7 +181,7 @@ def note_skipped(doc: Document, report: Report):
     if len(unknown):
         keywords = dict.fromkeys(doc.tokens(s)[0] for s in unknown)
         report.warn(None, f"{count(len(unknown), 'unknown keyword line')} skipped "
-                          f"({', '.join(keywords)})")
+                          f"({', '.join(map(readable, keywords))})")
 
 
 def latest_above(doc: Document, kinds, faces: Elements):
