@@ -28,8 +28,9 @@ def finite_vertices(doc, vertices, faces, lines, report) -> np.ndarray:
     return finite
 
 
-def triangulate(vertices, faces: Elements, keep: np.ndarray):
-    """Triangles (M, 3) int64 of the kept polygons, and the polygon (M,) of each."""
+def triangulate(doc, vertices, faces: Elements, keep: np.ndarray, report):
+    """Triangles (M, 3) int64 of the kept polygons, and the polygon (M,) of each; warns about
+    polygons that ear clipping gave up on."""
     if faces.count == 0:
         return np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
     if np.all(faces.sizes == 3):  # a triangle mesh: the same rows, without compiling the kernel
@@ -37,7 +38,13 @@ def triangulate(vertices, faces: Elements, keep: np.ndarray):
         a, b, c = triangles.T
         triangles[~keep | (a == b) | (b == c) | (c == a)] = -1
     else:
-        triangles = obj_polygons.triangulate(vertices, faces.vertex_indices, faces.offsets, keep)
+        triangles, inexact = obj_polygons.triangulate(vertices, faces.vertex_indices,
+                                                      faces.offsets, keep)
+        if inexact.any():
+            first = faces.statements[np.argmax(inexact)]
+            report.warn(doc.line(first), f"{count(np.count_nonzero(inexact), 'polygon')} too "
+                                         "irregular to split exactly (self-intersecting?): "
+                                         "partly split as a fan")
     polygon = np.repeat(np.arange(faces.count), faces.sizes - 2)
     valid = triangles[:, 0] >= 0
     return np.ascontiguousarray(triangles[valid]), polygon[valid]
@@ -62,6 +69,12 @@ def vertex_normals(faces: Elements, normals: np.ndarray, n_vertices: int):
 def _unit_rows(a: np.ndarray) -> np.ndarray:
     """Rows of a scaled to length 1; rows of length 0 or not finite become 0."""
     a = np.nan_to_num(a, nan=0.0, posinf=0.0, neginf=0.0)
+    # Rows whose squares would overflow (or vanish) are scaled towards 1 first: the other
+    # rows keep their exact values.
+    biggest = np.abs(a).max(axis=1, keepdims=True)
+    extreme = (biggest > 1e150) | ((biggest < 1e-150) & (biggest > 0))
+    if extreme.any():
+        a = np.where(extreme, a / np.where(extreme, biggest, 1.0), a)
     length = np.linalg.norm(a, axis=1, keepdims=True)
     return np.divide(a, length, out=np.zeros_like(a), where=length > 0)
 

@@ -130,7 +130,7 @@ def load_obj(path) -> Mesh:
     note_skipped(doc, report)
     finite = finite_vertices(doc, vertices, faces, lines, report)
     keep_polygons = faces.uses_only(finite)
-    triangles, triangle_polygon = triangulate(vertices, faces, keep_polygons)
+    triangles, triangle_polygon = triangulate(doc, vertices, faces, keep_polygons, report)
     segments = lines.segments(lines.uses_only(finite))
     edges = unique_edges(segments, len(vertices), keys=polygon_sides(faces, keep_polygons, len(vertices)))
     groups, group_names = face_labels(doc, (KIND_G, KIND_O), faces, triangle_polygon)
