@@ -6,7 +6,6 @@ lines."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 
@@ -90,8 +89,10 @@ class Elements:
     """Faces or polylines: corner indices in runs, one run per statement."""
 
     statements: np.ndarray  # (K,) statement number of each element
-    offsets: np.ndarray  # (K + 1,) run of element k: corners[offsets[k]:offsets[k + 1]]
-    corners: np.ndarray  # (C, 3) 0-based v, vt, vn of each corner; -1 where absent
+    offsets: np.ndarray  # (K + 1,) run of element k: corners offsets[k] to offsets[k + 1]
+    vertex: np.ndarray  # (C,) int64 0-based vertex of each corner
+    texcoord: np.ndarray  # (C,) int64 its vt, -1 where absent; empty when no corner has one
+    normal: np.ndarray  # (C,) int64 its vn, likewise
 
     @property
     def count(self) -> int:
@@ -101,21 +102,16 @@ class Elements:
     def sizes(self) -> np.ndarray:
         return np.diff(self.offsets)
 
-    @cached_property
-    def vertex_indices(self) -> np.ndarray:
-        """(C,) int64 vertex of each corner, contiguous for the kernels."""
-        return np.ascontiguousarray(self.corners[:, 0])
-
     def uses_only(self, vertex_ok: np.ndarray) -> np.ndarray:
         """(K,) bool: elements whose vertices all have vertex_ok."""
         if vertex_ok.all() or self.count == 0:
             return np.ones(self.count, bool)
-        bad = (~vertex_ok[self.corners[:, 0]]).astype(np.int64)
+        bad = (~vertex_ok[self.vertex]).astype(np.int64)
         return np.add.reduceat(bad, self.offsets[:-1]) == 0
 
     def segments(self, keep: np.ndarray) -> np.ndarray:
         """(K, 2) int64 segments p[0]-p[1], ..., p[-2]-p[-1] of the kept polylines."""
-        v = self.corners[:, 0]
+        v = self.vertex
         starts = np.ones(len(v), bool)
         starts[self.offsets[1:] - 1] = False
         starts &= np.repeat(keep, self.sizes)
@@ -132,8 +128,8 @@ def read_elements(doc: Document, kind: int, minimum: int, what: str,
     offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
     totals = np.array([doc.count(k) for k in (KIND_V, KIND_VT, KIND_VN)])
     before = doc.counts_before(rows)
-    corners, problems = parse_corners(doc.buf, doc.starts[rows], doc.ends[rows], offsets,
-                                      before, totals)
+    *corners, problems = parse_corners(doc.buf, doc.starts[rows], doc.ends[rows], offsets,
+                                       before, totals, b"/" in doc.text)
     # A bad reference first: on a line that has both, "malformed vertex reference '2\x1d3'"
     # says more than "face with 2 vertices".
     vertex_bad = (problems[:, 0] != INDEX_OK) & (problems[:, 2] == 0)
@@ -151,7 +147,7 @@ def read_elements(doc: Document, kind: int, minimum: int, what: str,
             message = _index_message(doc, rows[bad[0]], problems[bad[0]], before[bad[0]], totals)
             report.warn(doc.line(rows[bad[0]]), f"{message}; {name}s ignored in "
                                                  f"{count(len(bad), what)}")
-    return Elements(rows, offsets, corners)
+    return Elements(rows, offsets, *corners)
 
 
 def _index_message(doc: Document, s: int, problem, before, totals) -> str:

@@ -103,15 +103,23 @@ def _convex_quad(vertices, polygon_vertices, o):
 def _merge_repeats(polygon):
     """The polygon without consecutive (cyclically) repeated vertex indices, and walked once
     when it is one cycle of vertices walked several times (``1 2 3 1 2 3``)."""
-    ring = np.empty(len(polygon), np.int64)
-    k = 0
-    for v in polygon:
-        if k == 0 or v != ring[k - 1]:
-            ring[k] = v
-            k += 1
-    while k > 1 and ring[k - 1] == ring[0]:
-        k -= 1
-    return ring[:_period(ring[:k])]
+    m = len(polygon)
+    repeats = polygon[m - 1] == polygon[0]
+    for k in range(1, m):
+        repeats = repeats or polygon[k] == polygon[k - 1]
+    if repeats:
+        ring = np.empty(m, np.int64)
+        k = 0
+        for v in polygon:
+            if k == 0 or v != ring[k - 1]:
+                ring[k] = v
+                k += 1
+        while k > 1 and ring[k - 1] == ring[0]:
+            k -= 1
+        ring = ring[:k]
+    else:
+        ring = polygon  # no copy: most polygons repeat nothing
+    return ring[:_period(ring)]
 
 
 @kernel
@@ -209,40 +217,46 @@ def triangulate(vertices, polygon_vertices, offsets, keep):
     offsets : (P + 1,) int64
         Polygon p is polygon_vertices[offsets[p]:offsets[p + 1]], with at least 3 vertices.
     keep : (P,) bool
-        Polygons to triangulate; the others' rows stay -1.
+        Polygons to triangulate; the others give no triangles.
 
     Returns
     -------
     triangles : (T, 3) int64
-        T = sum(m - 2); polygon p's triangles start at row offsets[p] - 2 * p and keep its
-        winding. Rows of -1 mark triangles left out: of polygons not kept, and those that
-        repeated vertices make degenerate.
+        The triangles of the kept polygons in polygon order, each polygon's in its winding;
+        T <= sum(m - 2): triangles that repeated vertices make degenerate are left out. A view
+        of an array of sum(m - 2) rows.
+    counts : (P,) int64
+        Triangles of each polygon.
     inexact : (P,) bool
-        Polygons whose ear clipping gave up: the end of them is a fan, which may cover too
-        much or too little.
+        Polygons that could not be split exactly (see the module documentation).
     """
     count = len(offsets) - 1
-    triangles = np.full((offsets[count] - 2 * count, 3), -1, np.int64)
+    triangles = np.empty((offsets[count] - 2 * count, 3), np.int64)
+    counts = np.zeros(count, np.int64)
     inexact = np.zeros(count, np.bool_)
+    n = 0  # rows kept so far: polygon p writes from row n, never past its own rows
     for p in range(count):
         if not keep[p]:
             continue
         o = offsets[p]
         m = offsets[p + 1] - o
-        t = o - 2 * p
+        rows = triangles[n:n + m - 2]
+        rows[:] = -1
         if m == 3 or (m == 4 and _convex_quad(vertices, polygon_vertices, o)):
             for j in range(m - 2):
-                triangles[t + j, 0] = polygon_vertices[o]
-                triangles[t + j, 1] = polygon_vertices[o + j + 1]
-                triangles[t + j, 2] = polygon_vertices[o + j + 2]
+                rows[j, 0] = polygon_vertices[o]
+                rows[j, 1] = polygon_vertices[o + j + 1]
+                rows[j, 2] = polygon_vertices[o + j + 2]
         else:
-            inexact[p] = not _triangulate_polygon(vertices, polygon_vertices[o:o + m],
-                                                  triangles[t:t + m - 2])
-        for j in range(t, t + m - 2):
-            a, b, c = triangles[j, 0], triangles[j, 1], triangles[j, 2]
-            if a == b or b == c or c == a:
-                triangles[j] = -1
-    return triangles, inexact
+            inexact[p] = not _triangulate_polygon(vertices, polygon_vertices[o:o + m], rows)
+        start = n
+        for j in range(m - 2):
+            a, b, c = rows[j, 0], rows[j, 1], rows[j, 2]
+            if a >= 0 and a != b and b != c and c != a:
+                triangles[n, 0], triangles[n, 1], triangles[n, 2] = a, b, c
+                n += 1
+        counts[p] = n - start
+    return triangles[:n], counts, inexact
 
 
 @kernel
