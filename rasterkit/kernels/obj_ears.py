@@ -51,6 +51,45 @@ def _blocks(xy, prev, nxt, a, i, c, r):
 
 
 @kernel
+def distinct_places(xy):
+    """Positions of the corners that are not at the same place as the corner before them
+    (cyclically): a side of length 0 has no direction, which both methods need."""
+    m = len(xy)
+    keep = np.empty(m, np.int64)
+    n = 0
+    for k in range(m):
+        if n == 0 or xy[k, 0] != xy[keep[n - 1], 0] or xy[k, 1] != xy[keep[n - 1], 1]:
+            keep[n] = k
+            n += 1
+    while n > 1 and xy[keep[n - 1], 0] == xy[keep[0], 0] and xy[keep[n - 1], 1] == xy[keep[0], 1]:
+        n -= 1
+    return keep[:n]
+
+
+@kernel
+def covers(xy, triangles):
+    """True when no triangle turns right and their areas add up to the polygon's (shoelace),
+    both to rounding: what a wrong split shows (a split that overlaps itself and leaves a gap
+    of the same area would pass, but neither method makes such). triangles (T, 3) hold
+    positions in xy."""
+    m = len(xy)
+    polygon = 0.0
+    for k in range(1, m - 1):
+        polygon += cross(xy, 0, k, k + 1)
+    total = 0.0
+    magnitude = 0.0
+    for q in range(len(triangles)):
+        doubled = cross(xy, triangles[q, 0], triangles[q, 1], triangles[q, 2])
+        total += doubled
+        magnitude += abs(doubled)
+    tolerance = 1e-9 * magnitude
+    smallest = 0.0
+    for q in range(len(triangles)):
+        smallest = min(smallest, cross(xy, triangles[q, 0], triangles[q, 1], triangles[q, 2]))
+    return smallest >= -tolerance and abs(total - polygon) <= tolerance
+
+
+@kernel
 def _most_convex(xy, prev, nxt, start, remaining):
     """The remaining vertex with the largest left turn: the fallback when no ear exists (a
     self-intersecting or degenerate polygon), so that clipping always ends."""

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit._jit import kernel
-from rasterkit.kernels.obj_ears import cross
+from rasterkit.kernels.obj_ears import covers, cross, distinct_places
 
 # Corner kinds of the sweep.
 _START, _END, _SPLIT, _MERGE, _REGULAR = 0, 1, 2, 3, 4
@@ -48,6 +48,25 @@ def _x_at(xy, e, f, x, y):
         return min(max(x, min(xy[e, 0], xy[f, 0])), max(xy[e, 0], xy[f, 0]))
     t = (y - xy[e, 1]) / (xy[f, 1] - xy[e, 1])
     return xy[e, 0] + t * (xy[f, 0] - xy[e, 0])
+
+
+@kernel(inline="always")
+def _goes_left_of(xy, e, f, s, t):
+    """True when side e -> f runs left of side s -> t just below a point that both pass
+    through (both run down the sweep order): the one whose x grows less per unit of descent."""
+    return (xy[f, 0] - xy[e, 0]) * (xy[t, 1] - xy[s, 1]) > (xy[t, 0] - xy[s, 0]) * (xy[f, 1] -
+                                                                                   xy[e, 1])
+
+
+@kernel(inline="always")
+def _side_left_of(xy, s, t, x, y):
+    """True when side s -> t runs left of the point (x, y) on the sweep line; a side through
+    the point counts as left of it when it runs down to the left or straight down (a corner
+    at the same place as another, as bridges to holes make, is then on the right side of it)."""
+    at = _x_at(xy, s, t, x, y)
+    if at != x:
+        return at < x
+    return xy[t, 0] - xy[s, 0] <= 0.0 and xy[t, 1] != xy[s, 1]
 
 
 @kernel
@@ -85,10 +104,12 @@ def _insert(xy, side_end, e, x, y, left, right, parent, priority, root):
     node = root
     last = -1
     go_left = False
+    f = side_end[e]
     while node >= 0:
         steps += 1
         last = node
-        go_left = x < _x_at(xy, node, side_end[node], x, y)
+        at = _x_at(xy, node, side_end[node], x, y)
+        go_left = x < at or (x == at and _goes_left_of(xy, e, f, node, side_end[node]))
         node = left[node] if go_left else right[node]
     left[e] = right[e] = -1
     parent[e] = last
@@ -134,7 +155,7 @@ def _left_of(xy, side_end, x, y, left, right, root):
     node = root
     while node >= 0:
         steps += 1
-        if _x_at(xy, node, side_end[node], x, y) <= x:
+        if _side_left_of(xy, node, side_end[node], x, y):
             found = node
             node = right[node]
         else:
@@ -346,28 +367,12 @@ def _cut_piece(xy, rank, piece, triangles, t, stack, chain, merged):
 
 
 @kernel
-def _distinct_places(xy):
-    """Positions of the corners that are not at the same place as the corner before them
-    (cyclically): a side of length 0 has no direction, which the sweep needs."""
-    m = len(xy)
-    keep = np.empty(m, np.int64)
-    n = 0
-    for k in range(m):
-        if n == 0 or xy[k, 0] != xy[keep[n - 1], 0] or xy[k, 1] != xy[keep[n - 1], 1]:
-            keep[n] = k
-            n += 1
-    while n > 1 and xy[keep[n - 1], 0] == xy[keep[0], 0] and xy[keep[n - 1], 1] == xy[keep[0], 1]:
-        n -= 1
-    return keep[:n]
-
-
-@kernel
 def triangulate_monotone(xy, ring, out):
     """Triangulate the polygon ring (m,) whose plane coordinates xy (m, 2) wind CCW into out
     (m - 2 rows, vertex indices from ring). Corners at the same place as the one before them
     are left out, and with them the flat triangles they would make: their rows stay as they
     are. Returns True when the triangles cover the polygon (see the module documentation)."""
-    places = _distinct_places(xy)
+    places = distinct_places(xy)
     if len(places) < 3:  # flat: nothing to cover
         return True
     if len(places) < len(xy):
@@ -390,7 +395,7 @@ def triangulate_monotone(xy, ring, out):
         for p in range(len(offsets) - 1):
             t = _cut_piece(xy, rank, corners[offsets[p]:offsets[p + 1]], triangles, t, stack,
                            chain, merged)
-        exact = t == m - 2 and _covers(xy, triangles)
+        exact = t == m - 2 and covers(xy, triangles)
     if not within or t < m - 2:  # a fan: every row must be filled
         for q in range(m - 2):
             triangles[q, 0], triangles[q, 1], triangles[q, 2] = 0, q + 1, q + 2
@@ -399,25 +404,3 @@ def triangulate_monotone(xy, ring, out):
         out[q, 0], out[q, 1], out[q, 2] = (ring[triangles[q, 0]], ring[triangles[q, 1]],
                                            ring[triangles[q, 2]])
     return exact
-
-
-@kernel
-def _covers(xy, triangles):
-    """True when no triangle turns right and their areas add up to the polygon's (shoelace),
-    both to rounding: what a wrong split shows (a split that overlaps itself and leaves a gap
-    of the same area would pass, but the sweep does not make such)."""
-    m = len(xy)
-    polygon = 0.0
-    for k in range(1, m - 1):
-        polygon += cross(xy, 0, k, k + 1)
-    total = 0.0
-    magnitude = 0.0
-    for q in range(len(triangles)):
-        doubled = cross(xy, triangles[q, 0], triangles[q, 1], triangles[q, 2])
-        total += doubled
-        magnitude += abs(doubled)
-    tolerance = 1e-9 * magnitude
-    smallest = 0.0
-    for q in range(len(triangles)):
-        smallest = min(smallest, cross(xy, triangles[q, 0], triangles[q, 1], triangles[q, 2]))
-    return smallest >= -tolerance and abs(total - polygon) <= tolerance

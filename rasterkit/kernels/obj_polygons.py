@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit._jit import kernel
-from rasterkit.kernels.obj_ears import EAR_CLIP_LIMIT, cross, ear_clip
+from rasterkit.kernels.obj_ears import EAR_CLIP_LIMIT, covers, cross, distinct_places, ear_clip
 from rasterkit.kernels.obj_monotone import triangulate_monotone
 
 
@@ -176,6 +176,32 @@ def _turning_number(xy):
 
 
 @kernel
+def _ear_clip_with_repeated_places(xy, ring, out):
+    """Ear clipping; where corners are at the same place as the one before them (a side of
+    length 0), it may cut wrong triangles: then the polygon is clipped again without them. (The
+    first cut is kept when it is right: the triangles of the polygons it always served stay as
+    they were.)"""
+    places = distinct_places(xy)
+    if len(places) == len(ring):
+        return ear_clip(xy, ring, out)
+    m = len(ring)
+    local = np.full((m - 2, 3), -1, np.int64)
+    exact = ear_clip(xy, np.arange(m), local)
+    if exact and covers(xy, local):
+        for q in range(m - 2):
+            out[q, 0], out[q, 1], out[q, 2] = ring[local[q, 0]], ring[local[q, 1]], ring[local[q, 2]]
+        return True
+    if len(places) < 3:
+        return True
+    local = np.full((len(places) - 2, 3), -1, np.int64)
+    exact = ear_clip(np.ascontiguousarray(xy[places]), np.arange(len(places)), local)
+    for q in range(len(places) - 2):
+        for k in range(3):
+            out[q, k] = ring[places[local[q, k]]]
+    return exact
+
+
+@kernel
 def _triangulate_polygon(vertices, polygon, out):
     """Triangles of one polygon (m >= 4 vertex indices) into out (m - 2, 3) in the polygon's
     best-fit plane; rows left over stay -1. Returns False when ear clipping had to give up
@@ -197,7 +223,7 @@ def _triangulate_polygon(vertices, polygon, out):
             out[k, 0], out[k, 1], out[k, 2] = ring[last], ring[k], ring[k + 1]
         return True
     if len(ring) <= EAR_CLIP_LIMIT:
-        return ear_clip(xy, ring, out)
+        return _ear_clip_with_repeated_places(xy, ring, out)
     if _turning_number(xy) != 1:  # not simple: a fan, in O(m)
         _fan(ring, out)
         return False
