@@ -8,10 +8,10 @@ go through Python.
 
 This module holds the public names (:func:`load_obj`, :class:`ObjError`, :data:`DEFAULT_KD`);
 the loader's parts, in the order it uses them: ``_obj_errors`` (the error and the report of
-errors and warnings), ``_obj_document`` (the file's bytes and statements), ``_obj_statements``
-(the numbers and corners of the geometry statements, checked), ``_obj_assemble`` (triangles,
-edges, per-vertex attributes and groups of the Mesh) and ``_obj_materials`` (``usemtl`` and the
-``.mtl`` files).
+errors and warnings), ``_obj_files`` (reading a file, within the limits), ``_obj_document``
+(the file's bytes and statements), ``_obj_statements`` (the numbers and corners of the
+geometry statements, checked), ``_obj_assemble`` (triangles, edges, per-vertex attributes and
+groups of the Mesh) and ``_obj_materials`` (``usemtl`` and the ``.mtl`` files).
 
 What is accepted, and how it is read
 ------------------------------------
@@ -23,22 +23,28 @@ What is accepted, and how it is read
 - ``vt u [v [w]]`` (``w`` ignored, a missing ``v`` is 0), ``vn x y z``.
 - ``f`` with corners ``v``, ``v/vt``, ``v//vn``, ``v/vt/vn`` (``1//`` too), mixed freely;
   negative indices count back from the last element defined above the line; positive indices
-  may point below the line (as most loaders allow). Polygons of any size: triangles and convex
-  quads are split as a fan, everything else by ear clipping in the plane of the polygon's
-  Newell normal, so concave polygons (and holes joined by a bridge walked both ways) are
-  covered exactly; self-intersecting polygons still give m - 2 triangles. Triangles keep the
-  file's winding. Triangles that a repeated vertex makes degenerate (``f 1 2 2 3``) are left
-  out.
+  may point below the line (as most loaders allow). Polygons of any size, split in the plane
+  of their Newell normal (``rasterkit.kernels.obj_polygons`` has the details): triangles,
+  convex quads and convex polygons as a fan, concave polygons (and holes joined by a bridge
+  walked both ways) so that they are covered exactly, by ear clipping up to 80 corners and a
+  monotone sweep (O(m log m)) beyond; a polygon that walks one cycle several times
+  (``f 1 2 3 1 2 3``) is that cycle once. A self-intersecting polygon, or one that needs too
+  much work, is split (or finished) as a fan, with a warning. Triangles keep the file's
+  winding. Triangles that a repeated vertex makes degenerate (``f 1 2 2 3``) are left out.
 - ``l`` polylines: ``l 1 2 3`` gives the segments 1-2 and 2-3. ``p`` points are counted and
   reported in a warning, not drawn.
 - ``o``, ``g`` (the names of a face's latest ``g`` or ``o`` become ``Mesh.group_names``, with
   ``face_groups`` per triangle; faces before any of them are in group ``default``), ``s``
   (ignored), ``usemtl`` (names in ``Mesh.material_names``), ``mtllib`` (``Kd`` of each used
   material becomes ``Mesh.face_colors``; a material without ``Kd``, and faces without a
-  material, get :data:`DEFAULT_KD`; a missing ``.mtl`` file or material is a warning).
-- Comments (``#`` at the start of a token), blank lines, LF, CRLF or CR line breaks, tabs, runs
-  of spaces, no final newline, a backslash before the line break (continuation), a UTF-8 byte
-  order mark. Numbers may be ``1``, ``-2.``, ``.5``, ``+1e-3``, ``1E+02``, ``nan``, ``inf``
+  material, get :data:`DEFAULT_KD`; a library that cannot be read (missing, not a regular
+  file, over the size limit) or a missing material is a warning).
+- Comments (``#`` at the start of a token), blank lines, LF, CRLF or CR line breaks, no final
+  newline, a backslash before the line break (continuation), a UTF-8 byte order mark. Tokens
+  are separated by spaces and tabs (the OBJ convention), and CR, VT and FF, which count as
+  spaces; no other byte separates tokens: control bytes 0x1c-0x1f and Unicode spaces (U+00A0,
+  U+2003, U+3000...) are part of the token they touch, which is then malformed where a number
+  or vertex reference is expected (``rasterkit.kernels.obj_scan``). Numbers may be ``1``, ``-2.``, ``.5``, ``+1e-3``, ``1E+02``, ``nan``, ``inf``
   and MSVC's ``1.#IND``/``1.#INF``; every value is the correctly rounded float64 of its text.
 - Unknown keywords (``vp``, ``curv``, ``t``, ``vw``...) are skipped and counted in one warning.
 
@@ -53,15 +59,22 @@ that gives one ((0, 0) otherwise; at a UV seam the other corners' coordinates ar
 What fails
 ----------
 :class:`ObjError` (a ``ValueError``), whose message is one line ``PATH:LINE: what is wrong``
-(``PATH: what is wrong`` when no line is to blame): an unreadable file, binary content (NUL
-bytes, UTF-16/32), a malformed number or index, a wrong count of numbers on ``v``/``vt``/``vn``,
-vertex index 0, out of range or (relative) before the first vertex, a face with fewer than 3
-or a line with fewer than 2 vertices, and a file with neither faces nor lines (a point cloud
-of ``v`` lines only is an error too). When a file has several errors the first line is named.
-Bad ``vt``/``vn`` references only drop that attribute, with a warning: the geometry is intact.
+(``PATH: what is wrong`` when no line is to blame): a file that cannot be opened, that is not a
+regular file (a directory, FIFO, socket or device: ``x.obj: not a regular file (a FIFO)``) or
+that is larger than :func:`rasterkit.limits.max_file_size` (default 2 GiB; then the error is a
+:class:`~rasterkit.limits.LimitError` too), binary content (NUL bytes, UTF-16/32), a malformed
+number or index, a wrong count of numbers on ``v``/``vt``/``vn``, vertex index 0, out of range
+or (relative) before the first vertex, a face with fewer than 3 or a line with fewer than 2
+vertices, and a file with neither faces nor lines (a point cloud of ``v`` lines only is an
+error too). When a file has several errors the first line is named. Bad ``vt``/``vn``
+references only drop that attribute, with a warning: the geometry is intact. Text from the
+file (tokens, names) is shown with ``repr`` and a file name that is not printable as its
+``repr``, so no message or warning is ever more than one line (``rasterkit._obj_errors``).
+Every file is read by ``rasterkit._obj_files.read_file``, which says how.
 
 Warnings are one-line strings in ``Mesh.warnings``, never printed. Non-finite vertex
 coordinates are kept in ``Mesh.vertices``, but the faces and lines using them are dropped.
+Loading issues no NumPy warning, whatever the numbers (``1e308``, ``nan``, ``inf``).
 """
 
 from __future__ import annotations

@@ -13,6 +13,9 @@ O(m^3) at worst: it is used up to :data:`EAR_CLIP_LIMIT` corners (larger polygon
 :data:`WORK_PER_CORNER` times the corner count: a polygon that needs more (only a
 self-intersecting one can) has the rest of it split as a fan from the current corner, and
 :func:`ear_clip` says so, so that the loader can warn.
+
+The helpers both methods share are here too: :func:`cross` (the turn of three corners),
+:func:`distinct_places` and :func:`covers` (the check of a split's triangles).
 """
 
 from __future__ import annotations
