@@ -10,6 +10,7 @@ import numpy as np
 
 from ._obj_errors import ObjError
 from ._obj_files import read_file
+from ._obj_memory import check_scan
 from .kernels.obj_scan import KIND_V, KIND_VN, KIND_VT, scan_statements, split_tokens
 
 __all__ = ["Document", "decode"]
@@ -35,6 +36,7 @@ class Document:
     @classmethod
     def read(cls, name: str) -> Document:
         data = _text_bytes(read_file(name), name)
+        check_scan(name, data)
         text = _blank_continuations(data)
         buf = np.frombuffer(text, np.uint8)
         return cls(name, data, text, buf, *scan_statements(buf))

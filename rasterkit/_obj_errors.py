@@ -8,7 +8,9 @@ of its name (a newline, U+2028, an escape sequence) can break a message in two.
 
 from __future__ import annotations
 
-__all__ = ["ObjError", "Report", "count", "readable"]
+from .limits import LimitError
+
+__all__ = ["ObjError", "ObjLimitError", "Report", "count", "readable"]
 
 
 class ObjError(ValueError):
@@ -32,6 +34,14 @@ class ObjError(ValueError):
         self.reason = reason
         where = readable(path) if line is None else f"{readable(path)}:{line}"
         super().__init__(f"{where}: {reason}")
+
+
+class ObjLimitError(ObjError, LimitError):
+    """An OBJ file beyond one of the limits of :mod:`rasterkit.limits` (its size, or the
+    memory loading it would take): both an :class:`ObjError` and a
+    :class:`~rasterkit.limits.LimitError`."""
+
+    __module__ = "rasterkit.obj"
 
 
 class Report:

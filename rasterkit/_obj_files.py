@@ -20,10 +20,10 @@ from __future__ import annotations
 import os
 import stat
 
-from ._obj_errors import ObjError
-from .limits import LimitError, format_bytes, max_file_size
+from ._obj_errors import ObjError, ObjLimitError
+from .limits import format_bytes, max_file_size
 
-__all__ = ["FileTooLarge", "read_file"]
+__all__ = ["read_file"]
 
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"),
           (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
@@ -33,11 +33,6 @@ _FLAGS = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0) | getattr(os, 
 
 #: Largest single read: Linux returns at most 0x7ffff000 bytes from one read() call anyway.
 _CHUNK = 1 << 30
-
-
-class FileTooLarge(ObjError, LimitError):
-    """A file over :func:`rasterkit.limits.max_file_size`: both an :class:`ObjError` and a
-    :class:`~rasterkit.limits.LimitError` (so both ``ValueError``)."""
 
 
 def _kind(mode: int) -> str:
@@ -51,9 +46,9 @@ def _not_regular(name: str, mode: int) -> ObjError:
     return ObjError(name, None, f"not a regular file ({_kind(mode)})")
 
 
-def _too_large(name: str, what: str, limit: int) -> FileTooLarge:
-    return FileTooLarge(name, None, f"{what} the file size limit of {format_bytes(limit)} "
-                                    "(--max-file-size, RASTERKIT_MAX_FILE_SIZE)")
+def _too_large(name: str, what: str, limit: int) -> ObjLimitError:
+    return ObjLimitError(name, None, f"{what} the file size limit of {format_bytes(limit)} "
+                                     "(--max-file-size, RASTERKIT_MAX_FILE_SIZE)")
 
 
 def read_file(name: str) -> bytes:
@@ -63,8 +58,8 @@ def read_file(name: str) -> bytes:
     ------
     ObjError
         One line naming the file: it cannot be opened (``cannot read: No such file or
-        directory``), it is not a regular file, or (:class:`FileTooLarge`) it is larger than
-        the limit.
+        directory``), it is not a regular file, or (an ``ObjLimitError``, also a
+        ``LimitError``) it is larger than the limit.
     """
     limit = max_file_size()
     try:

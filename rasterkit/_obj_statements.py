@@ -20,6 +20,9 @@ from .kernels.obj_scan import KIND_OTHER, KIND_P, KIND_V, KIND_VN, KIND_VT, spli
 __all__ = ["Elements", "latest_above", "note_skipped", "read_elements", "read_numbers",
            "read_vertices"]
 
+_REPARSE_CHUNK = 1 << 16  # statements re-parsed at once
+_LONG_TOKEN = 64  # a chunk with a longer token is re-parsed token by token
+
 _ATTRIBUTES = (("vertex", "v"), ("texture coordinate", "vt"), ("normal", "vn"))
 _NUMBER_COUNTS = {KIND_V: ("v", (3, 4, 6), "3 (x y z), 4 (x y z w) or 6 (x y z r g b)"),
                   KIND_VT: ("vt", (1, 2, 3), "1 to 3 (u v w)"),
@@ -44,18 +47,24 @@ def read_numbers(doc: Document, kind: int, width: int, report: Report) -> np.nda
 
 def _reparse_exactly(doc: Document, rows: np.ndarray, values: np.ndarray, inexact: np.ndarray):
     """Replace the values that the kernel could not round exactly (more than 15 significant
-    digits or large exponents) by NumPy's correctly rounded conversion of their text."""
+    digits or large exponents) by the correctly rounded conversion of their text (NumPy's, or
+    Python's float for long tokens), a bounded chunk of statements at a time."""
     redo = np.flatnonzero(inexact)
-    if len(redo) == 0:
-        return
-    statements = rows[redo]
-    text = b"\n".join(doc.text[s:e] for s, e in zip(doc.starts[statements], doc.ends[statements]))
-    tokens = np.array(split_tokens(text))
-    keyword_at = np.concatenate([[0], np.cumsum(doc.ntokens[statements] + 1)[:-1]])
-    bits = (inexact[redo, None] >> np.arange(values.shape[1])) & 1
-    r, column = np.nonzero(bits)
-    with np.errstate(over="ignore", under="ignore"):  # 1e400 is inf, as float() says
-        values[redo[r], column] = tokens[keyword_at[r] + 1 + column].astype(np.float64)
+    for first in range(0, len(redo), _REPARSE_CHUNK):
+        part = redo[first:first + _REPARSE_CHUNK]
+        statements = rows[part]
+        text = b"\n".join(doc.text[s:e] for s, e in zip(doc.starts[statements],
+                                                        doc.ends[statements]))
+        tokens = split_tokens(text)
+        keyword_at = np.concatenate([[0], np.cumsum(doc.ntokens[statements] + 1)[:-1]])
+        bits = (inexact[part, None] >> np.arange(values.shape[1])) & 1
+        r, column = np.nonzero(bits)
+        at = keyword_at[r] + 1 + column
+        if max(map(len, tokens)) <= _LONG_TOKEN:
+            with np.errstate(over="ignore", under="ignore"):  # 1e400 is inf, as float() says
+                values[part[r], column] = np.array(tokens)[at].astype(np.float64)
+        else:  # NumPy would make every token as long as the longest
+            values[part[r], column] = [float(tokens[k]) for k in at]
 
 
 def read_vertices(doc: Document, report: Report):

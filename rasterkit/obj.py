@@ -87,6 +87,7 @@ from ._obj_assemble import (
 from ._obj_document import Document
 from ._obj_errors import ObjError, Report, count
 from ._obj_materials import DEFAULT_KD, face_colors, material_names
+from ._obj_memory import check_statements
 from ._obj_statements import note_skipped, read_elements, read_numbers, read_vertices
 from .kernels.obj_scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
 from .mesh import Mesh, unique_edges
@@ -130,6 +131,7 @@ def load_obj(path) -> Mesh:
     [[0, 1], [0, 3], [1, 2], [2, 3]]
     """
     doc = Document.read(os.fsdecode(path))
+    check_statements(doc)
     report = Report(doc.name)
     vertices, colors = read_vertices(doc, report)
     texcoords = read_numbers(doc, KIND_VT, 3, report)

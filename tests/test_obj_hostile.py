@@ -349,3 +349,55 @@ def test_normals_of_huge_and_tiny_vn_are_unit_vectors(tmp_path):
         mesh = load_obj(path)
     third = 1 / np.sqrt(3)
     np.testing.assert_allclose(mesh.normals, [[third] * 3, [third] * 3, [0, 0, 1], [0, 0, 0]])
+
+
+# --- memory: files that would need more than the memory limit -------------------------------------
+
+@pytest.fixture
+def memory_limit():
+    limits.set_memory_limit("4M")
+    yield 4 * 1024**2
+    limits.set_memory_limit(None)
+
+
+def test_many_short_lines_are_refused_before_the_statement_table_is_made(tmp_path, memory_limit):
+    path = tmp_path / "m.obj"
+    path.write_bytes(b"v\n" * 200_000)  # 400 KB: within the file size limit
+    with pytest.raises(ObjError) as caught:
+        load_obj(path)
+    assert isinstance(caught.value, LimitError)
+    message = str(caught.value)
+    assert message.startswith(f"{path}: reading its 200001 lines needs about ")
+    assert "more than the limit of 4 MiB" in message and "\n" not in message
+
+
+def test_a_huge_face_is_refused_before_it_is_parsed(tmp_path, memory_limit):
+    path = tmp_path / "m.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf" + " 1 2 3" * 40_000 + "\n")
+    with pytest.raises(ObjError) as caught:
+        load_obj(path)
+    assert isinstance(caught.value, LimitError)
+    assert str(caught.value).startswith(f"{path}: loading its 4 statements needs about ")
+    limits.set_memory_limit(None)
+    assert len(load_obj(path).faces) == 1  # the cycle 1 2 3, once
+
+
+def test_the_memory_limit_from_the_environment(tmp_path):
+    path = tmp_path / "m.obj"
+    path.write_bytes(b"v 0 0 0\n" * 300_000 + b"f 1 2 3\n")
+    outcome = run_cli("info", path, env={"RASTERKIT_MAX_MEMORY": "8M"}, timeout=60)
+    line = outcome.one_line_error()
+    assert line.startswith(f"rasterkit: error: {path}: ") and "more than the limit of 8 MiB" in line
+
+
+def test_long_and_many_inexact_numbers_are_read_exactly(tmp_path):
+    long = "0." + "3" * 200 + "e-5"
+    texts = [long, "0.1000000000000000055511151231257827", "123456789012345678901234567890",
+             "1" + "0" * 400, "4.9e-324", "2.2250738585072011e-308"]
+    lines = [f"v {a} {b} {c}" for a, b, c in zip(texts, texts[1:] + texts[:1],
+                                                  texts[2:] + texts[:2])]
+    path = tmp_path / "m.obj"
+    path.write_text("\n".join(lines * 20_000) + "\nf 1 2 3\n")
+    mesh = load_obj(path)
+    expected = [[float(w) for w in line.split()[1:]] for line in lines] * 20_000
+    np.testing.assert_array_equal(mesh.vertices, expected)
