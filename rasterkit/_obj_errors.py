@@ -35,6 +35,9 @@ class ObjError(ValueError):
         where = readable(path) if line is None else f"{readable(path)}:{line}"
         super().__init__(f"{where}: {reason}")
 
+    def __reduce__(self):  # pickled with its three parts (e.g. back from a worker process)
+        return type(self), (self.path, self.line, self.reason)
+
 
 class ObjLimitError(ObjError, LimitError):
     """An OBJ file beyond one of the limits of :mod:`rasterkit.limits` (its size, or the

@@ -6,12 +6,13 @@ The file's bytes are split into statements, and the common ones (``v``, ``vt``, 
 lines (``g``, ``o``, ``usemtl``, ``mtllib``, unknown keywords), error messages and ``.mtl`` files
 go through Python.
 
-This module holds the public names (:func:`load_obj`, :class:`ObjError`, :data:`DEFAULT_KD`);
-the loader's parts, in the order it uses them: ``_obj_errors`` (the error and the report of
-errors and warnings), ``_obj_files`` (reading a file, within the limits), ``_obj_document``
-(the file's bytes and statements), ``_obj_statements`` (the numbers and corners of the
-geometry statements, checked), ``_obj_assemble`` (triangles, edges, per-vertex attributes and
-groups of the Mesh) and ``_obj_materials`` (``usemtl`` and the ``.mtl`` files).
+This module holds the public names (:func:`load_obj`, :class:`ObjError`, :class:`ObjLimitError`,
+:data:`DEFAULT_KD`); the loader's parts, in the order it uses them: ``_obj_errors`` (the errors
+and the report of errors and warnings), ``_obj_files`` (reading a file, within the limits),
+``_obj_memory`` (the memory loading will take, checked first), ``_obj_document`` (the file's
+bytes and statements), ``_obj_statements`` (the numbers and corners of the geometry
+statements, checked), ``_obj_assemble`` (triangles, edges, per-vertex attributes and groups of
+the Mesh) and ``_obj_materials`` (``usemtl`` and the ``.mtl`` files).
 
 What is accepted, and how it is read
 ------------------------------------
@@ -61,7 +62,9 @@ What fails
 :class:`ObjError` (a ``ValueError``), whose message is one line ``PATH:LINE: what is wrong``
 (``PATH: what is wrong`` when no line is to blame): a file that cannot be opened, that is not a
 regular file (a directory, FIFO, socket or device: ``x.obj: not a regular file (a FIFO)``) or
-that is larger than :func:`rasterkit.limits.max_file_size` (default 2 GiB; then the error is a
+that is larger than :func:`rasterkit.limits.max_file_size` (default 2 GiB) or whose loading
+would need more memory than :func:`rasterkit.limits.memory_limit` (estimated before the large
+arrays are made, ``rasterkit._obj_memory``; these two are an :class:`ObjLimitError`, which is a
 :class:`~rasterkit.limits.LimitError` too), binary content (NUL bytes, UTF-16/32), a malformed
 number or index, a wrong count of numbers on ``v``/``vt``/``vn``, vertex index 0, out of range
 or (relative) before the first vertex, a face with fewer than 3 or a line with fewer than 2
@@ -85,14 +88,14 @@ from ._obj_assemble import (
     face_labels, finite_vertices, polygon_sides, triangulate, vertex_normals, vertex_texcoords,
 )
 from ._obj_document import Document
-from ._obj_errors import ObjError, Report, count
+from ._obj_errors import ObjError, ObjLimitError, Report, count
 from ._obj_materials import DEFAULT_KD, face_colors, material_names
 from ._obj_memory import check_statements
 from ._obj_statements import note_skipped, read_elements, read_numbers, read_vertices
 from .kernels.obj_scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
 from .mesh import Mesh, unique_edges
 
-__all__ = ["DEFAULT_KD", "ObjError", "load_obj"]
+__all__ = ["DEFAULT_KD", "ObjError", "ObjLimitError", "load_obj"]
 
 
 def load_obj(path) -> Mesh:
@@ -116,7 +119,9 @@ def load_obj(path) -> Mesh:
     Raises
     ------
     ObjError
-        With a one-line ``PATH:LINE: message`` naming the first bad line of the file.
+        With a one-line ``PATH:LINE: message`` naming the first bad line of the file, or
+        ``PATH: message`` when the file cannot be read; an :class:`ObjLimitError` when it is
+        over the file size limit or its loading over the memory limit.
 
     Examples
     --------
