@@ -45,8 +45,9 @@ What is accepted, and how it is read
   are separated by spaces and tabs (the OBJ convention), and CR, VT and FF, which count as
   spaces; no other byte separates tokens: control bytes 0x1c-0x1f and Unicode spaces (U+00A0,
   U+2003, U+3000...) are part of the token they touch, which is then malformed where a number
-  or vertex reference is expected (``rasterkit.kernels.obj_scan``). Numbers may be ``1``, ``-2.``, ``.5``, ``+1e-3``, ``1E+02``, ``nan``, ``inf``
-  and MSVC's ``1.#IND``/``1.#INF``; every value is the correctly rounded float64 of its text.
+  or vertex reference is expected (``rasterkit.kernels.obj_scan``). Numbers may be ``1``,
+  ``-2.``, ``.5``, ``+1e-3``, ``1E+02``, ``nan``, ``inf`` and MSVC's ``1.#IND``/``1.#INF``;
+  every value is the correctly rounded float64 of its text.
 - Unknown keywords (``vp``, ``curv``, ``t``, ``vw``...) are skipped and counted in one warning.
 
 Per-vertex attributes

@@ -12,7 +12,6 @@ random-50mb (one 50 MB face line of random corners of a 1000-gon).
 from __future__ import annotations
 
 import argparse
-import math
 import subprocess
 import sys
 import tempfile

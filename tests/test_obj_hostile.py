@@ -401,3 +401,16 @@ def test_long_and_many_inexact_numbers_are_read_exactly(tmp_path):
     mesh = load_obj(path)
     expected = [[float(w) for w in line.split()[1:]] for line in lines] * 20_000
     np.testing.assert_array_equal(mesh.vertices, expected)
+
+
+def test_errors_survive_pickling(tmp_path):
+    """As from a worker process: the same class, path, line and message."""
+    import pickle
+
+    path = tmp_path / "m.obj"
+    path.write_text("v 0 0 0\nv 1 x 0\n")
+    with pytest.raises(ObjError) as caught:
+        load_obj(path)
+    again = pickle.loads(pickle.dumps(caught.value))
+    assert (type(again), again.path, again.line, str(again)) == (
+        ObjError, str(path), 2, f"{path}:2: malformed number 'x' in a v line")

@@ -91,7 +91,8 @@ def inside(points, ring_points):
 
 def signed_areas(triangles):
     a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
-    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
+                  - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
 
 
 def assert_covers(points, ring, triangles, count=None):
@@ -211,7 +212,7 @@ def test_both_methods_cover_the_polygons_ear_clipping_takes(seed):
             assert len(nonflat) <= places - 2
 
 
-# --- convex polygons, repeated cycles, self-intersecting polygons ----------------------------------
+# --- convex polygons, repeated cycles, self-intersecting polygons ---------------------------------
 
 @pytest.mark.parametrize("n", [5, 50, 2000])
 def test_convex_polygons_are_the_fan_ear_clipping_cuts(tmp_path, n):

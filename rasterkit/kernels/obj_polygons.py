@@ -13,6 +13,8 @@ count except where ear clipping is needed:
   by a plane sweep in O(m log m) (:mod:`rasterkit.kernels.obj_monotone`): both cover concave
   polygons (and holes joined by a bridge) exactly, and both say when they could not (a
   self-intersecting polygon, or work beyond their limits), so that the loader can warn.
+  Corners at the same place as the one before them make no triangle (ear clipping is done
+  again without them when they made it cut wrong triangles).
 - A larger polygon whose sides do not turn round exactly once (:func:`_turning_number`: it
   crosses itself, or winds round several times) cannot be simple: it is split as a fan, in
   O(m), and reported like the above.
@@ -189,7 +191,8 @@ def _ear_clip_with_repeated_places(xy, ring, out):
     exact = ear_clip(xy, np.arange(m), local)
     if exact and covers(xy, local):
         for q in range(m - 2):
-            out[q, 0], out[q, 1], out[q, 2] = ring[local[q, 0]], ring[local[q, 1]], ring[local[q, 2]]
+            for k in range(3):
+                out[q, k] = ring[local[q, k]]
         return True
     if len(places) < 3:
         return True
@@ -204,8 +207,8 @@ def _ear_clip_with_repeated_places(xy, ring, out):
 @kernel
 def _triangulate_polygon(vertices, polygon, out):
     """Triangles of one polygon (m >= 4 vertex indices) into out (m - 2, 3) in the polygon's
-    best-fit plane; rows left over stay -1. Returns False when ear clipping had to give up
-    (see :mod:`rasterkit.kernels.obj_ears`)."""
+    best-fit plane; rows left over stay -1. Returns False when it could not be split exactly
+    (see the module documentation)."""
     ring = _merge_repeats(polygon)
     if len(ring) < 3:
         return True
