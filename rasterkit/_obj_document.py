@@ -59,6 +59,22 @@ class Document:
         """Everything after the keyword of statement s, with single spaces."""
         return " ".join(self.tokens(s)[1:])
 
+    def arguments(self, rows: np.ndarray) -> list[str]:
+        """:meth:`argument` of each statement of rows; statements of the same text (a file may
+        have millions of ``g`` lines naming a few groups) are split and decoded once."""
+        text = self.text
+        known: dict = {}
+        names = []
+        for first in range(0, len(rows), 1 << 16):  # Python ints for a chunk at a time
+            part = rows[first:first + (1 << 16)]
+            for a, b in zip(self.starts[part].tolist(), self.ends[part].tolist()):
+                raw = text[a:b]
+                name = known.get(raw)
+                if name is None:
+                    name = known[raw] = " ".join(decode(t) for t in split_tokens(raw)[1:])
+                names.append(name)
+        return names
+
     def counts_before(self, rows: np.ndarray) -> np.ndarray:
         """(len(rows), 3) int64: v, vt and vn statements above each of the statements rows."""
         kinds = (KIND_V, KIND_VT, KIND_VN)

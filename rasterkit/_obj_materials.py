@@ -37,7 +37,7 @@ _STATEMENT = re.compile(f"^[{_BLANK}]*(?:newmtl|Kd)(?![^{_BLANK}\n])[^\n]*".enco
 
 
 def material_names(doc: Document) -> tuple:
-    names = (doc.argument(s) for s in doc.of_kind(KIND_USEMTL))
+    names = doc.arguments(doc.of_kind(KIND_USEMTL))
     return tuple(dict.fromkeys(n for n in names if n))
 
 

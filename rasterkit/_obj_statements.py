@@ -193,5 +193,5 @@ def latest_above(doc: Document, kinds, faces: Elements):
     """Names of the statements of the given kinds (g and o, or usemtl) and, for each face, the
     position in that list of the latest one above it (-1 when there is none)."""
     rows = doc.of_kind(*kinds)
-    names = [doc.argument(s) for s in rows]
+    names = doc.arguments(rows)
     return names, np.searchsorted(rows, faces.statements) - 1
