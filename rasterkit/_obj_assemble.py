@@ -28,33 +28,45 @@ def finite_vertices(doc, vertices, faces, lines, report) -> np.ndarray:
     return finite
 
 
-def triangulate(vertices, faces: Elements, keep: np.ndarray):
-    """Triangles (M, 3) int64 of the kept polygons, and the polygon (M,) of each."""
+def triangulate(doc, vertices, faces: Elements, keep: np.ndarray, report):
+    """Triangles (M, 3) int64 of the kept polygons, and the polygon (M,) of each; warns about
+    polygons that could not be split exactly."""
     if faces.count == 0:
         return np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
     if np.all(faces.sizes == 3):  # a triangle mesh: the same rows, without compiling the kernel
-        triangles = faces.vertex_indices.reshape(-1, 3).copy()
+        triangles = faces.vertex.reshape(-1, 3)
         a, b, c = triangles.T
-        triangles[~keep | (a == b) | (b == c) | (c == a)] = -1
-    else:
-        triangles = obj_polygons.triangulate(vertices, faces.vertex_indices, faces.offsets, keep)
-    polygon = np.repeat(np.arange(faces.count), faces.sizes - 2)
-    valid = triangles[:, 0] >= 0
-    return np.ascontiguousarray(triangles[valid]), polygon[valid]
+        valid = keep & (a != b) & (b != c) & (c != a)
+        return np.ascontiguousarray(triangles[valid]), np.flatnonzero(valid)
+    triangles, counts, inexact = obj_polygons.triangulate(vertices, faces.vertex, faces.offsets,
+                                                          keep)
+    if inexact.any():
+        first = faces.statements[np.argmax(inexact)]
+        report.warn(doc.line(first), f"{count(np.count_nonzero(inexact), 'polygon')} too "
+                                     "irregular to split exactly (self-intersecting?): split "
+                                     "as a fan")
+    if len(triangles) < 0.75 * (faces.offsets[-1] - 2 * faces.count):
+        triangles = triangles.copy()  # let the rows of the dropped triangles go
+    return triangles, np.repeat(np.arange(faces.count), counts)
 
 
 def polygon_sides(faces: Elements, keep: np.ndarray, n_vertices: int) -> np.ndarray:
     """(E,) int64 keys ``lo * N + hi`` of the sides of the kept polygons, for
     :func:`rasterkit.mesh.unique_edges`."""
-    return obj_polygons.side_keys(faces.vertex_indices, faces.offsets, keep, n_vertices)
+    keys = obj_polygons.side_keys(faces.vertex, faces.offsets, keep, n_vertices)
+    # Unique here already (NumPy's sort, in place; Numba's quicksort is quadratic on some
+    # orders): a polygon that walks round again repeats its sides, and unique_edges copies
+    # what it gets several times.
+    keys.sort()
+    return keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
 
 
 def vertex_normals(faces: Elements, normals: np.ndarray, n_vertices: int):
     """(N, 3) float64 unit normals averaged over each vertex's corners, or None."""
-    used = np.ascontiguousarray(faces.corners[:, 2])
+    used = faces.normal
     if not (used >= 0).any():
         return None
-    total = obj_corners.sum_per_vertex(faces.vertex_indices, used, _unit_rows(normals),
+    total = obj_corners.sum_per_vertex(faces.vertex, used, _unit_rows(normals),
                                        n_vertices)
     return _unit_rows(total)
 
@@ -62,16 +74,22 @@ def vertex_normals(faces: Elements, normals: np.ndarray, n_vertices: int):
 def _unit_rows(a: np.ndarray) -> np.ndarray:
     """Rows of a scaled to length 1; rows of length 0 or not finite become 0."""
     a = np.nan_to_num(a, nan=0.0, posinf=0.0, neginf=0.0)
+    # Rows whose squares would overflow (or vanish) are scaled towards 1 first: the other
+    # rows keep their exact values.
+    biggest = np.abs(a).max(axis=1, keepdims=True)
+    extreme = (biggest > 1e150) | ((biggest < 1e-150) & (biggest > 0))
+    if extreme.any():
+        a = np.where(extreme, a / np.where(extreme, biggest, 1.0), a)
     length = np.linalg.norm(a, axis=1, keepdims=True)
     return np.divide(a, length, out=np.zeros_like(a), where=length > 0)
 
 
 def vertex_texcoords(faces: Elements, texcoords: np.ndarray, n_vertices: int):
     """(N, 2) float64 texture coordinates of each vertex's first corner with one, or None."""
-    used = np.ascontiguousarray(faces.corners[:, 1])
+    used = faces.texcoord
     if not (used >= 0).any():
         return None
-    first = obj_corners.first_per_vertex(faces.vertex_indices, used, n_vertices)
+    first = obj_corners.first_per_vertex(faces.vertex, used, n_vertices)
     uv = np.nan_to_num(texcoords[:, :2], nan=0.0, posinf=0.0, neginf=0.0)
     return np.where(first[:, None] >= 0, uv[first], 0.0)
 

@@ -5,12 +5,13 @@ single statements for messages and names."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from ._obj_errors import ObjError
-from .kernels.obj_scan import KIND_V, KIND_VN, KIND_VT, scan_statements
+from ._obj_files import read_file
+from ._obj_memory import check_scan
+from .kernels.obj_scan import KIND_V, KIND_VN, KIND_VT, scan_statements, split_tokens
 
 __all__ = ["Document", "decode"]
 
@@ -34,7 +35,8 @@ class Document:
 
     @classmethod
     def read(cls, name: str) -> Document:
-        data = _text_bytes(_read_bytes(name), name)
+        data = _text_bytes(read_file(name), name)
+        check_scan(name, data)
         text = _blank_continuations(data)
         buf = np.frombuffer(text, np.uint8)
         return cls(name, data, text, buf, *scan_statements(buf))
@@ -50,12 +52,28 @@ class Document:
         return self.data.count(b"\n", 0, self.starts[s]) + 1
 
     def tokens(self, s: int) -> list[str]:
-        """The keyword and tokens of statement s."""
-        return decode(self.text[self.starts[s]:self.ends[s]]).split()
+        """The keyword and tokens of statement s, split where the kernels split them."""
+        return [decode(t) for t in split_tokens(self.text[self.starts[s]:self.ends[s]])]
 
     def argument(self, s: int) -> str:
         """Everything after the keyword of statement s, with single spaces."""
         return " ".join(self.tokens(s)[1:])
+
+    def arguments(self, rows: np.ndarray) -> list[str]:
+        """:meth:`argument` of each statement of rows; statements of the same text (a file may
+        have millions of ``g`` lines naming a few groups) are split and decoded once."""
+        text = self.text
+        known: dict = {}
+        names = []
+        for first in range(0, len(rows), 1 << 16):  # Python ints for a chunk at a time
+            part = rows[first:first + (1 << 16)]
+            for a, b in zip(self.starts[part].tolist(), self.ends[part].tolist()):
+                raw = text[a:b]
+                name = known.get(raw)
+                if name is None:
+                    name = known[raw] = " ".join(decode(t) for t in split_tokens(raw)[1:])
+                names.append(name)
+        return names
 
     def counts_before(self, rows: np.ndarray) -> np.ndarray:
         """(len(rows), 3) int64: v, vt and vn statements above each of the statements rows."""
@@ -64,13 +82,6 @@ class Document:
 
     def count(self, kind: int) -> int:
         return int(np.count_nonzero(self.kinds == kind))
-
-
-def _read_bytes(name: str) -> bytes:
-    try:
-        return Path(name).read_bytes()
-    except OSError as e:
-        raise ObjError(name, None, f"cannot read: {e.strerror or e}") from None
 
 
 def _text_bytes(data: bytes, name: str) -> bytes:

@@ -1,9 +1,16 @@
 """Errors and warnings of one OBJ file: :class:`ObjError` and the :class:`Report` that collects
-them while :func:`rasterkit.load_obj` reads the file."""
+them while :func:`rasterkit.load_obj` reads the file.
+
+Every message is one line: the file name (shown with :func:`readable`) and the line number
+come first, and text taken from the file is shown with ``repr``, so that no byte of a file or
+of its name (a newline, U+2028, an escape sequence) can break a message in two.
+"""
 
 from __future__ import annotations
 
-__all__ = ["ObjError", "Report", "count"]
+from .limits import LimitError
+
+__all__ = ["ObjError", "ObjLimitError", "Report", "count", "readable"]
 
 
 class ObjError(ValueError):
@@ -25,8 +32,19 @@ class ObjError(ValueError):
         self.path = path
         self.line = line
         self.reason = reason
-        where = path if line is None else f"{path}:{line}"
+        where = readable(path) if line is None else f"{readable(path)}:{line}"
         super().__init__(f"{where}: {reason}")
+
+    def __reduce__(self):  # pickled with its three parts (e.g. back from a worker process)
+        return type(self), (self.path, self.line, self.reason)
+
+
+class ObjLimitError(ObjError, LimitError):
+    """An OBJ file beyond one of the limits of :mod:`rasterkit.limits` (its size, or the
+    memory loading it would take): both an :class:`ObjError` and a
+    :class:`~rasterkit.limits.LimitError`."""
+
+    __module__ = "rasterkit.obj"
 
 
 class Report:
@@ -42,7 +60,7 @@ class Report:
 
     def warn(self, line: int | None, message: str, name: str | None = None):
         """Note a warning about line of this file (or of the file name, e.g. an .mtl)."""
-        name = name or self.name
+        name = readable(name or self.name)
         self.warnings.append(f"{name}: {message}" if line is None else
                              f"{name}:{int(line)}: {message}")
 
@@ -55,3 +73,9 @@ class Report:
 def count(n, noun: str, plural: str | None = None) -> str:
     """'1 face', '2 faces'."""
     return f"{int(n)} {noun if n == 1 else plural or noun + 's'}"
+
+
+def readable(text: str) -> str:
+    """text as it is when every character is printable, else its ``repr`` (quoted, with
+    escapes): a name or word from a file, fit for a one-line message."""
+    return text if text.isprintable() else repr(text)

@@ -6,20 +6,22 @@ lines."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 
 from ._obj_document import Document
-from ._obj_errors import Report, count
+from ._obj_errors import Report, count, readable
 from .kernels.obj_corners import (
     INDEX_BEFORE_FIRST, INDEX_MALFORMED, INDEX_OK, INDEX_ZERO, parse_corners,
 )
 from .kernels.obj_numbers import NUMBER_MALFORMED, parse_number_rows
-from .kernels.obj_scan import KIND_OTHER, KIND_P, KIND_V, KIND_VN, KIND_VT
+from .kernels.obj_scan import KIND_OTHER, KIND_P, KIND_V, KIND_VN, KIND_VT, split_tokens
 
 __all__ = ["Elements", "latest_above", "note_skipped", "read_elements", "read_numbers",
            "read_vertices"]
+
+_REPARSE_CHUNK = 1 << 16  # statements re-parsed at once
+_LONG_TOKEN = 64  # a chunk with a longer token is re-parsed token by token
 
 _ATTRIBUTES = (("vertex", "v"), ("texture coordinate", "vt"), ("normal", "vn"))
 _NUMBER_COUNTS = {KIND_V: ("v", (3, 4, 6), "3 (x y z), 4 (x y z w) or 6 (x y z r g b)"),
@@ -45,18 +47,24 @@ def read_numbers(doc: Document, kind: int, width: int, report: Report) -> np.nda
 
 def _reparse_exactly(doc: Document, rows: np.ndarray, values: np.ndarray, inexact: np.ndarray):
     """Replace the values that the kernel could not round exactly (more than 15 significant
-    digits or large exponents) by NumPy's correctly rounded conversion of their text."""
+    digits or large exponents) by the correctly rounded conversion of their text (NumPy's, or
+    Python's float for long tokens), a bounded chunk of statements at a time."""
     redo = np.flatnonzero(inexact)
-    if len(redo) == 0:
-        return
-    statements = rows[redo]
-    text = b"\n".join(doc.text[s:e] for s, e in zip(doc.starts[statements], doc.ends[statements]))
-    tokens = np.array(text.split())
-    keyword_at = np.concatenate([[0], np.cumsum(doc.ntokens[statements] + 1)[:-1]])
-    bits = (inexact[redo, None] >> np.arange(values.shape[1])) & 1
-    r, column = np.nonzero(bits)
-    with np.errstate(over="ignore", under="ignore"):  # 1e400 is inf, as float() says
-        values[redo[r], column] = tokens[keyword_at[r] + 1 + column].astype(np.float64)
+    for first in range(0, len(redo), _REPARSE_CHUNK):
+        part = redo[first:first + _REPARSE_CHUNK]
+        statements = rows[part]
+        text = b"\n".join(doc.text[s:e] for s, e in zip(doc.starts[statements],
+                                                        doc.ends[statements]))
+        tokens = split_tokens(text)
+        keyword_at = np.concatenate([[0], np.cumsum(doc.ntokens[statements] + 1)[:-1]])
+        bits = (inexact[part, None] >> np.arange(values.shape[1])) & 1
+        r, column = np.nonzero(bits)
+        at = keyword_at[r] + 1 + column
+        if max(map(len, tokens)) <= _LONG_TOKEN:
+            with np.errstate(over="ignore", under="ignore"):  # 1e400 is inf, as float() says
+                values[part[r], column] = np.array(tokens)[at].astype(np.float64)
+        else:  # NumPy would make every token as long as the longest
+            values[part[r], column] = [float(tokens[k]) for k in at]
 
 
 def read_vertices(doc: Document, report: Report):
@@ -90,8 +98,10 @@ class Elements:
     """Faces or polylines: corner indices in runs, one run per statement."""
 
     statements: np.ndarray  # (K,) statement number of each element
-    offsets: np.ndarray  # (K + 1,) run of element k: corners[offsets[k]:offsets[k + 1]]
-    corners: np.ndarray  # (C, 3) 0-based v, vt, vn of each corner; -1 where absent
+    offsets: np.ndarray  # (K + 1,) run of element k: corners offsets[k] to offsets[k + 1]
+    vertex: np.ndarray  # (C,) int64 0-based vertex of each corner
+    texcoord: np.ndarray  # (C,) int64 its vt, -1 where absent; empty when no corner has one
+    normal: np.ndarray  # (C,) int64 its vn, likewise
 
     @property
     def count(self) -> int:
@@ -101,21 +111,16 @@ class Elements:
     def sizes(self) -> np.ndarray:
         return np.diff(self.offsets)
 
-    @cached_property
-    def vertex_indices(self) -> np.ndarray:
-        """(C,) int64 vertex of each corner, contiguous for the kernels."""
-        return np.ascontiguousarray(self.corners[:, 0])
-
     def uses_only(self, vertex_ok: np.ndarray) -> np.ndarray:
         """(K,) bool: elements whose vertices all have vertex_ok."""
         if vertex_ok.all() or self.count == 0:
             return np.ones(self.count, bool)
-        bad = (~vertex_ok[self.corners[:, 0]]).astype(np.int64)
+        bad = (~vertex_ok[self.vertex]).astype(np.int64)
         return np.add.reduceat(bad, self.offsets[:-1]) == 0
 
     def segments(self, keep: np.ndarray) -> np.ndarray:
         """(K, 2) int64 segments p[0]-p[1], ..., p[-2]-p[-1] of the kept polylines."""
-        v = self.corners[:, 0]
+        v = self.vertex
         starts = np.ones(len(v), bool)
         starts[self.offsets[1:] - 1] = False
         starts &= np.repeat(keep, self.sizes)
@@ -132,16 +137,18 @@ def read_elements(doc: Document, kind: int, minimum: int, what: str,
     offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
     totals = np.array([doc.count(k) for k in (KIND_V, KIND_VT, KIND_VN)])
     before = doc.counts_before(rows)
-    corners, problems = parse_corners(doc.buf, doc.starts[rows], doc.ends[rows], offsets,
-                                      before, totals)
-    for r in np.flatnonzero(sizes < minimum)[:1]:
-        given = {0: "no vertices", 1: "1 vertex"}.get(int(sizes[r]), f"{sizes[r]} vertices")
-        report.error(doc.line(rows[r]), f"{what} with {given}: a {what} needs at least "
-                                        f"{minimum}")
+    *corners, problems = parse_corners(doc.buf, doc.starts[rows], doc.ends[rows], offsets,
+                                       before, totals, b"/" in doc.text)
+    # A bad reference first: on a line that has both, "malformed vertex reference '2\x1d3'"
+    # says more than "face with 2 vertices".
     vertex_bad = (problems[:, 0] != INDEX_OK) & (problems[:, 2] == 0)
     for r in np.flatnonzero(vertex_bad)[:1]:
         report.error(doc.line(rows[r]), _index_message(doc, rows[r], problems[r], before[r],
                                                         totals))
+    for r in np.flatnonzero(sizes < minimum)[:1]:
+        given = {0: "no vertices", 1: "1 vertex"}.get(int(sizes[r]), f"{sizes[r]} vertices")
+        report.error(doc.line(rows[r]), f"{what} with {given}: a {what} needs at least "
+                                        f"{minimum}")
     for attribute in (1, 2):
         bad = np.flatnonzero((problems[:, 0] != INDEX_OK) & (problems[:, 2] == attribute))
         if len(bad):
@@ -149,7 +156,7 @@ def read_elements(doc: Document, kind: int, minimum: int, what: str,
             message = _index_message(doc, rows[bad[0]], problems[bad[0]], before[bad[0]], totals)
             report.warn(doc.line(rows[bad[0]]), f"{message}; {name}s ignored in "
                                                  f"{count(len(bad), what)}")
-    return Elements(rows, offsets, corners)
+    return Elements(rows, offsets, *corners)
 
 
 def _index_message(doc: Document, s: int, problem, before, totals) -> str:
@@ -179,12 +186,12 @@ def note_skipped(doc: Document, report: Report):
     if len(unknown):
         keywords = dict.fromkeys(doc.tokens(s)[0] for s in unknown)
         report.warn(None, f"{count(len(unknown), 'unknown keyword line')} skipped "
-                          f"({', '.join(keywords)})")
+                          f"({', '.join(map(readable, keywords))})")
 
 
 def latest_above(doc: Document, kinds, faces: Elements):
     """Names of the statements of the given kinds (g and o, or usemtl) and, for each face, the
     position in that list of the latest one above it (-1 when there is none)."""
     rows = doc.of_kind(*kinds)
-    names = [doc.argument(s) for s in rows]
+    names = doc.arguments(rows)
     return names, np.searchsorted(rows, faces.statements) - 1

@@ -6,12 +6,13 @@ The file's bytes are split into statements, and the common ones (``v``, ``vt``, 
 lines (``g``, ``o``, ``usemtl``, ``mtllib``, unknown keywords), error messages and ``.mtl`` files
 go through Python.
 
-This module holds the public names (:func:`load_obj`, :class:`ObjError`, :data:`DEFAULT_KD`);
-the loader's parts, in the order it uses them: ``_obj_errors`` (the error and the report of
-errors and warnings), ``_obj_document`` (the file's bytes and statements), ``_obj_statements``
-(the numbers and corners of the geometry statements, checked), ``_obj_assemble`` (triangles,
-edges, per-vertex attributes and groups of the Mesh) and ``_obj_materials`` (``usemtl`` and the
-``.mtl`` files).
+This module holds the public names (:func:`load_obj`, :class:`ObjError`, :class:`ObjLimitError`,
+:data:`DEFAULT_KD`); the loader's parts, in the order it uses them: ``_obj_errors`` (the errors
+and the report of errors and warnings), ``_obj_files`` (reading a file, within the limits),
+``_obj_memory`` (the memory loading will take, checked first), ``_obj_document`` (the file's
+bytes and statements), ``_obj_statements`` (the numbers and corners of the geometry
+statements, checked), ``_obj_assemble`` (triangles, edges, per-vertex attributes and groups of
+the Mesh) and ``_obj_materials`` (``usemtl`` and the ``.mtl`` files).
 
 What is accepted, and how it is read
 ------------------------------------
@@ -23,23 +24,30 @@ What is accepted, and how it is read
 - ``vt u [v [w]]`` (``w`` ignored, a missing ``v`` is 0), ``vn x y z``.
 - ``f`` with corners ``v``, ``v/vt``, ``v//vn``, ``v/vt/vn`` (``1//`` too), mixed freely;
   negative indices count back from the last element defined above the line; positive indices
-  may point below the line (as most loaders allow). Polygons of any size: triangles and convex
-  quads are split as a fan, everything else by ear clipping in the plane of the polygon's
-  Newell normal, so concave polygons (and holes joined by a bridge walked both ways) are
-  covered exactly; self-intersecting polygons still give m - 2 triangles. Triangles keep the
-  file's winding. Triangles that a repeated vertex makes degenerate (``f 1 2 2 3``) are left
-  out.
+  may point below the line (as most loaders allow). Polygons of any size, split in the plane
+  of their Newell normal (``rasterkit.kernels.obj_polygons`` has the details): triangles,
+  convex quads and convex polygons as a fan, concave polygons (and holes joined by a bridge
+  walked both ways) so that they are covered exactly, by ear clipping up to 80 corners and a
+  monotone sweep (O(m log m)) beyond; a polygon that walks one cycle several times
+  (``f 1 2 3 1 2 3``) is that cycle once. A self-intersecting polygon, or one that needs too
+  much work, is split (or finished) as a fan, with a warning. Triangles keep the file's
+  winding. Triangles that a repeated vertex makes degenerate (``f 1 2 2 3``) are left out.
 - ``l`` polylines: ``l 1 2 3`` gives the segments 1-2 and 2-3. ``p`` points are counted and
   reported in a warning, not drawn.
 - ``o``, ``g`` (the names of a face's latest ``g`` or ``o`` become ``Mesh.group_names``, with
   ``face_groups`` per triangle; faces before any of them are in group ``default``), ``s``
   (ignored), ``usemtl`` (names in ``Mesh.material_names``), ``mtllib`` (``Kd`` of each used
   material becomes ``Mesh.face_colors``; a material without ``Kd``, and faces without a
-  material, get :data:`DEFAULT_KD`; a missing ``.mtl`` file or material is a warning).
-- Comments (``#`` at the start of a token), blank lines, LF, CRLF or CR line breaks, tabs, runs
-  of spaces, no final newline, a backslash before the line break (continuation), a UTF-8 byte
-  order mark. Numbers may be ``1``, ``-2.``, ``.5``, ``+1e-3``, ``1E+02``, ``nan``, ``inf``
-  and MSVC's ``1.#IND``/``1.#INF``; every value is the correctly rounded float64 of its text.
+  material, get :data:`DEFAULT_KD`; a library that cannot be read (missing, not a regular
+  file, over the size limit) or a missing material is a warning).
+- Comments (``#`` at the start of a token), blank lines, LF, CRLF or CR line breaks, no final
+  newline, a backslash before the line break (continuation), a UTF-8 byte order mark. Tokens
+  are separated by spaces and tabs (the OBJ convention), and CR, VT and FF, which count as
+  spaces; no other byte separates tokens: control bytes 0x1c-0x1f and Unicode spaces (U+00A0,
+  U+2003, U+3000...) are part of the token they touch, which is then malformed where a number
+  or vertex reference is expected (``rasterkit.kernels.obj_scan``). Numbers may be ``1``,
+  ``-2.``, ``.5``, ``+1e-3``, ``1E+02``, ``nan``, ``inf`` and MSVC's ``1.#IND``/``1.#INF``;
+  every value is the correctly rounded float64 of its text.
 - Unknown keywords (``vp``, ``curv``, ``t``, ``vw``...) are skipped and counted in one warning.
 
 Per-vertex attributes
@@ -53,15 +61,24 @@ that gives one ((0, 0) otherwise; at a UV seam the other corners' coordinates ar
 What fails
 ----------
 :class:`ObjError` (a ``ValueError``), whose message is one line ``PATH:LINE: what is wrong``
-(``PATH: what is wrong`` when no line is to blame): an unreadable file, binary content (NUL
-bytes, UTF-16/32), a malformed number or index, a wrong count of numbers on ``v``/``vt``/``vn``,
-vertex index 0, out of range or (relative) before the first vertex, a face with fewer than 3
-or a line with fewer than 2 vertices, and a file with neither faces nor lines (a point cloud
-of ``v`` lines only is an error too). When a file has several errors the first line is named.
-Bad ``vt``/``vn`` references only drop that attribute, with a warning: the geometry is intact.
+(``PATH: what is wrong`` when no line is to blame): a file that cannot be opened, that is not a
+regular file (a directory, FIFO, socket or device: ``x.obj: not a regular file (a FIFO)``) or
+that is larger than :func:`rasterkit.limits.max_file_size` (default 2 GiB) or whose loading
+would need more memory than :func:`rasterkit.limits.memory_limit` (estimated before the large
+arrays are made, ``rasterkit._obj_memory``; these two are an :class:`ObjLimitError`, which is a
+:class:`~rasterkit.limits.LimitError` too), binary content (NUL bytes, UTF-16/32), a malformed
+number or index, a wrong count of numbers on ``v``/``vt``/``vn``, vertex index 0, out of range
+or (relative) before the first vertex, a face with fewer than 3 or a line with fewer than 2
+vertices, and a file with neither faces nor lines (a point cloud of ``v`` lines only is an
+error too). When a file has several errors the first line is named. Bad ``vt``/``vn``
+references only drop that attribute, with a warning: the geometry is intact. Text from the
+file (tokens, names) is shown with ``repr`` and a file name that is not printable as its
+``repr``, so no message or warning is ever more than one line (``rasterkit._obj_errors``).
+Every file is read by ``rasterkit._obj_files.read_file``, which says how.
 
 Warnings are one-line strings in ``Mesh.warnings``, never printed. Non-finite vertex
 coordinates are kept in ``Mesh.vertices``, but the faces and lines using them are dropped.
+Loading issues no NumPy warning, whatever the numbers (``1e308``, ``nan``, ``inf``).
 """
 
 from __future__ import annotations
@@ -72,13 +89,14 @@ from ._obj_assemble import (
     face_labels, finite_vertices, polygon_sides, triangulate, vertex_normals, vertex_texcoords,
 )
 from ._obj_document import Document
-from ._obj_errors import ObjError, Report, count
+from ._obj_errors import ObjError, ObjLimitError, Report, count
 from ._obj_materials import DEFAULT_KD, face_colors, material_names
+from ._obj_memory import check_statements
 from ._obj_statements import note_skipped, read_elements, read_numbers, read_vertices
 from .kernels.obj_scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
 from .mesh import Mesh, unique_edges
 
-__all__ = ["DEFAULT_KD", "ObjError", "load_obj"]
+__all__ = ["DEFAULT_KD", "ObjError", "ObjLimitError", "load_obj"]
 
 
 def load_obj(path) -> Mesh:
@@ -102,7 +120,9 @@ def load_obj(path) -> Mesh:
     Raises
     ------
     ObjError
-        With a one-line ``PATH:LINE: message`` naming the first bad line of the file.
+        With a one-line ``PATH:LINE: message`` naming the first bad line of the file, or
+        ``PATH: message`` when the file cannot be read; an :class:`ObjLimitError` when it is
+        over the file size limit or its loading over the memory limit.
 
     Examples
     --------
@@ -117,6 +137,7 @@ def load_obj(path) -> Mesh:
     [[0, 1], [0, 3], [1, 2], [2, 3]]
     """
     doc = Document.read(os.fsdecode(path))
+    check_statements(doc)
     report = Report(doc.name)
     vertices, colors = read_vertices(doc, report)
     texcoords = read_numbers(doc, KIND_VT, 3, report)
@@ -130,7 +151,7 @@ def load_obj(path) -> Mesh:
     note_skipped(doc, report)
     finite = finite_vertices(doc, vertices, faces, lines, report)
     keep_polygons = faces.uses_only(finite)
-    triangles, triangle_polygon = triangulate(vertices, faces, keep_polygons)
+    triangles, triangle_polygon = triangulate(doc, vertices, faces, keep_polygons, report)
     segments = lines.segments(lines.uses_only(finite))
     edges = unique_edges(segments, len(vertices), keys=polygon_sides(faces, keep_polygons, len(vertices)))
     groups, group_names = face_labels(doc, (KIND_G, KIND_O), faces, triangle_polygon)

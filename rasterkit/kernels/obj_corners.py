@@ -75,7 +75,7 @@ def _parse_corner(buf, a, b):
 
 
 @kernel
-def parse_corners(buf, starts, ends, offsets, before, totals):
+def parse_corners(buf, starts, ends, offsets, before, totals, attributes):
     """Parse and resolve the vertex references of f and l statements.
 
     Parameters
@@ -89,17 +89,22 @@ def parse_corners(buf, starts, ends, offsets, before, totals):
         Number of v, vt, vn statements before each statement (for negative indices).
     totals : (3,) int64
         Number of v, vt, vn statements in the file.
+    attributes : bool
+        Whether any corner may name a vt or vn: False when buf has no ``/``, and then
+        texcoord and normal are empty (no room is made for them).
 
     Returns
     -------
-    corners : (C, 3) int64
+    vertex, texcoord, normal : (C,) int64
         0-based v, vt, vn index of each corner; -1 where absent or invalid.
     errors : (S, 3) int64
         (INDEX_* code, corner, attribute 0/1/2) of the statement's first problem: the first bad
         vertex reference if any, else the first bad vt/vn reference; code 0 when all is well.
     """
     rows = len(starts)
-    corners = np.full((offsets[rows], 3), -1, np.int64)
+    vertex = np.full(offsets[rows], -1, np.int64)
+    texcoord = np.full(offsets[rows] if attributes else 0, -1, np.int64)
+    normal = np.full(offsets[rows] if attributes else 0, -1, np.int64)
     errors = np.zeros((rows, 3), np.int64)
     for r in range(rows):
         i = next_token(buf, starts[r], ends[r])[1]  # after the keyword
@@ -112,14 +117,19 @@ def parse_corners(buf, starts, ends, offsets, before, totals):
                 break
             c = offsets[r] + k
             for attribute, raw in ((0, v), (1, vt), (2, vn)):
-                if present & (1 << attribute):
+                if present & (1 << attribute):  # vt and vn only where a slash is
                     index, code = _resolve(raw, before[r, attribute], totals[attribute])
-                    corners[c, attribute] = index
+                    if attribute == 0:
+                        vertex[c] = index
+                    elif attribute == 1:
+                        texcoord[c] = index
+                    else:
+                        normal[c] = index
                     vertex_first = attribute == 0 and errors[r, 2] != 0
                     if code != INDEX_OK and (errors[r, 0] == INDEX_OK or vertex_first):
                         errors[r, 0], errors[r, 1], errors[r, 2] = code, k, attribute
             k += 1
-    return corners, errors
+    return vertex, texcoord, normal, errors
 
 
 @kernel

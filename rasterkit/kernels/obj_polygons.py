@@ -1,16 +1,34 @@
 """Numba kernels that turn OBJ polygons into triangles and edges.
 
-Triangles and convex quads are split as a fan; every other polygon by ear clipping in the plane
-of its Newell normal, so that concave polygons (and holes joined by a bridge) are covered
-exactly. The sides of the polygons become the mesh's edges (:func:`side_keys`). Inputs are
-vertex indices already checked by the caller (:mod:`rasterkit._obj_assemble`).
-"""
+A polygon is triangulated in the plane of its Newell normal, at a cost linear in its corner
+count except where ear clipping is needed:
+
+- Triangles and convex quads are split as a fan from their first corner.
+- Consecutive repeats of a vertex are merged (``f 1 2 2 3`` is a triangle), and a polygon that
+  walks one cycle of vertices several times (``f 1 2 3 1 2 3``) is that cycle once.
+- A polygon whose every corner turns left, and every triangle of the fan from its last corner
+  too, is that fan (convex polygons: a test in O(m)); it is what ear clipping would give.
+- Every other polygon of up to :data:`~rasterkit.kernels.obj_ears.EAR_CLIP_LIMIT` corners is
+  ear clipped (:mod:`rasterkit.kernels.obj_ears`), larger ones are split into monotone pieces
+  by a plane sweep in O(m log m) (:mod:`rasterkit.kernels.obj_monotone`): both cover concave
+  polygons (and holes joined by a bridge) exactly, and both say when they could not (a
+  self-intersecting polygon, or work beyond their limits), so that the loader can warn.
+  Corners at the same place as the one before them make no triangle (ear clipping is done
+  again without them when they made it cut wrong triangles).
+- A larger polygon whose sides do not turn round exactly once (:func:`_turning_number`: it
+  crosses itself, or winds round several times) cannot be simple: it is split as a fan, in
+  O(m), and reported like the above.
+
+The sides of the polygons become the mesh's edges (:func:`side_keys`). Inputs are vertex
+indices already checked by the caller (:mod:`rasterkit._obj_assemble`)."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from rasterkit._jit import kernel
+from rasterkit.kernels.obj_ears import EAR_CLIP_LIMIT, covers, cross, distinct_places, ear_clip
+from rasterkit.kernels.obj_monotone import triangulate_monotone
 
 
 @kernel
@@ -59,83 +77,6 @@ def _plane_coordinates(vertices, ring, nx, ny, nz):
 
 
 @kernel
-def _cross(xy, a, b, c):
-    """z of (b - a) x (c - b): > 0 when a, b, c turn left (counter-clockwise)."""
-    return ((xy[b, 0] - xy[a, 0]) * (xy[c, 1] - xy[b, 1])
-            - (xy[b, 1] - xy[a, 1]) * (xy[c, 0] - xy[b, 0]))
-
-
-@kernel
-def _same_point(xy, a, b):
-    return xy[a, 0] == xy[b, 0] and xy[a, 1] == xy[b, 1]
-
-
-@kernel
-def _is_ear(xy, prev, nxt, i):
-    """True when the triangle (prev[i], i, nxt[i]) turns left and no other reflex or straight
-    vertex of the remaining polygon lies inside it or on its border (vertices at the same
-    place as a corner of the triangle do not count: polygons with holes repeat them)."""
-    a = prev[i]
-    c = nxt[i]
-    if not _cross(xy, a, i, c) > 0.0:
-        return False
-    r = nxt[c]
-    while r != a:
-        if not (_same_point(xy, r, a) or _same_point(xy, r, i) or _same_point(xy, r, c)):
-            if (_cross(xy, a, i, r) >= 0.0 and _cross(xy, i, c, r) >= 0.0
-                    and _cross(xy, c, a, r) >= 0.0 and _cross(xy, prev[r], r, nxt[r]) <= 0.0):
-                return False
-        r = nxt[r]
-    return True
-
-
-@kernel
-def _most_convex(xy, prev, nxt, start, remaining):
-    """The remaining vertex with the largest left turn: the fallback when no ear exists (a
-    self-intersecting or degenerate polygon), so that clipping always ends."""
-    best = start
-    best_turn = -np.inf
-    i = start
-    for _ in range(remaining):
-        turn = _cross(xy, prev[i], i, nxt[i])
-        if turn > best_turn:
-            best, best_turn = i, turn
-        i = nxt[i]
-    return best
-
-
-@kernel
-def _ear_clip(xy, ring, out):
-    """Triangulate the polygon ring (m,) whose plane coordinates xy (m, 2) wind CCW, writing
-    its m - 2 triangles (vertex indices from ring, same winding) into out."""
-    m = len(ring)
-    prev = np.empty(m, np.int64)
-    nxt = np.empty(m, np.int64)
-    for k in range(m):
-        prev[k] = (k + m - 1) % m
-        nxt[k] = (k + 1) % m
-    i = 0
-    remaining = m
-    failures = 0
-    t = 0
-    while remaining > 3:
-        if failures >= remaining:
-            i = _most_convex(xy, prev, nxt, i, remaining)
-        elif not _is_ear(xy, prev, nxt, i):
-            i = nxt[i]
-            failures += 1
-            continue
-        out[t, 0], out[t, 1], out[t, 2] = ring[prev[i]], ring[i], ring[nxt[i]]
-        t += 1
-        nxt[prev[i]] = nxt[i]
-        prev[nxt[i]] = prev[i]
-        i = nxt[i]
-        remaining -= 1
-        failures = 0
-    out[t, 0], out[t, 1], out[t, 2] = ring[prev[i]], ring[i], ring[nxt[i]]
-
-
-@kernel
 def _fan(ring, out):
     for t in range(len(ring) - 2):
         out[t, 0], out[t, 1], out[t, 2] = ring[0], ring[t + 1], ring[t + 2]
@@ -162,37 +103,140 @@ def _convex_quad(vertices, polygon_vertices, o):
 
 @kernel
 def _merge_repeats(polygon):
-    """The polygon without consecutive (cyclically) repeated vertex indices."""
-    ring = np.empty(len(polygon), np.int64)
-    k = 0
-    for v in polygon:
-        if k == 0 or v != ring[k - 1]:
-            ring[k] = v
-            k += 1
-    while k > 1 and ring[k - 1] == ring[0]:
-        k -= 1
-    return ring[:k]
+    """The polygon without consecutive (cyclically) repeated vertex indices, and walked once
+    when it is one cycle of vertices walked several times (``1 2 3 1 2 3``)."""
+    m = len(polygon)
+    repeats = polygon[m - 1] == polygon[0]
+    for k in range(1, m):
+        repeats = repeats or polygon[k] == polygon[k - 1]
+    if repeats:
+        ring = np.empty(m, np.int64)
+        k = 0
+        for v in polygon:
+            if k == 0 or v != ring[k - 1]:
+                ring[k] = v
+                k += 1
+        while k > 1 and ring[k - 1] == ring[0]:
+            k -= 1
+        ring = ring[:k]
+    else:
+        ring = polygon  # no copy: most polygons repeat nothing
+    return ring[:_period(ring)]
+
+
+@kernel
+def _period(ring):
+    """The length of the shortest cycle that ring repeats a whole number of times (len(ring)
+    when it repeats none), by Knuth-Morris-Pratt's prefix function in O(m)."""
+    m = len(ring)
+    if m < 6:
+        return m
+    border = np.zeros(m, np.int64)  # border[k]: longest proper border of ring[:k + 1]
+    for k in range(1, m):
+        b = border[k - 1]
+        while b > 0 and ring[k] != ring[b]:
+            b = border[b - 1]
+        border[k] = b + 1 if ring[k] == ring[b] else 0
+    period = m - border[m - 1]
+    return period if m % period == 0 else m
+
+
+@kernel
+def _fans_like_ear_clipping(xy):
+    """True when ear clipping (:func:`rasterkit.kernels.obj_ears.ear_clip`) would cut the
+    fan from the last corner, checked in O(m): every corner turns left (so no corner is reflex
+    or straight and no ear can be blocked), and so does every triangle of that fan but the
+    last (so each is an ear when its turn comes). This is the case of convex polygons."""
+    m = len(xy)
+    for k in range(m):
+        if not cross(xy, (k + m - 1) % m, k, (k + 1) % m) > 0.0:
+            return False
+    for k in range(m - 3):
+        if not cross(xy, m - 1, k, k + 1) > 0.0:
+            return False
+    return True
+
+
+@kernel
+def _turning_number(xy):
+    """How many times the sides of the closed polygon xy turn round, in O(m): 1 for a simple
+    polygon wound counter-clockwise (also one with holes joined by bridges); a polygon that
+    crosses itself or winds round several times mostly has another."""
+    m = len(xy)
+    total = 0.0
+    px = xy[0, 0] - xy[m - 1, 0]
+    py = xy[0, 1] - xy[m - 1, 1]
+    for k in range(m):
+        qx = xy[(k + 1) % m, 0] - xy[k, 0]
+        qy = xy[(k + 1) % m, 1] - xy[k, 1]
+        if qx == 0.0 and qy == 0.0:
+            continue  # a side of length 0 turns nothing: the next side turns from the last
+        if px != 0.0 or py != 0.0:
+            total += np.arctan2(px * qy - py * qx, px * qx + py * qy)
+        px, py = qx, qy
+    return round(total / (2.0 * np.pi))
+
+
+@kernel
+def _ear_clip_with_repeated_places(xy, ring, out):
+    """Ear clipping; where corners are at the same place as the one before them (a side of
+    length 0), it may cut wrong triangles: then the polygon is clipped again without them. (The
+    first cut is kept when it is right: the triangles of the polygons it always served stay as
+    they were.)"""
+    places = distinct_places(xy)
+    if len(places) == len(ring):
+        return ear_clip(xy, ring, out)
+    m = len(ring)
+    local = np.full((m - 2, 3), -1, np.int64)
+    exact = ear_clip(xy, np.arange(m), local)
+    if exact and covers(xy, local):
+        for q in range(m - 2):
+            for k in range(3):
+                out[q, k] = ring[local[q, k]]
+        return True
+    if len(places) < 3:
+        return True
+    local = np.full((len(places) - 2, 3), -1, np.int64)
+    exact = ear_clip(np.ascontiguousarray(xy[places]), np.arange(len(places)), local)
+    for q in range(len(places) - 2):
+        for k in range(3):
+            out[q, k] = ring[places[local[q, k]]]
+    return exact
 
 
 @kernel
 def _triangulate_polygon(vertices, polygon, out):
-    """Triangles of one polygon (m >= 4 vertex indices) into out (m - 2, 3) by ear clipping in
-    the polygon's best-fit plane. Repeated consecutive vertices are merged first; rows left over
-    stay -1."""
+    """Triangles of one polygon (m >= 4 vertex indices) into out (m - 2, 3) in the polygon's
+    best-fit plane; rows left over stay -1. Returns False when it could not be split exactly
+    (see the module documentation)."""
     ring = _merge_repeats(polygon)
     if len(ring) < 3:
-        return
+        return True
     nx, ny, nz = _newell_normal(vertices, ring)
     if len(ring) == 3 or not nx * nx + ny * ny + nz * nz > 0.0:
         _fan(ring, out)
-        return
-    _ear_clip(_plane_coordinates(vertices, ring, nx, ny, nz), ring, out)
+        return True
+    xy = _plane_coordinates(vertices, ring, nx, ny, nz)
+    if not np.isfinite(xy).all():
+        _fan(ring, out)
+        return False
+    if _fans_like_ear_clipping(xy):
+        last = len(ring) - 1
+        for k in range(last - 1):
+            out[k, 0], out[k, 1], out[k, 2] = ring[last], ring[k], ring[k + 1]
+        return True
+    if len(ring) <= EAR_CLIP_LIMIT:
+        return _ear_clip_with_repeated_places(xy, ring, out)
+    if _turning_number(xy) != 1:  # not simple: a fan, in O(m)
+        _fan(ring, out)
+        return False
+    return triangulate_monotone(xy, ring, out)
 
 
 @kernel
 def triangulate(vertices, polygon_vertices, offsets, keep):
     """Triangulate polygons given as runs of vertex indices: triangles and convex quads by a
-    fan, anything else by ear clipping (correct for concave polygons).
+    fan, anything else in the plane of its Newell normal (see the module documentation).
 
     Parameters
     ----------
@@ -202,35 +246,46 @@ def triangulate(vertices, polygon_vertices, offsets, keep):
     offsets : (P + 1,) int64
         Polygon p is polygon_vertices[offsets[p]:offsets[p + 1]], with at least 3 vertices.
     keep : (P,) bool
-        Polygons to triangulate; the others' rows stay -1.
+        Polygons to triangulate; the others give no triangles.
 
     Returns
     -------
     triangles : (T, 3) int64
-        T = sum(m - 2); polygon p's triangles start at row offsets[p] - 2 * p and keep its
-        winding. Rows of -1 mark triangles left out: of polygons not kept, and those that
-        repeated vertices make degenerate.
+        The triangles of the kept polygons in polygon order, each polygon's in its winding;
+        T <= sum(m - 2): triangles that repeated vertices make degenerate are left out. A view
+        of an array of sum(m - 2) rows.
+    counts : (P,) int64
+        Triangles of each polygon.
+    inexact : (P,) bool
+        Polygons that could not be split exactly (see the module documentation).
     """
     count = len(offsets) - 1
-    triangles = np.full((offsets[count] - 2 * count, 3), -1, np.int64)
+    triangles = np.empty((offsets[count] - 2 * count, 3), np.int64)
+    counts = np.zeros(count, np.int64)
+    inexact = np.zeros(count, np.bool_)
+    n = 0  # rows kept so far: polygon p writes from row n, never past its own rows
     for p in range(count):
         if not keep[p]:
             continue
         o = offsets[p]
         m = offsets[p + 1] - o
-        t = o - 2 * p
+        rows = triangles[n:n + m - 2]
+        rows[:] = -1
         if m == 3 or (m == 4 and _convex_quad(vertices, polygon_vertices, o)):
             for j in range(m - 2):
-                triangles[t + j, 0] = polygon_vertices[o]
-                triangles[t + j, 1] = polygon_vertices[o + j + 1]
-                triangles[t + j, 2] = polygon_vertices[o + j + 2]
+                rows[j, 0] = polygon_vertices[o]
+                rows[j, 1] = polygon_vertices[o + j + 1]
+                rows[j, 2] = polygon_vertices[o + j + 2]
         else:
-            _triangulate_polygon(vertices, polygon_vertices[o:o + m], triangles[t:t + m - 2])
-        for j in range(t, t + m - 2):
-            a, b, c = triangles[j, 0], triangles[j, 1], triangles[j, 2]
-            if a == b or b == c or c == a:
-                triangles[j] = -1
-    return triangles
+            inexact[p] = not _triangulate_polygon(vertices, polygon_vertices[o:o + m], rows)
+        start = n
+        for j in range(m - 2):
+            a, b, c = rows[j, 0], rows[j, 1], rows[j, 2]
+            if a >= 0 and a != b and b != c and c != a:
+                triangles[n, 0], triangles[n, 1], triangles[n, 2] = a, b, c
+                n += 1
+        counts[p] = n - start
+    return triangles[:n], counts, inexact
 
 
 @kernel

@@ -1,8 +1,16 @@
 """Numba kernels that split OBJ text into statements and tokens (for :func:`rasterkit.load_obj`).
 
 Everything here works on the raw bytes of a file (a C-contiguous uint8 array). A *statement*
-is one OBJ line: a keyword and its tokens. Whitespace is space, tab, CR, VT and FF; ``#`` at
-the start of a token starts a comment that runs to the end of the line. Line continuations (a
+is one OBJ line (ended by LF): a keyword and its tokens. ``#`` at the start of a token starts a
+comment that runs to the end of the line.
+
+Tokens are separated by *blanks*, the bytes of :data:`BLANKS`: space and tab (the OBJ
+convention), and CR, VT and FF, which count as spaces (CR ends the lines of Windows files; VT
+and FF are the rest of C's ``isspace``, which many OBJ readers split on). Every other byte is
+part of a token: the control bytes 0x1c-0x1f and Unicode spaces (U+0085, U+00A0, U+2003,
+U+3000...) separate nothing, so a number or vertex reference that contains one is malformed.
+Python code splits a statement's text with :func:`split_tokens`, which agrees with the kernels
+on every byte. Line continuations (a
 backslash before the line break) are blanked out by the caller before the scan, so here every
 statement is one physical line. The byte classes and byte codes here are shared by the number
 (:mod:`~rasterkit.kernels.obj_numbers`) and corner (:mod:`~rasterkit.kernels.obj_corners`)
@@ -40,9 +48,21 @@ _KIND_KEYS = np.array(list(_KINDS), np.int64)
 _KIND_CODES = np.array(list(_KINDS.values()), np.int8)
 
 
+BLANKS = b" \t\r\x0b\x0c"
+"""The bytes that separate tokens (see the module documentation); LF separates statements."""
+
+
 @kernel(inline="always")
 def is_blank(c):
+    """True for the bytes of :data:`BLANKS`."""
     return c == 32 or c == 9 or c == 13 or c == 11 or c == 12
+
+
+def split_tokens(text: bytes) -> list:
+    """The tokens of a statement's text, split as the kernels split them: ``bytes.split()``
+    with no argument splits on exactly :data:`BLANKS` and LF (ASCII whitespace), never on the
+    Unicode spaces that ``str.split()`` knows."""
+    return text.split()
 
 
 @kernel(inline="always")
