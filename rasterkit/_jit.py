@@ -29,8 +29,9 @@ A parallel kernel is a *worker*: ``worker(slot, *args)``, called at once on ``n`
 with slots ``0 .. n - 1`` (the caller's thread is slot 0). Workers share the work by
 claiming pieces from a counter (:func:`rasterkit.kernels.intrinsics.fetch_add`), so a thread
 that gets less of the machine simply claims fewer pieces, and the result never depends on
-the number of threads. The threads wait for work on a lock, asleep, never spinning: beside
-other busy processes they give their core away.
+the number of threads. Between calls the threads watch for the next one for at most
+:data:`WATCH_SECONDS` (100 microseconds: the gaps between the passes of one frame), then wait
+on a lock, asleep: beside other busy processes they give their core away.
 """
 
 from __future__ import annotations
