@@ -447,3 +447,38 @@ def test_no_kernel_is_compiled_with_parallel_true():
     for d in dispatchers:
         assert not d.targetoptions.get("parallel"), d.py_func.__qualname__
         assert d.targetoptions.get("nogil"), d.py_func.__qualname__
+
+
+# --- the hand-off between passes ---------------------------------------------------------------
+
+
+def test_wait_for_sees_the_flag_or_gives_up_after_its_steps():
+    from rasterkit.kernels.handoff import finish_and_watch, wait_for
+
+    flags = np.zeros(64, np.int64)
+    assert not wait_for(flags, 8, 1, 1000)
+    flags[8] = 3
+    assert wait_for(flags, 8, 3, 0) and wait_for(flags, 8, 2, 10) and not wait_for(flags, 8, 4, 10)
+    claims = np.zeros(64, np.int64)
+    # publishes "finished", then needs both the next call (flags[8] >= 3) and a first claim
+    assert not finish_and_watch(flags, 24, 2, 8, claims, 40, 1000) and flags[24] == 2
+    claims[40] = 1
+    assert finish_and_watch(flags, 24, 2, 8, claims, 40, 1000)
+    assert not finish_and_watch(flags, 24, 3, 8, claims, 40, 1000) and flags[24] == 3
+
+
+@needs_two
+def test_back_to_back_and_spaced_calls_share_the_pools_counter_correctly():
+    # Calls closer together than the watching period are handed over by the flags, calls
+    # further apart by the locks: every call's pieces are claimed exactly once either way.
+    from rasterkit._jit import WATCH_SECONDS, run_workers
+
+    rng = np.random.default_rng(1)
+    for k in range(300):
+        n = int(rng.integers(1, 64))
+        values = rng.integers(-1000, 1000, n).astype(np.int64)
+        out, hits, owner = np.zeros(n, np.int64), np.zeros(n, np.int64), np.full(n, -1, np.int64)
+        claimed = run_workers(_claim_pieces, n, values, out, hits, owner, threads=2)
+        _check_claims(n, values, out, hits, owner, claimed, 2)
+        if k % 3 == 1:
+            time.sleep(WATCH_SECONDS * rng.uniform(0.5, 3.0))
