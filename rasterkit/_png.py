@@ -34,14 +34,26 @@ def header(color: np.ndarray) -> bytes:
     return chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2 if channels == 3 else 6, 0, 0, 0))
 
 
+#: Rows go through zlib this many bytes at a time: the stream is made without a second
+#: copy of the image (a 32768x32768 render would need 3 GiB more).
+_BLOCK_BYTES = 1 << 22
+
+
 def compressed(color: np.ndarray) -> bytes:
     """The zlib stream of a uint8 (H, W, 3|4) image's rows, each with filter type 0 (none),
-    at :data:`PNG_COMPRESS_LEVEL`."""
+    at :data:`PNG_COMPRESS_LEVEL`, compressed a block of rows at a time."""
     height, width, channels = color.shape
-    rows = np.empty((height, 1 + width * channels), np.uint8)
-    rows[:, 0] = 0  # the filter type of each row
-    rows[:, 1:] = color.reshape(height, width * channels)
-    return zlib.compress(rows.data, PNG_COMPRESS_LEVEL)
+    rows_per_block = max(1, _BLOCK_BYTES // (1 + width * channels))
+    block = np.empty((min(rows_per_block, height), 1 + width * channels), np.uint8)
+    block[:, 0] = 0  # the filter type of each row
+    stream = zlib.compressobj(PNG_COMPRESS_LEVEL)
+    parts = []
+    for y in range(0, height, rows_per_block):
+        n = min(rows_per_block, height - y)
+        block[:n, 1:] = color[y:y + n].reshape(n, width * channels)
+        parts.append(stream.compress(block[:n].data))
+    parts.append(stream.flush())
+    return b"".join(parts)
 
 
 def pieces(data: bytes, limit: int | None = None) -> list[bytes]:

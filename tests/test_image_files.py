@@ -350,3 +350,23 @@ def test_animation_memory_does_not_grow_with_the_frame_count(tmp_path, name):
             assert im.n_frames == n
     # keeping 90 more frames would take 130 MB more
     assert peaks[100] - peaks[10] < 30 * 1024**2, peaks
+
+
+def test_png_stream_is_compressed_without_a_copy_of_the_image():
+    # 4000x4000 RGB is 48 MB; a flat image compresses to almost nothing, so the encoder's
+    # peak is its block of rows, not a second copy of the image.
+    import io
+    import tracemalloc
+
+    from PIL import Image
+
+    from rasterkit.image import encode_png
+
+    image = np.full((4000, 4000, 3), 200, np.uint8)
+    image[::97, ::89] = 3
+    tracemalloc.start()
+    data = encode_png(image)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 12 * 2**20, peak
+    np.testing.assert_array_equal(np.asarray(Image.open(io.BytesIO(data))), image)
