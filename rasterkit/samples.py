@@ -8,7 +8,8 @@ points in every run, on every machine, at any thread count.
   ``sqrt(n)``), one in every cell of the grid (stratified in 2D) and one in every ``1/n``
   strip of each axis (stratified in each 1D projection, the "n-rooks" property), so an edge
   near an axis is sampled as finely as ``n`` allows. The shuffles and jitter come from a
-  fixed-seed SplitMix64 stream.
+  fixed-seed SplitMix64 stream; the 16 pixel samples are such a pattern tuned for edges
+  (:data:`_PIXEL_16`).
 - :func:`concentric_disc`: Shirley and Chiu's concentric map of the square onto the unit
   disc, which keeps the strata (and their areas) of a square pattern.
 - :func:`pixel_offsets` and :func:`lens_points`: the pixel jitter and the lens points of
@@ -68,8 +69,23 @@ def _check(n) -> int:
     return int(n)
 
 
+#: 16 pixel samples, in 1/4096 of a pixel (each point at ``(q + 1/2)/4096``): a correlated
+#: multi-jittered pattern (the same strata as :func:`square`'s) whose shuffles and jitter
+#: were then tuned, by a random search, for the worst coverage error over straight edges
+#: (100,000 random half-planes cutting the pixel: the sample fraction on one side against
+#: the covered area): above 1/10 for 1 edge position in 10,000, against 4 in 1,000 for the
+#: untuned pattern (no 16 points keep every half-plane within 1/10: the best found reach 0.11).
+_PIXEL_16 = ((958, 255), (1853, 768), (2894, 261), (3851, 676), (715, 1066), (1536, 1967),
+             (2578, 1485), (3584, 1779), (255, 2065), (1177, 2824), (2303, 2559), (3294, 2660),
+             (397, 3293), (1327, 4095), (2499, 3479), (3542, 3650))
+
+
 @functools.lru_cache(maxsize=None)
 def _square(n: int, seed: int) -> np.ndarray:
+    if n == 16 and seed == _PIXEL_SEED:
+        points = (np.array(_PIXEL_16, np.float64) + 0.5) / 4096
+        points.flags.writeable = False
+        return points
     m, k = _grid(n)
     stream = _stream(seed)
     column_shuffle, row_shuffle = _shuffle(m, stream), _shuffle(k, stream)

@@ -23,7 +23,7 @@ from .rays import parallel_ray, perspective_ray, window_coordinates
 
 @dataclass(frozen=True, kw_only=True)
 class Camera:
-    """An immutable pinhole (perspective) or parallel camera.
+    """An immutable pinhole or thin-lens (perspective) or parallel camera.
 
     Build cameras with the classmethods (``look_at``, ``orthographic``, ``frame``, the
     axonometric, oblique and 1/2/3-point presets, whose geometry is explained in
