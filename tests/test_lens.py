@@ -298,3 +298,18 @@ def test_cli_bad_lens_options_are_one_line_errors(extra, tmp_path, capsys):
     assert code == 2
     assert err.startswith("rasterkit: error:") and err.count("\n") == 1
     assert not out.exists()
+
+
+def test_the_average_of_the_sums_rounds_like_integer_division():
+    from rasterkit._jit import run_workers
+    from rasterkit.kernels.accumulate import add_sample, average_samples
+
+    for n in (2, 3, 4, 7, 16, 100, 255, 256):
+        total = np.arange(255 * n + 1, dtype=np.uint16)
+        out = np.empty(total.shape, np.uint8)
+        run_workers(average_samples, total, out, 1.0 / n, (n // 2 + 0.5) / n)
+        assert np.array_equal(out, (total.astype(np.int64) + n // 2) // n)
+    total = np.empty(5, np.uint16)
+    run_workers(add_sample, total, np.array([0, 1, 2, 254, 255], np.uint8), True)
+    run_workers(add_sample, total, np.array([255, 255, 3, 254, 255], np.uint8), False)
+    assert total.tolist() == [255, 256, 5, 508, 510]
