@@ -17,19 +17,19 @@ from pathlib import Path
 
 import numba
 
-from . import cli, contention, fill, lines2d, loading, memory, render, report, scaling, startup
+from . import aa, cli, contention, fill, lines2d, loading, memory, render, report, scaling, startup
 from .peers import Peers
 from .settings import FULL, QUICK, TARGETS, TINY
 
 # The families that start processes come last: in one run, rasterkit's 2-thread kernels in this
 # process were seen to slow down ~10x for a minute after the CLI family's subprocesses.
-FAMILIES = {"render": render.run, "fill": fill.run, "lines2d": lines2d.run, "loading": loading.run,
+FAMILIES = {"render": render.run, "aa": aa.run, "fill": fill.run, "lines2d": lines2d.run, "loading": loading.run,
             "scaling": scaling.run, "memory": memory.run, "cli": cli.run, "startup": startup.run,
             "contention": contention.run, "threads": scaling.run_threads}
-DEFAULT_FAMILIES = ("render", "fill", "lines2d", "loading", "scaling", "memory", "cli", "startup",
+DEFAULT_FAMILIES = ("render", "aa", "fill", "lines2d", "loading", "scaling", "memory", "cli", "startup",
                     "contention")
 """What a run measures unless ``--only`` says otherwise (``threads`` is part of ``scaling``)."""
-TARGET_FAMILIES = ("render", "fill", "threads")
+TARGET_FAMILIES = ("render", "aa", "fill", "threads")
 
 PACKAGES = ("rasterkit", "numpy", "numba", "llvmlite", "pillow", "moderngl", "opencv-python-headless",
             "trimesh", "scikit-image")
@@ -43,8 +43,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--quick", action="store_true",
                         help="a small version (about 3 minutes, most of it cold start-up runs)")
     parser.add_argument("--targets", action="store_true",
-                        help="only the rasterization targets: 3 models at 1920x1080, the fill "
-                             "scene and 2 threads vs 1 (about ten seconds; families render,fill,threads)")
+                        help="only the targets: 3 models at 1920x1080, 4 samples against 4x MSAA, "
+                             "the fill scene and 2 threads vs 1 (about 15 seconds; families "
+                             "render,aa,fill,threads)")
     parser.add_argument("--tiny", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--out", type=Path, default=Path("benchmark-results"),
                         help="folder for results.json, results.md and the plots "

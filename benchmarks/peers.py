@@ -152,16 +152,21 @@ class Llvmpipe:
             towards_eye=tuple(float(c) for c in camera.basis()[2]),
             width=camera.width, height=camera.height, cull=cull == "back")
 
-    def _framebuffer(self, width: int, height: int):
-        key = (width, height)
+    def _framebuffer(self, width: int, height: int, samples: int = 0):
+        key = (width, height, samples)
         if key not in self._framebuffers:
+            size = (width, height)
             self._framebuffers[key] = self.ctx.framebuffer(
-                color_attachments=[self.ctx.renderbuffer(key, 4)],
-                depth_attachment=self.ctx.depth_renderbuffer(key))
+                color_attachments=[self.ctx.renderbuffer(size, 4, samples=samples)],
+                depth_attachment=self.ctx.depth_renderbuffer(size, samples=samples))
         return self._framebuffers[key]
 
-    def draw(self, glmesh: GLMesh, mode: str) -> np.ndarray:
+    def draw(self, glmesh: GLMesh, mode: str, samples: int = 0) -> np.ndarray:
         """One frame: clear, draw ``mode`` (as rasterkit's modes), read back.
+
+        ``samples > 0`` draws into a multisampled (MSAA) framebuffer of that many samples and
+        resolves it (``copy_framebuffer``, a glBlitFramebuffer) into a single-sample one
+        before the read: the resolve is part of the frame.
 
         Returns
         -------
@@ -169,7 +174,7 @@ class Llvmpipe:
             The image, rows top-down (a reversed view of GL's bottom-up rows).
         """
         gl, ctx = self.gl, self.ctx
-        fbo = self._framebuffer(glmesh.width, glmesh.height)
+        fbo = self._framebuffer(glmesh.width, glmesh.height, samples)
         fbo.use()
         fbo.clear(1.0, 1.0, 1.0, 1.0, depth=1.0)
         self.plain["mvp"].write(glmesh.mvp)
@@ -186,6 +191,10 @@ class Llvmpipe:
         if mode != "solid":
             self.plain["color"].value = (0.0, 0.0, 0.0)
             glmesh.lines_vao.render(gl.LINES)
+        if samples:
+            resolved = self._framebuffer(glmesh.width, glmesh.height)
+            ctx.copy_framebuffer(resolved, fbo)
+            fbo = resolved
         data = fbo.read(components=3, alignment=1)
         return np.frombuffer(data, np.uint8).reshape(glmesh.height, glmesh.width, 3)[::-1]
 

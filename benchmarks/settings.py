@@ -73,6 +73,10 @@ class Settings:
         How many rasterkit (and llvmpipe) processes render at once, one configuration each.
     contention_seconds : float
         Wall time each process renders frames for.
+    aa_model : str
+        Model of the ``aa`` family (``samples=4`` against 4x MSAA).
+    aa_size : (width, height)
+        Its image size.
     """
 
     name: str
@@ -99,6 +103,8 @@ class Settings:
     startup_sequence: bool = True
     contention_processes: tuple = (1, 2, 4)
     contention_seconds: float = 2.0
+    aa_model: str = "ogre"
+    aa_size: tuple = TARGET_SIZE
 
 
 FULL = Settings(
@@ -151,6 +157,7 @@ TINY = Settings(
     sweep_model="suzanne", memory=("render",), process_repeat=1,
     startup_model="suzanne", startup_size=(64, 48), demo_size=(64, 48), startup_cold_runs=1,
     startup_sequence=False, contention_processes=(1, 2), contention_seconds=0.3,
+    aa_model="suzanne", aa_size=(64, 48),
 )
 
 

@@ -89,7 +89,8 @@ def _camera(args, center, radius):
     return Camera.preset(args.projection, center, radius, width=width, height=height,
                          azimuth=args.azimuth, elevation=args.elevation, fov_y=args.fov,
                          distance=args.distance, eye=args.eye, target=args.target, up=args.up,
-                         near=args.near, far=args.far)
+                         near=args.near, far=args.far, aperture=args.aperture,
+                         focus_distance=args.focus)
 
 
 def _turntable(mesh, camera, center, frames: int, style: dict):
@@ -122,7 +123,8 @@ def _render_job(job: Job, args) -> None:
         raise UsageError("the model has no extent (all vertices coincide)")
     camera = _camera(args, center, radius)
     style = dict(mode=args.mode, cull=args.cull, shading=args.shading, color=args.color,
-                 line_color=args.line_color, background=args.background, aa=args.aa)
+                 line_color=args.line_color, background=args.background, aa=args.aa,
+                 samples=args.samples, vignette=args.vignette)
     if args.turntable:  # streamed: one frame in memory at a time
         save_animation(_turntable(mesh, camera, center, args.turntable, style), job.output)
         return

@@ -38,6 +38,7 @@ examples:
   rasterkit render model.obj -o model.png --size 1920x1080 --mode solid+wire
   rasterkit render model.obj -o model.png --projection isometric --mode hidden
   rasterkit render model.obj -o model.png --eye 3,2,4 --target 0,0,0 --fov 35
+  rasterkit render model.obj -o model.png --mode solid --samples 16 --aperture 0.2 --focus auto
   rasterkit render model.obj -o spin.gif --turntable 36 --mode solid
   rasterkit render models/ -o images/ --mode solid      (every .obj in a folder)
   rasterkit info model.obj
@@ -98,6 +99,29 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _focus(text: str) -> float | None:
+    if text.strip().lower() == "auto":
+        return None
+    value = _finite(text)
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"the focus distance must be positive (or 'auto'), got {text!r}")
+    return value
+
+
+def _samples(text: str) -> int:
+    value = _positive_int(text)
+    if value > 256:
+        raise argparse.ArgumentTypeError(f"at most 256 samples, got {value}")
+    return value
+
+
+def _unit_interval(text: str) -> float:
+    value = _finite(text)
+    if not 0.0 <= value <= 1.0:
+        raise argparse.ArgumentTypeError(f"must lie in [0, 1], got {text!r}")
+    return value
+
+
 def _size_limit(text: str) -> int:
     try:
         return limits.parse_size(text)
@@ -141,6 +165,10 @@ def _parser() -> argparse.ArgumentParser:
     cam.add_argument("--elevation", type=_finite, default=20.0, metavar="DEG",
                      help="above the horizon (default 20)")
     cam.add_argument("--distance", type=_finite, metavar="D", help="eye distance from the target")
+    cam.add_argument("--aperture", type=_finite, default=0.0, metavar="A",
+                     help="lens diameter, world units: depth of field with --samples (default 0, a pinhole)")
+    cam.add_argument("--focus", type=_focus, default=None, metavar="F",
+                     help="distance of the plane in focus, or 'auto' (default): the distance to the target")
     look = r.add_argument_group("appearance")
     look.add_argument("--color", default="lightgray", help="surface colour (name or #rrggbb)")
     look.add_argument("--line-color", default="black", help="line colour (name or #rrggbb)")
@@ -148,7 +176,12 @@ def _parser() -> argparse.ArgumentParser:
                       help="background colour; 'transparent' writes RGBA")
     look.add_argument("--cull", choices=CULL, default="back")
     look.add_argument("--shading", choices=SHADING, default="flat")
-    look.add_argument("--aa", action="store_true", help="anti-aliased lines")
+    look.add_argument("--aa", action="store_true", help="anti-aliased (Wu) lines")
+    look.add_argument("--samples", type=_samples, default=1, metavar="N",
+                      help="jittered samples per pixel, averaged: anti-aliasing, and depth of field "
+                           "with --aperture (1 to 256, default 1)")
+    look.add_argument("--vignette", type=_unit_interval, default=0.0, metavar="V",
+                      help="natural cos^4 falloff towards the corners, 0 (none, default) to 1 (full)")
     out = r.add_argument_group("output")
     out.add_argument("--threads", type=_positive_int, metavar="N",
                      help="threads for the kernels (default: all cores)")

@@ -17,7 +17,7 @@ import numpy as np
 from ._arrays import unit_vector
 from .camera import Camera
 from .colors import ColorLike, parse_color
-from . import _triangles
+from . import _accumulate, _triangles
 from .framebuffer import Framebuffer, buffer_bytes
 from ._jit import get_threads
 from .limits import check_memory
@@ -65,7 +65,8 @@ def _choice(name: str, value: str, allowed: tuple) -> str:
 def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str = "back",
            shading: str = "flat", color: ColorLike = "lightgray",
            line_color: ColorLike = "black", background: ColorLike | None = None,
-           light=None, aa: bool = False, ids: bool = False) -> Framebuffer:
+           light=None, aa: bool = False, ids: bool = False, samples: int = 1,
+           vignette: float = 0.0) -> Framebuffer:
     """Render a mesh or a scene seen by a camera into a new :class:`Framebuffer`.
 
     Parameters
@@ -97,6 +98,20 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         Anti-aliased (Xiaolin Wu) lines.
     ids : bool
         Also fill the framebuffer's id buffer with the index of the visible face.
+    samples : int
+        Samples per pixel, 1 to 256, averaged (rounded to the nearest level). Each sample
+        draws the whole scene once at a fixed, stratified sub-pixel offset
+        (:mod:`rasterkit.samples`): anti-aliasing of faces, edges and lines. A camera with
+        an ``aperture`` also moves each sample's eye across its lens, keeping the focus
+        plane in place: depth of field (:mod:`rasterkit.camera.lens`). 1 is one sample at
+        the pixel centre through the pinhole (the aperture is then unused). The depth buffer
+        and the ids of a render with ``samples > 1`` are those of the centre sample: what
+        ``samples=1`` gives with the same camera (the depth is drawn when first read; with
+        ``ids`` the centre sample is drawn once more, eagerly).
+    vignette : float
+        In [0, 1]: 1 darkens every pixel (background too) by the natural cos⁴θ falloff of a
+        lens camera, θ the angle between the pixel's ray and the optical axis; 0 none (the
+        default); in between, ``1 - vignette·(1 - cos⁴θ)``. Parallel cameras have none.
 
     Returns
     -------
@@ -127,22 +142,40 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     options = _Options(_choice("mode", mode, MODES), _choice("cull", cull, CULL),
                        _choice("shading", shading, SHADING), parse_color(color),
                        parse_color(line_color), bool(aa), light)
-    check_memory(memory_needed(mesh, camera.width, camera.height, options, parse_color(background)[3] < 255, ids),
+    samples, vignette = _accumulate.check(samples, vignette)
+    alpha = parse_color(background)[3] < 255
+    check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids)
+                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette),
                  f"a {camera.width}x{camera.height} {options.mode} render of {len(mesh.faces)} faces")
+    if samples == 1 and vignette == 0.0:
+        return _frame(mesh, camera, options, background, ids)
+    return _accumulate.render_samples(camera, samples, vignette, background, ids,
+                                      partial(_draw_frame, mesh, options),
+                                      partial(_frame, mesh, camera, options, background))
+
+
+def _frame(mesh: Mesh, camera: Camera, options: _Options, background, ids: bool) -> Framebuffer:
+    """One sample at the pixel centres through the pinhole: a new framebuffer, drawn."""
     # Every buffer is cleared by the kernels, band by band in the threads that draw it.
     fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
+    _draw_frame(mesh, options, fb, camera.world_to_raster())
+    return fb
+
+
+def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarray) -> None:
+    """Draw the mesh into every buffer of ``fb`` (cleared on the way) through the world ->
+    raster ``matrix``."""
     if options.mode == "wire":  # no depth buffer: it stays "farthest" until someone asks
         if fb.ids is not None:
             fb.ids.fill(-1)
         # the edges' vertex pass transforms the vertices itself: one pass over them less
         _draw_edges(fb, mesh, None, options, depth_test=False, clear=True,
-                    transform=(mesh.vertices, camera.world_to_raster()))
-        return fb
-    clip = transform_points(mesh.vertices, camera.world_to_raster())
+                    transform=(mesh.vertices, matrix))
+        return
+    clip = transform_points(mesh.vertices, matrix)
     _draw_triangles(fb, mesh, clip, options)
     if options.mode != "solid":
         _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
-    return fb
 
 
 def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha: bool, ids: bool) -> int:

@@ -15,6 +15,8 @@ The package, one part per module:
 - ``projections``: :data:`PROJECTIONS`, the framing of a bounding sphere, and the
   axonometric, oblique and 1/2/3-point presets;
 - ``rays``: the lecture's ray-tracer camera, the ray through a raster point;
+- ``lens``: the thin lens and the per-sample matrices of a multi-sample render (sub-pixel
+  jitter and lens points as window shifts, so the shear H does real work), and vignetting;
 - ``checks``: the rules for a valid camera;
 - ``camera``: the ``Camera`` object, which validates its fields and ties the others together.
 

@@ -23,7 +23,7 @@ from .rays import parallel_ray, perspective_ray, window_coordinates
 
 @dataclass(frozen=True, kw_only=True)
 class Camera:
-    """An immutable pinhole (perspective) or parallel camera.
+    """An immutable pinhole or thin-lens (perspective) or parallel camera.
 
     Build cameras with the classmethods (``look_at``, ``orthographic``, ``frame``, the
     axonometric, oblique and 1/2/3-point presets, whose geometry is explained in
@@ -61,6 +61,13 @@ class Camera:
         (the receding axis) has length ``oblique_ratio`` (world units) and makes the angle
         ``oblique_angle`` (degrees, counter-clockwise, y up) with the image's x axis. Ratio 0
         is an orthographic camera; 1 is cavalier, 1/2 cabinet.
+    aperture : float
+        Perspective only: diameter of the thin lens, world units; 0 (the default) is the
+        pinhole camera. Only :func:`rasterkit.render` with ``samples > 1`` uses it (depth of
+        field, :mod:`rasterkit.camera.lens`); the chain and :meth:`ray` are the pinhole's.
+    focus_distance : float or None
+        Perspective only: distance of the plane in focus from the eye along the viewing
+        direction, world units; None: the distance to ``target``.
     """
 
     kind: str
@@ -76,6 +83,8 @@ class Camera:
     view_height: float | None = None
     oblique_angle: float = 0.0
     oblique_ratio: float = 0.0
+    aperture: float = 0.0
+    focus_distance: float | None = None
 
     def __post_init__(self) -> None:
         checked = camera_fields(**{f.name: getattr(self, f.name) for f in fields(self)})
@@ -98,15 +107,19 @@ class Camera:
         near: float = 0.1,
         far: float = 100.0,
         shift: Sequence[float] = (0.0, 0.0),
+        aperture: float = 0.0,
+        focus_distance: float | None = None,
     ) -> Camera:
         """Perspective camera at ``eye`` looking at ``target``.
 
         ``fov_y`` is the vertical field of view in degrees; ``shift`` moves the window off
-        centre in units of its half width and half height (see the class docstring).
-        Raises ``ValueError`` for invalid values.
+        centre in units of its half width and half height; ``aperture`` (lens diameter) and
+        ``focus_distance`` (default: the distance to ``target``) make it a thin-lens camera
+        (see the class docstring). Raises ``ValueError`` for invalid values.
         """
         return cls(kind="perspective", eye=eye, target=target, up=up, fov_y=fov_y,
-                   width=width, height=height, near=near, far=far, shift=shift)
+                   width=width, height=height, near=near, far=far, shift=shift,
+                   aperture=aperture, focus_distance=focus_distance)
 
     @classmethod
     def orthographic(
@@ -140,6 +153,8 @@ class Camera:
         width: int = 640,
         height: int = 480,
         projection: str = "perspective",
+        aperture: float = 0.0,
+        focus_distance: float | None = None,
     ) -> Camera:
         """Camera looking at a bounding sphere that fills the view.
 
@@ -157,11 +172,14 @@ class Camera:
             Its radius, > 0.
         projection : {'perspective', 'parallel'}
             'parallel' gives an orthographic camera (``fov_y`` is then unused).
+        aperture, focus_distance : float
+            The lens of a perspective camera (see the class docstring).
         """
         if projection not in KINDS:
             raise ValueError(f"projection must be 'perspective' or 'parallel', got {projection!r}")
         return cls(**projections.framing(center, radius, azimuth, elevation, width, height,
-                                         fov_y=fov_y if projection == "perspective" else None))
+                                         fov_y=fov_y if projection == "perspective" else None),
+                   aperture=aperture, focus_distance=focus_distance)
 
     @classmethod
     def isometric(
@@ -245,7 +263,8 @@ class Camera:
         width: int = 640, height: int = 480, azimuth: float = 30.0, elevation: float = 20.0,
         fov_y: float = 45.0, distance: float | None = None, eye: Sequence[float] | None = None,
         target: Sequence[float] | None = None, up: Sequence[float] | None = None,
-        near: float | None = None, far: float | None = None,
+        near: float | None = None, far: float | None = None, aperture: float = 0.0,
+        focus_distance: float | None = None,
     ) -> Camera:
         """The camera of a projection named in :data:`PROJECTIONS`, framing a bounding sphere.
 
@@ -255,15 +274,16 @@ class Camera:
         moves the eye along its line to that distance from the target; ``eye``, ``target``
         and ``up`` replace those of the framed camera; ``near`` and ``far`` replace the
         clipping distances, which otherwise enclose the sphere as seen from the final eye.
-        A parallel camera keeps its view box whatever the distance.
+        A parallel camera keeps its view box whatever the distance. ``aperture`` and
+        ``focus_distance`` (None: the final distance to the target) give the lens.
         """
         return projections.preset(
             cls, projection, center, radius, width=width, height=height, azimuth=azimuth,
             elevation=elevation, fov_y=fov_y, distance=distance, eye=eye, target=target, up=up,
-            near=near, far=far)
+            near=near, far=far, aperture=aperture, focus_distance=focus_distance)
 
     def with_size(self, width: int, height: int) -> Camera:
-        """A copy with another image size (the vertical extent of the view is kept)."""
+        """A copy with another image size (the vertical extent of the view and the lens are kept)."""
         return replace(self, width=width, height=height)
 
     # --- geometry --------------------------------------------------------------------------

@@ -70,6 +70,7 @@ def camera_fields(
     *, kind: str, eye: Sequence[float], target: Sequence[float], up: Sequence[float],
     width: int, height: int, near: float, far: float, fov_y: float | None,
     shift: Sequence[float], view_height: float | None, oblique_angle: float, oblique_ratio: float,
+    aperture: float = 0.0, focus_distance: float | None = None,
 ) -> dict[str, Any]:
     """The fields of a ``Camera`` (see its docstring), checked and converted.
 
@@ -92,7 +93,11 @@ def camera_fields(
         view_height=view_height,
         oblique_angle=finite(oblique_angle, "oblique_angle"),
         oblique_ratio=finite(oblique_ratio, "oblique_ratio"),
+        aperture=finite(aperture, "aperture"),
+        focus_distance=None if focus_distance is None else positive(focus_distance, "focus_distance"),
     )
+    if f["aperture"] < 0.0:
+        raise ValueError(f"aperture must not be negative, got {aperture!r}")
     if not f["near"] < f["far"]:
         raise ValueError(f"near must be smaller than far, got near={f['near']}, far={f['far']}")
     _check_frame(f["eye"], f["target"], f["up"])
@@ -141,6 +146,9 @@ def _check_parallel(f: dict[str, Any]) -> None:
     f["view_height"] = positive(f["view_height"], "view_height")
     if f["fov_y"] is not None or f["shift"] != (0.0, 0.0):
         raise ValueError("fov_y and shift belong to perspective cameras")
+    if f["aperture"] != 0.0 or f["focus_distance"] is not None:
+        raise ValueError("aperture and focus_distance belong to perspective cameras (a parallel "
+                         "camera has no lens)")
     if f["oblique_ratio"] < 0.0:
         raise ValueError(f"oblique_ratio must not be negative, got {f['oblique_ratio']}")
 

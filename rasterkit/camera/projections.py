@@ -204,6 +204,7 @@ def preset(
     width: int, height: int, azimuth: float, elevation: float, fov_y: float,
     distance: float | None, eye: Sequence[float] | None, target: Sequence[float] | None,
     up: Sequence[float] | None, near: float | None, far: float | None,
+    aperture: float = 0.0, focus_distance: float | None = None,
 ) -> _Camera:
     """:meth:`Camera.preset`: the named projection's camera, then the overrides in their order.
 
@@ -241,4 +242,5 @@ def preset(
     return replace(cam, eye=tuple(new_eye), target=tuple(new_target),
                    up=cam.up if up is None else up,
                    near=auto_near if near is None else near,
-                   far=d + 2.0 * r if far is None else far)
+                   far=d + 2.0 * r if far is None else far,
+                   aperture=aperture, focus_distance=focus_distance)

@@ -1,0 +1,91 @@
+"""Multi-sample renders: the samples drawn into one reused framebuffer, summed, averaged once.
+
+:func:`rasterkit.render` with ``samples > 1`` (or a ``vignette``) comes here. Sample ``s`` is
+the whole scene drawn through its own world -> raster matrix
+(:func:`rasterkit.camera.lens.sample_matrices`: a sub-pixel shift of the window, and for a
+lens camera an eye moved across the lens), into one scratch framebuffer that every sample
+reuses (its buffers are cleared by the drawing kernels, band by band, as for any render).
+Its colour is added into a 16-bit sum (256 samples of 255 fit) by a small parallel kernel
+(:mod:`rasterkit.kernels.accumulate`), which is divided once, with rounding, into the result. The result's depth buffer and ids are those of the centre sample
+(the ``samples=1`` render): the depth is drawn when first read (:meth:`Framebuffer.defer_depth`),
+the ids, when asked for, by drawing the centre sample once more.
+
+Nothing here depends on the thread count: each sample's image does not, and every pixel's
+sum is added in the samples' fixed order.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _memory
+from ._arrays import real_number
+from ._jit import run_workers
+from .kernels.accumulate import add_sample, average_samples
+from .camera.lens import sample_matrices, vignette_factor
+from .framebuffer import Framebuffer, buffer_bytes
+from .samples import _check as _check_samples, lens_points, pixel_offsets
+
+__all__ = ["check", "extra_bytes", "render_samples"]
+
+
+def check(samples, vignette) -> tuple[int, float]:
+    """``samples`` (an int, 1..256) and ``vignette`` (a real number in [0, 1]), checked."""
+    samples = _check_samples(samples)
+    v = real_number(vignette, "vignette")
+    if not 0.0 <= v <= 1.0:
+        raise ValueError(f"vignette must lie in [0, 1], got {vignette!r}")
+    return samples, v
+
+
+def extra_bytes(width: int, height: int, alpha: bool, samples: int, vignette: float) -> int:
+    """Bytes a render needs beyond one frame's: the scratch framebuffer and the 16-bit sums
+    of the samples, and the vignette's float32 factors and products."""
+    pixels, channels = width * height, 4 if alpha else 3
+    total = 0
+    if samples > 1:
+        total += buffer_bytes(width, height, alpha) + 2 * pixels * channels
+    if vignette:
+        total += 4 * pixels * (1 + channels)
+    return total
+
+
+def render_samples(camera, samples: int, vignette: float, background, ids: bool, draw, centre) -> Framebuffer:
+    """The averaged render.
+
+    ``draw(fb, matrix)`` draws one sample into ``fb`` (clearing it); ``centre(ids)`` renders
+    the centre sample into a new framebuffer (``samples=1``)."""
+    if samples == 1:
+        fb = centre(ids)
+    else:
+        fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
+        _average(fb.color, camera, samples, background, draw)
+        _centre_buffers(fb, ids, centre)
+    factor = vignette_factor(camera, vignette)
+    if factor is not None:
+        rgb = fb.color[..., :3]
+        shaded = rgb * factor[..., None]
+        shaded += 0.5
+        rgb[...] = shaded  # in [0.5, 255.5): truncation rounds
+    return fb
+
+
+def _average(color: np.ndarray, camera, samples: int, background, draw) -> None:
+    """Draw every sample into one scratch framebuffer, sum them (the first sample is written,
+    the others added: no clear) and divide once, with rounding, into ``color``."""
+    scratch = Framebuffer(camera.width, camera.height, background=background, cleared=False)
+    total = _memory.take((color.size,), np.uint16)
+    for k, matrix in enumerate(sample_matrices(camera, pixel_offsets(samples), lens_points(samples))):
+        draw(scratch, matrix)
+        run_workers(add_sample, total, scratch.color.reshape(-1), k == 0)
+    run_workers(average_samples, total, color.reshape(-1), 1.0 / samples, (samples // 2 + 0.5) / samples)
+
+
+def _centre_buffers(fb: Framebuffer, ids: bool, centre) -> None:
+    """The depth (drawn when read) and ids (now) of the centre sample, into ``fb``."""
+    if ids:
+        first = centre(True)
+        fb.ids[...] = first.ids
+        fb.defer_depth(lambda depth: np.copyto(depth, first.depth))
+    else:
+        fb.defer_depth(lambda depth: np.copyto(depth, centre(False).depth))

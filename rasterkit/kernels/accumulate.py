@@ -1,0 +1,43 @@
+"""Sums of the samples of a multi-sample render, and their average (rasterkit._accumulate)."""
+
+from rasterkit._jit import kernel
+from rasterkit.kernels.intrinsics import fetch_add
+
+#: The pixels are summed in this many contiguous chunks, shared out among the threads.
+N_CHUNKS = 32
+
+
+@kernel(refcounts=False)
+def add_sample(slot, counter, total, color, first):
+    """``total += color`` ((P,) uint16 and (P,) uint8, the flattened images); ``first``
+    writes ``total = color`` instead (no separate clear). A worker of
+    :func:`rasterkit._jit.run_workers` (``slot`` unused; chunks claimed through ``counter``).
+    """
+    n = total.shape[0]
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        lo, hi = n * ch // N_CHUNKS, n * (ch + 1) // N_CHUNKS
+        if first:
+            for i in range(lo, hi):
+                total[i] = color[i]
+        else:
+            for i in range(lo, hi):
+                total[i] += color[i]
+
+
+@kernel(refcounts=False)
+def average_samples(slot, counter, total, color, scale, bias):
+    """``color = floor(total·scale + bias)``: with ``scale = 1/n`` and ``bias = (n//2 + 1/2)/n``
+    this is ``(total + n//2) // n``, the sum of n samples divided with rounding (the extra
+    ``1/(2n)`` keeps the floor off the float rounding: the exact quotient's fraction lies in
+    [1/(2n), 1 - 1/(2n)]). A worker like :func:`add_sample`.
+    """
+    n = total.shape[0]
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for i in range(n * ch // N_CHUNKS, n * (ch + 1) // N_CHUNKS):
+            color[i] = int(total[i] * scale + bias)

@@ -1,0 +1,143 @@
+"""Fixed sample patterns: where the samples of a multi-sample render fall in a pixel and on a lens.
+
+Every pattern is a pure function of the number of samples (and a fixed seed): the same
+points in every run, on every machine, at any thread count.
+
+- :func:`square`: correlated multi-jittered points in the unit square (Kensler 2013): ``n``
+  points on an ``m x k`` grid (``m·k = n``, ``m`` the largest divisor of ``n`` up to
+  ``sqrt(n)``), one in every cell of the grid (stratified in 2D) and one in every ``1/n``
+  strip of each axis (stratified in each 1D projection, the "n-rooks" property), so an edge
+  near an axis is sampled as finely as ``n`` allows. The shuffles and jitter come from a
+  fixed-seed SplitMix64 stream; the 16 pixel samples are such a pattern tuned for edges
+  (:data:`_PIXEL_16`).
+- :func:`concentric_disc`: Shirley and Chiu's concentric map of the square onto the unit
+  disc, which keeps the strata (and their areas) of a square pattern.
+- :func:`pixel_offsets` and :func:`lens_points`: the pixel jitter and the lens points of
+  :func:`rasterkit.render`'s samples; the lens points are shuffled with another seed, so
+  that sample ``s``'s lens point does not follow its place in the pixel.
+
+A single sample (``n = 1``) is the pixel centre and the lens centre: the pinhole image.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+
+__all__ = ["MAX_SAMPLES", "concentric_disc", "lens_points", "pixel_offsets", "square"]
+
+MAX_SAMPLES = 256
+"""Samples per pixel at most (the colour sums of a render are 16 bits: 256 · 255 < 2**16)."""
+
+_MASK64 = (1 << 64) - 1
+_PIXEL_SEED, _LENS_SEED, _PAIRING_SEED = 0x5EED_0001, 0x5EED_0002, 0x5EED_0003
+
+
+def _stream(seed: int):
+    """SplitMix64 (Steele, Lea and Flood 2014): a fixed, portable stream of floats in [0, 1)."""
+    state = seed & _MASK64
+    while True:
+        state = (state + 0x9E3779B97F4A7C15) & _MASK64
+        z = state
+        z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & _MASK64
+        z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & _MASK64
+        yield ((z ^ (z >> 31)) >> 11) * (1.0 / (1 << 53))
+
+
+def _shuffle(n: int, stream) -> list[int]:
+    """A permutation of range(n): Fisher–Yates driven by ``stream``."""
+    p = list(range(n))
+    for i in range(n - 1, 0, -1):
+        j = min(int(next(stream) * (i + 1)), i)
+        p[i], p[j] = p[j], p[i]
+    return p
+
+
+def _grid(n: int) -> tuple[int, int]:
+    """(m, k): m the largest divisor of n with m <= sqrt(n), k = n // m."""
+    m = max(d for d in range(1, math.isqrt(n) + 1) if n % d == 0)
+    return m, n // m
+
+
+def _check(n) -> int:
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+        raise TypeError(f"samples must be an integer, got {type(n).__name__}")
+    if not 1 <= n <= MAX_SAMPLES:
+        raise ValueError(f"samples must be 1 to {MAX_SAMPLES}, got {n}")
+    return int(n)
+
+
+#: 16 pixel samples, in 1/4096 of a pixel (each point at ``(q + 1/2)/4096``): a correlated
+#: multi-jittered pattern (the same strata as :func:`square`'s) whose shuffles and jitter
+#: were then tuned, by a random search, for the worst coverage error over straight edges
+#: (100,000 random half-planes cutting the pixel: the sample fraction on one side against
+#: the covered area): above 1/10 for 1 edge position in 10,000, against 4 in 1,000 for the
+#: untuned pattern (no 16 points keep every half-plane within 1/10: the best found reach 0.11).
+_PIXEL_16 = ((958, 255), (1853, 768), (2894, 261), (3851, 676), (715, 1066), (1536, 1967),
+             (2578, 1485), (3584, 1779), (255, 2065), (1177, 2824), (2303, 2559), (3294, 2660),
+             (397, 3293), (1327, 4095), (2499, 3479), (3542, 3650))
+
+
+@functools.lru_cache(maxsize=None)
+def _square(n: int, seed: int) -> np.ndarray:
+    if n == 16 and seed == _PIXEL_SEED:
+        points = (np.array(_PIXEL_16, np.float64) + 0.5) / 4096
+        points.flags.writeable = False
+        return points
+    m, k = _grid(n)
+    stream = _stream(seed)
+    column_shuffle, row_shuffle = _shuffle(m, stream), _shuffle(k, stream)
+    points = np.empty((n, 2))
+    for s in range(n):
+        i, j = s % m, s // m  # the cell: column i of m, row j of k
+        jx, jy = next(stream), next(stream)
+        # x: strip i of m, sub-strip row_shuffle[j] of k in it; y likewise: n-rooks
+        points[s] = ((i + (row_shuffle[j] + jx) / k) / m, (j + (column_shuffle[i] + jy) / m) / k)
+    points.flags.writeable = False
+    return points
+
+
+def square(n: int, seed: int = _PIXEL_SEED) -> np.ndarray:
+    """``n`` correlated multi-jittered points in [0, 1)², (n, 2) float64, read-only.
+
+    Raises ``TypeError`` for a non-integer ``n`` and ``ValueError`` outside 1..MAX_SAMPLES.
+    """
+    return _square(_check(n), int(seed))
+
+
+def concentric_disc(points: np.ndarray) -> np.ndarray:
+    """Shirley–Chiu concentric map of points in [0, 1]² onto the unit disc, (n, 2) float64.
+
+    With ``(a, b) = 2p - 1``: where ``|a| > |b|``, radius ``a`` and angle ``(π/4)·b/a``;
+    elsewhere radius ``b`` and angle ``π/2 - (π/4)·a/b``. Squares around the centre go to
+    rings of the same area, so a stratified square pattern stays stratified on the disc.
+    """
+    a, b = 2.0 * points[:, 0] - 1.0, 2.0 * points[:, 1] - 1.0
+    wide = np.abs(a) > np.abs(b)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(wide, a, b)
+        phi = np.where(wide, (math.pi / 4) * b / a, math.pi / 2 - (math.pi / 4) * a / b)
+    phi = np.where(r == 0.0, 0.0, phi)
+    return np.stack([r * np.cos(phi), r * np.sin(phi)], axis=1)
+
+
+def pixel_offsets(n: int) -> np.ndarray:
+    """Sub-pixel offsets of the ``n`` samples of a pixel, in pixels, each in [-1/2, 1/2)²,
+    (n, 2) float64 (x right, y down); one sample: the pixel centre, (0, 0)."""
+    n = _check(n)
+    if n == 1:
+        return np.zeros((1, 2))
+    return square(n, _PIXEL_SEED) - 0.5
+
+
+def lens_points(n: int) -> np.ndarray:
+    """Points of the ``n`` samples on the unit lens disc (radius 1; x right, y up), (n, 2)
+    float64, stratified (:func:`concentric_disc` of :func:`square`) and paired with the pixel
+    offsets by a fixed shuffle; one sample: the lens centre, (0, 0)."""
+    n = _check(n)
+    if n == 1:
+        return np.zeros((1, 2))
+    disc = concentric_disc(np.asarray(square(n, _LENS_SEED)))
+    return disc[_shuffle(n, _stream(_PAIRING_SEED))]
