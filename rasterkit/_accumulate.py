@@ -6,7 +6,9 @@ the whole scene drawn through its own world -> raster matrix
 lens camera an eye moved across the lens), into one scratch framebuffer that every sample
 reuses (its buffers are cleared by the drawing kernels, band by band, as for any render).
 Its colour is added into a 16-bit sum (256 samples of 255 fit) by a small parallel kernel
-(:mod:`rasterkit.kernels.accumulate`), which is divided once, with rounding, into the result. The result's depth buffer and ids are those of the centre sample
+(:mod:`rasterkit.kernels.accumulate`), which is divided once, with rounding, into the result;
+an RGBA render (transparent background) sums colour times alpha and alpha, in 32 bits, so
+that a half-covered edge keeps its colour at half opacity. The result's depth buffer and ids are those of the centre sample
 (the ``samples=1`` render): the depth is drawn when first read (:meth:`Framebuffer.defer_depth`),
 the ids, when asked for, by drawing the centre sample once more.
 
@@ -21,7 +23,7 @@ import numpy as np
 from . import _memory
 from ._arrays import real_number
 from ._jit import run_workers
-from .kernels.accumulate import add_sample, average_samples
+from .kernels.accumulate import add_sample, add_sample_rgba, average_samples, average_samples_rgba
 from .camera.lens import sample_matrices, vignette_factor
 from .framebuffer import Framebuffer, buffer_bytes
 from .samples import _check as _check_samples, lens_points, pixel_offsets
@@ -44,7 +46,7 @@ def extra_bytes(width: int, height: int, alpha: bool, samples: int, vignette: fl
     pixels, channels = width * height, 4 if alpha else 3
     total = 0
     if samples > 1:
-        total += buffer_bytes(width, height, alpha) + 2 * pixels * channels
+        total += buffer_bytes(width, height, alpha) + (16 * pixels if alpha else 2 * pixels * channels)
     if vignette:
         total += 4 * pixels * (1 + channels)
     return total
@@ -74,8 +76,18 @@ def _average(color: np.ndarray, camera, samples: int, background, draw) -> None:
     """Draw every sample into one scratch framebuffer, sum them (the first sample is written,
     the others added: no clear) and divide once, with rounding, into ``color``."""
     scratch = Framebuffer(camera.width, camera.height, background=background, cleared=False)
+    matrices = sample_matrices(camera, pixel_offsets(samples), lens_points(samples))
+    if color.shape[2] == 4:  # transparent: premultiplied sums (kernels.accumulate)
+        pixels = color.shape[0] * color.shape[1]
+        premultiplied = _memory.take((pixels, 3), np.uint32)
+        alpha = _memory.take((pixels,), np.uint32)
+        for k, matrix in enumerate(matrices):
+            draw(scratch, matrix)
+            run_workers(add_sample_rgba, premultiplied, alpha, scratch.color.reshape(pixels, 4), k == 0)
+        run_workers(average_samples_rgba, premultiplied, alpha, color.reshape(pixels, 4), samples)
+        return
     total = _memory.take((color.size,), np.uint16)
-    for k, matrix in enumerate(sample_matrices(camera, pixel_offsets(samples), lens_points(samples))):
+    for k, matrix in enumerate(matrices):
         draw(scratch, matrix)
         run_workers(add_sample, total, scratch.color.reshape(-1), k == 0)
     run_workers(average_samples, total, color.reshape(-1), 1.0 / samples, (samples // 2 + 0.5) / samples)

@@ -313,3 +313,22 @@ def test_the_average_of_the_sums_rounds_like_integer_division():
     run_workers(add_sample, total, np.array([0, 1, 2, 254, 255], np.uint8), True)
     run_workers(add_sample, total, np.array([255, 255, 3, 254, 255], np.uint8), False)
     assert total.tolist() == [255, 256, 5, 508, 510]
+
+
+def test_transparent_samples_average_premultiplied_colour():
+    """Over a transparent background an edge pixel keeps its surface colour and gets the
+    covered fraction as alpha (premultiplied averaging); its alpha equals, to rounding, the
+    grey level of the same render over black."""
+    import rasterkit as rk
+
+    vertices = np.array([[-1.0, -0.7, 0.0], [1.2, -1.0, 0.0], [0.3, 1.1, 0.0]])
+    mesh = rk.Mesh(vertices, np.array([[0, 1, 2]]))
+    camera = rk.Camera.look_at((0.0, 0.0, 4.0), (0.0, 0.0, 0.0), width=40, height=32, fov_y=40.0)
+    clear = rk.render(mesh, camera, "solid", color="white", cull="none", background="transparent", samples=16)
+    black = rk.render(mesh, camera, "solid", color="white", cull="none", background="black", samples=16)
+    alpha = clear.color[..., 3].astype(int)
+    edge = (alpha > 0) & (alpha < 255)
+    assert edge.sum() > 20
+    assert np.all(clear.color[alpha > 0][:, :3] == 255)  # white wherever anything was drawn
+    assert np.all(clear.color[alpha == 0][:, :3] == 0)
+    assert np.abs(alpha - black.color[..., 0].astype(int)).max() <= 1

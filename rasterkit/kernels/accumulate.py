@@ -1,5 +1,7 @@
 """Sums of the samples of a multi-sample render, and their average (rasterkit._accumulate)."""
 
+import numpy as np
+
 from rasterkit._jit import kernel
 from rasterkit.kernels.intrinsics import fetch_add
 
@@ -41,3 +43,45 @@ def average_samples(slot, counter, total, color, scale, bias):
             break
         for i in range(n * ch // N_CHUNKS, n * (ch + 1) // N_CHUNKS):
             color[i] = int(total[i] * scale + bias)
+
+
+@kernel(refcounts=False)
+def add_sample_rgba(slot, counter, premultiplied, alpha, color, first):
+    """RGBA images: ``premultiplied += colour·alpha`` ((P, 3) uint32) and ``alpha += alpha``
+    ((P,) uint32), from ``color`` (P, 4) uint8; ``first`` writes instead of adding. Averaging
+    premultiplied colour keeps a half-covered edge over a transparent background its own
+    colour at half opacity (straight averages would darken it towards the background's
+    black). A worker like :func:`add_sample`."""
+    n = alpha.shape[0]
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for i in range(n * ch // N_CHUNKS, n * (ch + 1) // N_CHUNKS):
+            a = np.uint32(color[i, 3])
+            if first:
+                alpha[i] = a
+                for c in range(3):
+                    premultiplied[i, c] = np.uint32(color[i, c]) * a
+            else:
+                alpha[i] += a
+                for c in range(3):
+                    premultiplied[i, c] += np.uint32(color[i, c]) * a
+
+
+@kernel(refcounts=False)
+def average_samples_rgba(slot, counter, premultiplied, alpha, color, n_samples):
+    """The average of :func:`add_sample_rgba`'s sums of ``n_samples`` samples into ``color``
+    (P, 4) uint8, straight (not premultiplied) as every RGBA image of rasterkit: colour =
+    the sum of colour·alpha over the sum of alpha (0 where nothing is opaque), alpha = the
+    mean alpha, both rounded to nearest."""
+    n = alpha.shape[0]
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for i in range(n * ch // N_CHUNKS, n * (ch + 1) // N_CHUNKS):
+            a = alpha[i]
+            for c in range(3):
+                color[i, c] = (premultiplied[i, c] + a // 2) // a if a > 0 else 0
+            color[i, 3] = (a + n_samples // 2) // n_samples
