@@ -53,20 +53,16 @@ def add_sample_rgba(slot, counter, premultiplied, alpha, color, first):
     colour at half opacity (straight averages would darken it towards the background's
     black). A worker like :func:`add_sample`."""
     n = alpha.shape[0]
+    keep = np.uint32(0 if first else 1)  # 0: the uninitialised sums are overwritten
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
         for i in range(n * ch // N_CHUNKS, n * (ch + 1) // N_CHUNKS):
             a = np.uint32(color[i, 3])
-            if first:
-                alpha[i] = a
-                for c in range(3):
-                    premultiplied[i, c] = np.uint32(color[i, c]) * a
-            else:
-                alpha[i] += a
-                for c in range(3):
-                    premultiplied[i, c] += np.uint32(color[i, c]) * a
+            alpha[i] = alpha[i] * keep + a
+            for c in range(3):
+                premultiplied[i, c] = premultiplied[i, c] * keep + np.uint32(color[i, c]) * a
 
 
 @kernel(refcounts=False)
