@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import _report
+from ._cli_args import framed_camera
 from ._report import UsageError
 
 __all__ = ["jobs", "render_jobs"]
@@ -82,17 +83,6 @@ def _check_image_path(out: Path, animated: bool) -> None:
         raise UsageError(f"{out}: folder {str(out.parent)!r} does not exist")
 
 
-def _camera(args, center, radius):
-    from .camera import Camera
-
-    width, height = args.size
-    return Camera.preset(args.projection, center, radius, width=width, height=height,
-                         azimuth=args.azimuth, elevation=args.elevation, fov_y=args.fov,
-                         distance=args.distance, eye=args.eye, target=args.target, up=args.up,
-                         near=args.near, far=args.far, aperture=args.aperture,
-                         focus_distance=args.focus)
-
-
 def _turntable(mesh, camera, center, frames: int, style: dict):
     """The frames of a turntable, rendered one at a time as they are asked for."""
     from .render import render
@@ -118,10 +108,7 @@ def _render_job(job: Job, args) -> None:
     mesh = demo() if job.source is None else load_obj(job.source)
     for warning in mesh.warnings:
         _say(f"rasterkit: warning: {_report.one_line(warning)}")
-    center, radius = mesh.bounding_sphere()
-    if radius == 0.0:
-        raise UsageError("the model has no extent (all vertices coincide)")
-    camera = _camera(args, center, radius)
+    camera, center = framed_camera(args, mesh)
     style = dict(mode=args.mode, cull=args.cull, shading=args.shading, color=args.color,
                  line_color=args.line_color, background=args.background, aa=args.aa,
                  samples=args.samples, vignette=args.vignette)

@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import importlib.abc
-import math
 import os
 import signal
 import sys
@@ -28,7 +27,8 @@ from typing import Iterator
 
 from . import _report, limits
 from ._report import UsageError
-from .options import CULL, MAX_IMAGE_SIZE, MODES, PROJECTIONS, SHADING
+from ._cli_args import add_limits, add_view_arguments, positive_int, samples, unit_interval
+from .options import CULL, MODES, SHADING
 
 __all__ = ["main", "Terminated"]
 
@@ -60,74 +60,6 @@ class Terminated(BaseException):
     on the way out) and exits with 143. A BaseException, like KeyboardInterrupt, so that no
     ``except Exception`` swallows it."""
 
-def _size(text: str) -> tuple[int, int]:
-    parts = text.lower().split("x")
-    try:
-        width, height = (int(p) for p in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"size must be WIDTHxHEIGHT, e.g. 640x480, got {text!r}")
-    if not (1 <= width <= MAX_IMAGE_SIZE and 1 <= height <= MAX_IMAGE_SIZE):
-        raise argparse.ArgumentTypeError(
-            f"width and height must be 1 to {MAX_IMAGE_SIZE}, got {text!r}")
-    return width, height
-
-
-def _finite(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}")
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
-    return value
-
-
-def _point(text: str) -> tuple[float, float, float]:
-    parts = text.split(",")
-    if len(parts) != 3:
-        raise argparse.ArgumentTypeError(f"a point is X,Y,Z, got {text!r}")
-    return tuple(_finite(p) for p in parts)
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
-
-
-def _focus(text: str) -> float | None:
-    if text.strip().lower() == "auto":
-        return None
-    value = _finite(text)
-    if value <= 0.0:
-        raise argparse.ArgumentTypeError(f"the focus distance must be positive (or 'auto'), got {text!r}")
-    return value
-
-
-def _samples(text: str) -> int:
-    value = _positive_int(text)
-    if value > 256:
-        raise argparse.ArgumentTypeError(f"at most 256 samples, got {value}")
-    return value
-
-
-def _unit_interval(text: str) -> float:
-    value = _finite(text)
-    if not 0.0 <= value <= 1.0:
-        raise argparse.ArgumentTypeError(f"must lie in [0, 1], got {text!r}")
-    return value
-
-
-def _size_limit(text: str) -> int:
-    try:
-        return limits.parse_size(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e))
-
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # argparse prints usage + message; we want one line, exit 2
@@ -140,7 +72,7 @@ def _parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     info = commands.add_parser("info", help="print counts, bounds, groups, materials, warnings")
     info.add_argument("models", nargs="+", metavar="MODEL.obj")
-    _add_limits(info)
+    add_limits(info)
     r = commands.add_parser("render", help="render models to images", epilog=EXAMPLES,
                             formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("models", nargs="*", metavar="MODEL.obj",
@@ -148,27 +80,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--demo", action="store_true", help="render the built-in demo model")
     r.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="image (.png; .gif/.png/.apng with --turntable), or a folder")
-    r.add_argument("--size", type=_size, default=(800, 600), metavar="WIDTHxHEIGHT",
-                   help="image size in pixels (default 800x600)")
     r.add_argument("--mode", choices=MODES, default="wire", help="default wire")
-    r.add_argument("--projection", choices=PROJECTIONS, default="perspective")
-    cam = r.add_argument_group("camera (default: framed automatically around the model)")
-    cam.add_argument("--eye", type=_point, metavar="X,Y,Z")
-    cam.add_argument("--target", type=_point, metavar="X,Y,Z")
-    cam.add_argument("--up", type=_point, metavar="X,Y,Z")
-    cam.add_argument("--fov", type=_finite, default=45.0, metavar="DEG",
-                     help="vertical field of view (default 45)")
-    cam.add_argument("--near", type=_finite, metavar="N")
-    cam.add_argument("--far", type=_finite, metavar="F")
-    cam.add_argument("--azimuth", type=_finite, default=30.0, metavar="DEG",
-                     help="about +Y, from +Z towards +X (default 30)")
-    cam.add_argument("--elevation", type=_finite, default=20.0, metavar="DEG",
-                     help="above the horizon (default 20)")
-    cam.add_argument("--distance", type=_finite, metavar="D", help="eye distance from the target")
-    cam.add_argument("--aperture", type=_finite, default=0.0, metavar="A",
-                     help="lens diameter, world units: depth of field with --samples (default 0, a pinhole)")
-    cam.add_argument("--focus", type=_focus, default=None, metavar="F",
-                     help="distance of the plane in focus, or 'auto' (default): the distance to the target")
+    add_view_arguments(r)
     look = r.add_argument_group("appearance")
     look.add_argument("--color", default="lightgray", help="surface colour (name or #rrggbb)")
     look.add_argument("--line-color", default="black", help="line colour (name or #rrggbb)")
@@ -177,29 +90,19 @@ def _parser() -> argparse.ArgumentParser:
     look.add_argument("--cull", choices=CULL, default="back")
     look.add_argument("--shading", choices=SHADING, default="flat")
     look.add_argument("--aa", action="store_true", help="anti-aliased (Wu) lines")
-    look.add_argument("--samples", type=_samples, default=1, metavar="N",
+    look.add_argument("--samples", type=samples, default=1, metavar="N",
                       help="jittered samples per pixel, averaged: anti-aliasing, and depth of field "
                            "with --aperture (1 to 256, default 1)")
-    look.add_argument("--vignette", type=_unit_interval, default=0.0, metavar="V",
+    look.add_argument("--vignette", type=unit_interval, default=0.0, metavar="V",
                       help="natural cos^4 falloff towards the corners, 0 (none, default) to 1 (full)")
     out = r.add_argument_group("output")
-    out.add_argument("--threads", type=_positive_int, metavar="N",
+    out.add_argument("--threads", type=positive_int, metavar="N",
                      help="threads for the kernels (default: all cores)")
-    out.add_argument("--turntable", type=_positive_int, metavar="N",
+    out.add_argument("--turntable", type=positive_int, metavar="N",
                      help="N frames around the model, as an animated GIF or APNG")
     out.add_argument("--depth", metavar="OUT.npy", help="also save the depth buffer (float32)")
-    _add_limits(r)
+    add_limits(r)
     return parser
-
-
-def _add_limits(parser: argparse.ArgumentParser) -> None:
-    group = parser.add_argument_group("limits (sizes in bytes, or with K, M, G, T: 512M, 4G)")
-    group.add_argument("--max-file-size", type=_size_limit, metavar="SIZE",
-                       help="refuse model and material files larger than this "
-                            "(default 2G, or RASTERKIT_MAX_FILE_SIZE)")
-    group.add_argument("--max-memory", type=_size_limit, metavar="SIZE",
-                       help="refuse work that needs more memory than this "
-                            "(default: the machine's memory, or RASTERKIT_MAX_MEMORY)")
 
 
 class _NoScipy(importlib.abc.MetaPathFinder):
