@@ -27,7 +27,8 @@ from typing import Iterator
 
 from . import _report, limits
 from ._report import UsageError
-from ._cli_args import add_limits, add_view_arguments, positive_int, samples, unit_interval
+from ._cli_args import (add_limits, add_view_arguments, framed_camera, integers, point,
+                        positive_int, samples, unit_interval)
 from .options import CULL, MODES, SHADING
 
 __all__ = ["main", "Terminated"]
@@ -42,6 +43,17 @@ examples:
   rasterkit render model.obj -o spin.gif --turntable 36 --mode solid
   rasterkit render models/ -o images/ --mode solid      (every .obj in a folder)
   rasterkit info model.obj
+  rasterkit explain model.obj --point 0.5,0.5,0.5 --projection cabinet
+  rasterkit explain --line 0,0,7,3
+
+explain: the lecture made visible, as text. 'rasterkit explain [MODEL | --demo]' prints
+  the camera that 'render' would use with the same flags, factor by factor as in the
+  lecture (T, R, H, S_xy, S_far, P_persp, P_parallel, S_raster, Raster; T_near, S_xyz for
+  parallel cameras): what each does, its 4x4 matrix, their product K checked against the
+  camera's matrix; --point X,Y,Z carries a world point through every factor to its pixel.
+  Without a model it frames the unit cube. 'rasterkit explain --line X0,Y0,X1,Y1' draws
+  the segment's pixels by brute force, DDA and Bresenham side by side (at most 64x64) and
+  tabulates Bresenham's decision variable d at each step.
 
 exit codes:
   0    success
@@ -102,7 +114,26 @@ def _parser() -> argparse.ArgumentParser:
                      help="N frames around the model, as an animated GIF or APNG")
     out.add_argument("--depth", metavar="OUT.npy", help="also save the depth buffer (float32)")
     add_limits(r)
+    _add_explain(commands)
     return parser
+
+
+def _add_explain(commands) -> None:
+    e = commands.add_parser(
+        "explain", help="print the camera chain factor by factor, or how a line becomes pixels",
+        description="Print the camera chain of 'render' factor by factor (with a point carried "
+                    "through it), or (--line) the pixels of three line algorithms.",
+        epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
+    e.add_argument("model", nargs="?", metavar="MODEL.obj",
+                   help="the model the camera frames (default: the unit cube, shapes.cube())")
+    e.add_argument("--demo", action="store_true", help="frame the built-in demo model")
+    e.add_argument("--point", type=point, metavar="X,Y,Z",
+                   help="carry this world point through every factor to its pixel")
+    e.add_argument("--line", type=integers(4, "X0,Y0,X1,Y1"), metavar="X0,Y0,X1,Y1",
+                   help="instead: the pixels of this segment by brute force, DDA and Bresenham, "
+                        "and Bresenham's decision variable (at most 64x64 pixels)")
+    add_view_arguments(e)
+    add_limits(e)
 
 
 class _NoScipy(importlib.abc.MetaPathFinder):
@@ -144,6 +175,44 @@ def _info(args) -> int:
 
     with compile_notice():
         return _info_models(args.models)
+
+
+def _explain(args) -> int:
+    from . import explain
+
+    if args.line is not None:
+        if args.model or args.demo or args.point:
+            raise UsageError("--line takes no MODEL, --demo or --point")
+        explain.check_segment(*args.line)  # before Numba loads
+        _without_scipy()
+        from ._notice import compile_notice
+
+        with compile_notice():
+            text = explain.format_line(*args.line)
+    else:
+        if args.model and args.demo:
+            raise UsageError("give a MODEL.obj or --demo, not both")
+        camera, _ = framed_camera(args, _explained_mesh(args))
+        text = explain.format_chain(explain.chain_steps(camera, args.point), camera)
+    print(text, flush=True)
+    return 0
+
+
+def _explained_mesh(args):
+    """The model of ``explain``: MODEL.obj, the demo model, or the unit cube."""
+    from . import shapes
+
+    if args.model is None:
+        return shapes.demo() if args.demo else shapes.cube()
+    _without_scipy()
+    from ._notice import compile_notice
+    from .obj import load_obj
+
+    with _report.model(args.model), compile_notice():
+        mesh = load_obj(args.model)
+    for warning in mesh.warnings:
+        print(f"rasterkit: warning: {args.model}: {_report.one_line(warning)}", file=sys.stderr)
+    return mesh
 
 
 def _info_models(models: list[str]) -> int:
@@ -248,7 +317,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             args = _parser().parse_args(argv)
             with _limits(args):
-                return _render(args) if args.command == "render" else _info(args)
+                return {"render": _render, "info": _info, "explain": _explain}[args.command](args)
         except (KeyboardInterrupt, Terminated) as e:
             _stop_helper()
             interrupted = isinstance(e, KeyboardInterrupt)

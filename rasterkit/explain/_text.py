@@ -6,12 +6,23 @@ Plain ASCII, so the text reads the same in any terminal and any encoding.
 from __future__ import annotations
 
 import math
+import textwrap
 from typing import Sequence
 
 import numpy as np
 
 #: Significant digits of every printed number.
 DIGITS = 6
+
+#: Width of the prose lines (grids, matrices and tables are as wide as they need).
+WIDTH = 96
+
+
+def wrap(text: str, indent: str = "", more: str = "   ") -> list[str]:
+    """``text`` as lines of at most :data:`WIDTH` characters; the lines after the first are
+    indented by ``more`` beyond ``indent``."""
+    return textwrap.wrap(text, WIDTH, initial_indent=indent, subsequent_indent=indent + more,
+                         break_on_hyphens=False, break_long_words=False)
 
 
 def num(value: float) -> str:

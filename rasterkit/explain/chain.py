@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._text import bracketed, num, side_by_side, tuple_text
+from ._text import bracketed, num, side_by_side, tuple_text, wrap
 
 __all__ = ["ChainSteps", "Factor", "chain_steps", "format_chain"]
 
@@ -53,8 +53,11 @@ class ChainSteps:
         The camera's own :meth:`Camera.matrix`, to check ``product`` against.
     point : (4,) float64 ndarray or None
         The world point, ``(x, y, z, 1)``.
+    homogeneous : (4,) float64 ndarray or None
+        ``K p`` as :meth:`Camera.project_h` (and the renderer) computes it: (xh, yh, zh, w).
     raster : (3,) float64 ndarray or None
-        Raster x, y (pixels) and depth after the divide by w; None when ``w <= 0``.
+        Raster x, y (pixels) and depth, ``homogeneous`` divided by w (so
+        :meth:`Camera.project`'s); None when ``w <= 0``.
     pixel : (int, int) or None
         ``(floor(x), floor(y))``: column and row; None when ``raster`` is.
     where : str
@@ -65,6 +68,7 @@ class ChainSteps:
     product: np.ndarray
     matrix: np.ndarray
     point: np.ndarray | None = None
+    homogeneous: np.ndarray | None = None
     raster: np.ndarray | None = None
     pixel: tuple[int, int] | None = None
     where: str = ""
@@ -183,9 +187,12 @@ def chain_steps(camera, point=None) -> ChainSteps:
             factors.append(Factor(name, _describe(name, camera), m, carried))
     if h is None:
         return ChainSteps(factors, product, camera.matrix())
+    # The end as the renderer computes it, K p in one product: the factor-by-factor p'
+    # above agrees with it up to rounding, which may decide a pixel on a pixel border.
+    homogeneous = camera.project_h(h[None, :3])[0]
     with np.errstate(over="ignore", invalid="ignore"):
-        raster, pixel, where = _where(camera, carried)
-    return ChainSteps(factors, product, camera.matrix(), h, raster, pixel, where)
+        raster, pixel, where = _where(camera, homogeneous)
+    return ChainSteps(factors, product, camera.matrix(), h, homogeneous, raster, pixel, where)
 
 
 def _camera_lines(camera) -> list[str]:
@@ -204,15 +211,15 @@ def _camera_lines(camera) -> list[str]:
         f"up {tuple_text(camera.up)}  near {num(camera.near)}  far {num(camera.far)}",
     ]
     if camera.kind == "perspective" and camera.aperture > 0.0:
-        lines.append(f"  lens: aperture {num(camera.aperture)}; the chain below is the pinhole's "
-                     "at the lens centre (each sample of a render moves the eye on the lens)")
-    return lines + ["", f"{chain}   (the rightmost factor acts first)",
-                    "Column vectors: p' = M p. Raster space: origin top-left, x right, y down, "
-                    "pixel centres at +0.5."]
+        lines += wrap(f"lens: aperture {num(camera.aperture)}; the chain below is the pinhole's "
+                      "at the lens centre (each sample of a render moves the eye on the lens)", "  ")
+    return lines + ["", chain,
+                    "The rightmost factor acts first, on column vectors: p' = M p.",
+                    "Raster space: origin top-left, x right, y down, pixel centres at +0.5."]
 
 
 def _factor_lines(k: int, factor: Factor, before: np.ndarray | None) -> list[str]:
-    lines = [f"{k}. {factor.name}: {factor.what}"]
+    lines = wrap(f"{k}. {factor.name}: {factor.what}")
     if before is None:
         return lines + ["     " + row for row in bracketed(factor.matrix)]
     rows = side_by_side([bracketed(factor.matrix), bracketed(before), bracketed(factor.point)],
@@ -238,8 +245,8 @@ def format_chain(steps: ChainSteps, camera) -> str:
     """
     lines = _camera_lines(camera)
     if steps.point is not None:
-        lines.append(f"The point p = {tuple_text(steps.point[:3])} in world space, "
-                     "w = 1, carried through each factor: M * p = p'.")
+        lines += wrap(f"The point p = {tuple_text(steps.point[:3])} in world space, "
+                      "w = 1, carried through each factor: M * p = p'.")
     before = steps.point
     for k, factor in enumerate(steps.factors, 1):
         lines += [""] + _factor_lines(k, factor, before)
@@ -255,14 +262,23 @@ def format_chain(steps: ChainSteps, camera) -> str:
     return "\n".join(lines)
 
 
+def _exact(value: float) -> str:
+    """:func:`num`, or all the digits when the short form would hide which pixel ``value`` is in."""
+    short = num(value)
+    if math.floor(float(short)) == math.floor(value):
+        return short
+    return f"{value!r} (float64 rounding: just below {short})"
+
+
 def _ending_lines(steps: ChainSteps) -> list[str]:
-    xh, yh, zh, w = steps.factors[-1].point
-    lines = [f"Homogeneous raster point (xh, yh, zh, w) = {tuple_text((xh, yh, zh, w))}"]
+    xh, yh, zh, w = steps.homogeneous
+    lines = wrap(f"K p = (xh, yh, zh, w) = {tuple_text(steps.homogeneous)}: the renderer's "
+                 "product, the last p' above up to rounding")
     if steps.raster is not None:
         x, y, depth = steps.raster
-        lines.append(f"Divide by w = {num(w)}: x = xh/w = {num(x)}, y = yh/w = {num(y)}, "
-                     f"depth = zh/w = {num(depth)}")
+        lines += wrap(f"Divide by w = {num(w)}: x = xh/w = {_exact(x)}, y = yh/w = {_exact(y)}, "
+                      f"depth = zh/w = {num(depth)}")
         lines.append(f"Pixel = (floor(x), floor(y)) = {steps.pixel}")
-    lines.append(f"The point lands {steps.where}." if steps.raster is not None
-                 else f"The point is {steps.where}.")
+    lines += wrap(f"The point lands {steps.where}." if steps.raster is not None
+                  else f"The point is {steps.where}.")
     return lines

@@ -25,6 +25,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ._text import wrap
+
 __all__ = ["MAX_GRID", "BresenhamStep", "LineSteps", "check_segment", "format_line",
            "line_grids", "line_steps"]
 
@@ -212,8 +214,9 @@ def _differences(grids: dict) -> list[str]:
         if not extra:
             lines.append(f"{name} draws the same pixels as Bresenham.")
         else:
-            lines.append(f"{name} differs from Bresenham (a floating-point tie): it draws "
-                         f"{', '.join(map(str, extra))} instead of {', '.join(map(str, missing))}.")
+            lines += wrap(f"{name} differs from Bresenham (rounding error decided a tie): it "
+                          f"draws {', '.join(map(str, extra))} instead of "
+                          f"{', '.join(map(str, missing))}.")
     return lines
 
 
@@ -231,17 +234,18 @@ def _tie(run: LineSteps) -> str:
 def _step_table(run: LineSteps) -> list[str]:
     straight, diagonal = 2 * run.a, 2 * run.a - 2 * run.n
     minor_move = f"{run.minor}{'+' if run.s > 0 else '-'}1"
-    lines = [
-        f"Bresenham's decision variable, stepping from {run.start} to {run.end} along {run.major}: "
-        f"n = |d{run.major}| = {run.n}, a = |d{run.minor}| = {run.a}.",
-        f"  d = 2a(t+1) - n(2k+1) - c after k {run.minor}-steps: 2n times how far the ideal line at "
-        f"the next {run.major} passes the midpoint between the two candidate pixels, less c.",
-        f"  {_tie(run)}.",
-        f"  Start: d = 2a - n - c = {2 * run.a - run.n - run.c}. "
+    sentences = [
+        f"Bresenham's decision variable, stepping from {run.start} to {run.end} along "
+        f"{run.major}: n = |d{run.major}| = {run.n}, a = |d{run.minor}| = {run.a}.",
+        f"d = 2a(t+1) - n(2k+1) - c after k {run.minor}-steps: 2n times how far the ideal line "
+        f"at the next {run.major} passes the midpoint between the two candidate pixels, less c.",
+        f"{_tie(run)}.",
+        f"Start: d = 2a - n - c = {2 * run.a - run.n - run.c}. "
         f"d >= 0: {run.major}+1 {minor_move}, d += 2a - 2n = {diagonal}; "
         f"d < 0: {run.major}+1, d += 2a = {straight}.",
-        "",
     ]
+    lines = wrap(sentences[0]) + [line for text in sentences[1:] for line in wrap(text, "  ")]
+    lines.append("")
     rows = [("t", "x", "y", "d", "move")] + [
         (str(s.t), str(s.x), str(s.y), "-" if s.d is None else str(s.d), s.move) for s in run.steps]
     widths = [max(len(row[j]) for row in rows) for j in range(4)]
@@ -263,16 +267,17 @@ def format_line(x0: int, y0: int, x1: int, y1: int) -> str:
     run = line_steps(x0, y0, x1, y1)
     xs = range(min(x0, x1), max(x0, x1) + 1)
     ys = range(min(y0, y1), max(y0, y1) + 1)
-    m = (f"slope m = d{run.minor}/d{run.major} = {(y1 - y0) if run.major == 'x' else (x1 - x0)}"
-         f"/{(x1 - x0) if run.major == 'x' else (y1 - y0)}" if run.n else "a single pixel")
-    lines = [
-        f"Line from ({x0}, {y0}) to ({x1}, {y1}): dx = {x1 - x0}, dy = {y1 - y0}; "
-        f"{run.major} is the major axis (u), {run.minor} the minor one (v): "
-        f"{run.n + 1} pixels, one per {run.major}; {m}.",
-        f"Each method rounds the ideal {run.minor} half up (a tie goes to the larger {run.minor}). "
-        "'#' drawn, '.' not; x to the right, y down.",
-        "",
-    ]
+    if run.n == 0:
+        intro = f"A single pixel, ({x0}, {y0}): no step, nothing to decide."
+    else:
+        du, dv = (x1 - x0, y1 - y0) if run.major == "x" else (y1 - y0, x1 - x0)
+        intro = (f"Line from ({x0}, {y0}) to ({x1}, {y1}): dx = {x1 - x0}, dy = {y1 - y0}; "
+                 f"{run.major} is the major axis (u), {run.minor} the minor one (v), slope "
+                 f"m = d{run.minor}/d{run.major} = {dv}/{du}: {run.n + 1} pixels, one per "
+                 f"{run.major}. Each method rounds the ideal {run.minor} half up (a tie goes to "
+                 f"the larger {run.minor}).")
+    lines = wrap(intro) + ["'#' drawn, '.' not; x to the right, y down.", ""]
     blocks = [_grid_block(title, grids[method], xs, ys) for method, title in METHODS]
     lines += ["   ".join(parts).rstrip() for parts in zip(*blocks)]
-    return "\n".join(lines + [""] + _differences(grids) + [""] + _step_table(run))
+    lines += [""] + _differences(grids)
+    return "\n".join(lines if run.n == 0 else lines + [""] + _step_table(run))
