@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 
 from . import limits
 from ._report import UsageError
 from .options import MAX_IMAGE_SIZE, PROJECTIONS
 
-__all__ = ["add_limits", "add_view_arguments", "finite", "focus", "framed_camera", "integers",
+__all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite", "focus", "framed_camera", "integers",
            "point", "positive_int", "samples", "size", "size_limit", "unit_interval"]
 
 
@@ -110,6 +111,29 @@ def size_limit(text: str) -> int:
         return limits.parse_size(text)
     except ValueError as e:
         raise argparse.ArgumentTypeError(str(e))
+
+
+#: The options whose value is a list of numbers, which may start with a minus sign.
+NUMBER_LISTS = ("--eye", "--target", "--up", "--point", "--line")
+
+_NEGATIVE_START = re.compile(r"-[0-9.]")
+
+
+def attach_number_lists(argv: list[str]) -> list[str]:
+    """``argv`` with ``--point -1,2,3`` written as ``--point=-1,2,3``.
+
+    argparse takes a value that starts with ``-`` for an option unless it is one plain
+    negative number, so it would refuse ``--point -1,2,3`` with "expected one argument".
+    """
+    out, k = [], 0
+    while k < len(argv):
+        if argv[k] in NUMBER_LISTS and k + 1 < len(argv) and _NEGATIVE_START.match(argv[k + 1]):
+            out.append(f"{argv[k]}={argv[k + 1]}")
+            k += 2
+        else:
+            out.append(argv[k])
+            k += 1
+    return out
 
 
 def add_view_arguments(parser: argparse.ArgumentParser) -> None:

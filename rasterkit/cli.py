@@ -27,8 +27,8 @@ from typing import Iterator
 
 from . import _report, limits
 from ._report import UsageError
-from ._cli_args import (add_limits, add_view_arguments, framed_camera, integers, point,
-                        positive_int, samples, unit_interval)
+from ._cli_args import (add_limits, add_view_arguments, attach_number_lists, framed_camera,
+                        integers, point, positive_int, samples, unit_interval)
 from .options import CULL, MODES, SHADING
 
 __all__ = ["main", "Terminated"]
@@ -315,7 +315,7 @@ def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (see the module's documentation)."""
     with _stop_signals(), _report.one_line_warnings():
         try:
-            args = _parser().parse_args(argv)
+            args = _parser().parse_args(attach_number_lists(sys.argv[1:] if argv is None else argv))
             with _limits(args):
                 return {"render": _render, "info": _info, "explain": _explain}[args.command](args)
         except (KeyboardInterrupt, Terminated) as e:
