@@ -19,8 +19,9 @@ from . import limits
 from ._report import UsageError
 from .options import MAX_IMAGE_SIZE, PROJECTIONS
 
-__all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite", "focus", "framed_camera", "integers",
-           "point", "positive_int", "samples", "size", "size_limit", "unit_interval"]
+__all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite",
+           "focus", "framed_camera", "integers", "point", "positive_int", "samples", "size",
+           "size_limit", "unit_interval"]
 
 
 def size(text: str) -> tuple[int, int]:

@@ -5,6 +5,8 @@ out, the camera's own matrix and projection, hand-drawn grids, and the round-hal
 the ideal line computed with exact fractions.
 """
 
+import doctest
+import importlib
 import math
 import random
 import re
@@ -377,3 +379,9 @@ def test_the_main_help_describes_explain(capsys):
         main(["--help"])
     out = capsys.readouterr().out
     assert "rasterkit explain --line 0,0,7,3" in out and "decision variable" in out
+
+
+@pytest.mark.parametrize("module", ["chain", "line", "_text"])
+def test_docstring_examples(module):
+    result = doctest.testmod(importlib.import_module(f"rasterkit.explain.{module}"))
+    assert result.attempted > 0 and result.failed == 0

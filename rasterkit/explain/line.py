@@ -152,15 +152,13 @@ def line_steps(x0: int, y0: int, x1: int, y1: int) -> LineSteps:
         return (v, u) if steep else (u, v)
 
     steps, v, d = [], v0, 2 * a - n - c
-    for t in range(n + 1):
-        if t == n:
-            steps.append(BresenhamStep(t, *xy(u0 + t, v), None, "end"))
-            break
+    for t in range(n):
         take = d >= 0
         move = f"{major}+1" + (f" {minor}{'+' if s > 0 else '-'}1" if take else "")
         steps.append(BresenhamStep(t, *xy(u0 + t, v), d, move))
         v += s if take else 0
         d += 2 * a - (2 * n if take else 0)
+    steps.append(BresenhamStep(n, *xy(u1, v), None, "end"))
     return LineSteps(xy(u0, v0), xy(u1, v1), major, minor, n, a, s, c, steps)
 
 
