@@ -6,12 +6,16 @@ internal error (a bug of rasterkit, one line too); 130 interrupted by Ctrl-C (SI
 stopped by SIGTERM; 141 stdout closed by its reader (``rasterkit info ... | head``). Interrupted or stopped, rasterkit removes its temporary file and leaves
 the output as it was. A folder of models renders every model it can and reports each failure
 in one line (:mod:`rasterkit._batch`); every message is one line (:mod:`rasterkit._report`).
+``explain`` prints the lecture's camera chain or line algorithms (:mod:`rasterkit.explain`)
+for the camera ``render`` would use: both build it with the argument types and view flags
+of :mod:`rasterkit._cli_args`.
 
 Startup: at module level this imports only the standard library and rasterkit's pure-Python
-modules (:mod:`rasterkit.options`, :mod:`rasterkit.limits`), so ``--help`` and the usage
-errors argparse finds come without NumPy or Numba (0.04 s, not 0.5 s). Numba loads once a
-render or ``info`` starts; then the first kernel that has to be compiled (no cached copy)
-prints one notice on stderr (:mod:`rasterkit._notice`).
+modules (:mod:`rasterkit.options`, :mod:`rasterkit.limits`, :mod:`rasterkit._cli_args`), so
+``--help`` and the usage errors argparse finds come without NumPy or Numba (0.04 s, not
+0.5 s). Numba loads once a render or ``info`` starts (for ``explain``: a model file or
+``--line``'s grids); then the first kernel that has to be compiled (no cached copy) prints
+one notice on stderr (:mod:`rasterkit._notice`).
 """
 
 from __future__ import annotations
