@@ -18,6 +18,9 @@ from ._text import bracketed, num, side_by_side, tuple_text, wrap
 
 __all__ = ["ChainSteps", "Factor", "chain_steps", "format_chain"]
 
+#: Raster coordinates beyond this are reported without a pixel number (which would be long).
+_FAR = 1e9
+
 
 @dataclass(frozen=True)
 class Factor:
@@ -57,9 +60,10 @@ class ChainSteps:
         ``K p`` as :meth:`Camera.project_h` (and the renderer) computes it: (xh, yh, zh, w).
     raster : (3,) float64 ndarray or None
         Raster x, y (pixels) and depth, ``homogeneous`` divided by w (so
-        :meth:`Camera.project`'s); None when ``w <= 0``.
+        :meth:`Camera.project`'s); None when ``w <= 0`` or ``homogeneous`` overflowed.
     pixel : (int, int) or None
-        ``(floor(x), floor(y))``: column and row; None when ``raster`` is.
+        ``(floor(x), floor(y))``: column and row; None without ``raster`` or when x or y
+        lies beyond 1e9.
     where : str
         Where the point ends up: its pixel, or outside the image, clipped, behind the eye.
     """
@@ -126,15 +130,17 @@ def _describe(name: str, camera) -> str:
 
 def _where(camera, h: np.ndarray) -> tuple[np.ndarray | None, tuple[int, int] | None, str]:
     """Raster point, pixel and a sentence on where the homogeneous point ``h`` ends up."""
+    if not np.all(np.isfinite(h)):
+        return None, None, "too far away for float64: K p overflows, so it has no pixel"
     if not h[3] > 0.0:
         return None, None, "behind the eye (w <= 0): it has no pixel; the near plane clips it away"
     raster = h[:3] / h[3]
-    if not np.all(np.isfinite(raster)):
-        return None, None, "too far away to divide in float64: it has no pixel"
+    size = f"{camera.width}x{camera.height}"
     x, y, depth = raster
+    if not (abs(x) < _FAR and abs(y) < _FAR):
+        return raster, None, f"far outside the {size} image: no pixel"
     pixel = (math.floor(x), math.floor(y))
     at = f"pixel (column {pixel[0]}, row {pixel[1]})"
-    size = f"{camera.width}x{camera.height}"
     if not (0.0 <= x < camera.width and 0.0 <= y < camera.height):
         return raster, pixel, f"outside the {size} image (it would be {at})"
     if depth < 0.0:
@@ -263,11 +269,12 @@ def format_chain(steps: ChainSteps, camera) -> str:
 
 
 def _exact(value: float) -> str:
-    """:func:`num`, or all the digits when the short form would hide which pixel ``value`` is in."""
+    """:func:`num`, or all the digits when the short form would hide which pixel ``value`` is in
+    (23.999999999999996 is pixel 23, but prints as 24)."""
     short = num(value)
-    if math.floor(float(short)) == math.floor(value):
+    if abs(value) >= _FAR or math.floor(float(short)) == math.floor(value):
         return short
-    return f"{value!r} (float64 rounding: just below {short})"
+    return f"{float(value)!r} (all the digits: {short} would hide its pixel)"
 
 
 def _ending_lines(steps: ChainSteps) -> list[str]:
@@ -278,7 +285,8 @@ def _ending_lines(steps: ChainSteps) -> list[str]:
         x, y, depth = steps.raster
         lines += wrap(f"Divide by w = {num(w)}: x = xh/w = {_exact(x)}, y = yh/w = {_exact(y)}, "
                       f"depth = zh/w = {num(depth)}")
-        lines.append(f"Pixel = (floor(x), floor(y)) = {steps.pixel}")
-    lines += wrap(f"The point lands {steps.where}." if steps.raster is not None
+        if steps.pixel is not None:
+            lines.append(f"Pixel = (floor(x), floor(y)) = {steps.pixel}")
+    lines += wrap(f"The point lands {steps.where}." if steps.pixel is not None
                   else f"The point is {steps.where}.")
     return lines
