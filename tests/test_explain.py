@@ -174,6 +174,14 @@ def test_a_point_outside_the_image_says_so(capsys):
     assert "outside the 64x48 image" in out
 
 
+@pytest.mark.parametrize("projection", ["orthographic", "cabinet"])  # w = 1: no divide brings it back
+def test_a_point_beyond_float64_is_described_not_numbered(projection, capsys):
+    out = _explain(VIEW + ["--projection", projection, "--point", "1e300,1e300,-1e300"], capsys)
+    last = out.rstrip().splitlines()[-1]
+    assert last.startswith("The point is ") and "no pixel" in last
+    assert "Pixel =" not in out and max(map(len, out.splitlines())) < 140
+
+
 def test_explain_shows_the_camera_render_would_use(tmp_path, capsys):
     flags = ["--size", "50x40", "--projection", "dimetric", "--azimuth", "10", "--distance", "7"]
     render_args = _parser().parse_args(["render", "--demo", "-o", "x.png", *flags])
