@@ -4,10 +4,11 @@
     python scripts/make_gallery.py --out DIR       # somewhere else
     python scripts/make_gallery.py --only lines,culling --out DIR   # some figures only
     python scripts/make_gallery.py --check         # regenerate into a temporary folder and
-                                                   # fail (exit 1) if a file differs from docs/gallery/
+                                                   # fail (exit 1) if a picture differs from docs/gallery/'s
 
 Only rasterkit's public API, NumPy and Pillow; every piece of geometry is made in code. The
-output is deterministic: the same rasterkit, NumPy and Pillow give the same bytes.
+output is deterministic: the same rasterkit, NumPy and Pillow give the same bytes (``--check``
+compares pixels, so another zlib's compression does not count as a difference).
 """
 
 from __future__ import annotations
@@ -16,6 +17,9 @@ import argparse
 import sys
 import tempfile
 from pathlib import Path
+
+import numpy as np
+from PIL import Image
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the gallery_* modules beside this file
 
@@ -51,12 +55,18 @@ def write(out: Path, names: list[str]) -> list[Path]:
     return written
 
 
+def same_picture(a: Path, b: Path) -> bool:
+    """Equal pixels (not bytes: another zlib may compress the same picture differently)."""
+    if not (a.is_file() and b.is_file()):
+        return False
+    with Image.open(a) as image_a, Image.open(b) as image_b:
+        return image_a.mode == image_b.mode and np.array_equal(np.asarray(image_a), np.asarray(image_b))
+
+
 def check(names: list[str], committed: Path) -> list[str]:
-    """The figures whose freshly drawn bytes differ from (or are missing in) ``committed``."""
+    """The figures whose fresh render differs from (or is missing in) ``committed``."""
     with tempfile.TemporaryDirectory() as tmp:
-        fresh = write(Path(tmp), names)
-        return [p.name for p in fresh
-                if not (committed / p.name).is_file() or (committed / p.name).read_bytes() != p.read_bytes()]
+        return [p.name for p in write(Path(tmp), names) if not same_picture(p, committed / p.name)]
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -64,7 +74,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=GALLERY, help="folder of the PNGs (default docs/gallery)")
     parser.add_argument("--only", help="comma-separated figure names: " + ", ".join(FIGURES))
     parser.add_argument("--check", action="store_true",
-                        help="regenerate into a temporary folder; exit 1 if a file differs from --out's")
+                        help="regenerate into a temporary folder; exit 1 if a picture differs from --out's")
     args = parser.parse_args(argv)
     names = list(FIGURES) if args.only is None else [n.strip() for n in args.only.split(",")]
     unknown = [n for n in names if n not in FIGURES]
