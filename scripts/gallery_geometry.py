@@ -18,8 +18,6 @@ from rasterkit.transform import apply_points, compose
 from gallery_canvas import (AXIS_COLORS, axes_3d, blank, box_edges, dots, grid, label, pixel_grid,
                             segments_3d)
 
-GREY = (150, 150, 150)
-
 
 def letter_f() -> rasterkit.Mesh:
     """The letter F in the plane z = 0 (three rectangles, 0 <= x <= 1, 0 <= y <= 1.5)."""
@@ -247,15 +245,17 @@ def _vanishing_lines(image, camera, cube: rasterkit.Mesh) -> None:
 
 def projections_perspective(size=(236, 150)) -> np.ndarray:
     """1-, 2- and 3-point perspective of a cube, its edges extended to their vanishing
-    points; and a 2-point view tilted up by a shifted window instead of a tilted camera."""
+    points; and a 2-point view looking down through a shifted window, not a tilted camera."""
     w, h = size
     cube = colored_cube()
     centre, radius = cube.bounding_sphere()
     cameras = [
         ("1-point: view along -z", Camera.look_at((1.1, 0.9, 3.2), (1.1, 0.9, 0), fov_y=60,
                                                   width=w, height=h)),
-        ("2-point (Camera.two_point)", Camera.two_point(centre, radius * 2.2, fov_y=60, width=w, height=h)),
-        ("3-point (Camera.three_point)", Camera.three_point(centre, radius * 2.2, fov_y=60, width=w, height=h)),
+        ("2-point (Camera.two_point)",
+         Camera.two_point(centre, radius * 2.2, fov_y=60, width=w, height=h)),
+        ("3-point (Camera.three_point)",
+         Camera.three_point(centre, radius * 2.2, fov_y=60, width=w, height=h)),
         ("2-point, shift=(0, -0.6)", Camera.look_at((2.0, 1.3, 2.8), (0.4, 1.3, 0.0), fov_y=60,
                                                     width=w, height=h, shift=(0, -0.6))),
     ]
