@@ -132,7 +132,8 @@ def coordinate_systems(size=(156, 124)) -> np.ndarray:
     for name in ("cube", "sphere"):
         m = PLACEMENTS[name]
         axes_3d(image, observer, m[:3, 3], m[:3, :3].T, 0.6, names=("", "", ""))
-    segments_3d(image, observer, *frustum(cam, 0.001, 3.0), color=(90, 90, 90))
+    segments_3d(image, observer, *frustum(cam, 0.001, 1.8), color=(90, 90, 90))
+    _mark(image, observer, cam.eye, "eye")
     axes_3d(image, observer, length=1.2)
     panels.append(label(image, "world: objects, camera"))
 
@@ -142,6 +143,7 @@ def coordinate_systems(size=(156, 124)) -> np.ndarray:
     segments_3d(image, observer, *frustum(replace(cam, eye=(0, 0, 0), target=(0, 0, -1), up=(0, 1, 0)),
                                           cam.near, cam.far), color=(90, 90, 90))
     axes_3d(image, observer, length=1.5)
+    _mark(image, observer, (0, 0, 0), "eye", (-24, -2))
     panels.append(label(image, "camera: eye at 0, view -z"))
 
     to_ndc = compose(*(factors[n] for n in ("T", "R", "H", "S_xy", "S_far", "P_persp")))
@@ -163,6 +165,13 @@ def coordinate_systems(size=(156, 124)) -> np.ndarray:
     image = rasterkit.render(world_scene(lecture_camera(w, h)), mode="solid", cull="none").color.copy()
     panels.append(label(image, "the image (160x120)"))
     return grid(panels, 3)
+
+
+def _mark(image: np.ndarray, camera: Camera, point, text: str, offset=(4, -12)) -> None:
+    """A dot at a world point and a label beside it."""
+    xy = camera.project(np.asarray(point, float)[None])[0, :2]
+    dots(image, xy[None], 2.5)
+    label(image, text, tuple(xy + offset))
 
 
 # --- the view volume through the chain ----------------------------------------------------
