@@ -99,6 +99,16 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _whole_number(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
+    return value
+
+
 def _focus(text: str) -> float | None:
     if text.strip().lower() == "auto":
         return None
@@ -188,6 +198,14 @@ def _parser() -> argparse.ArgumentParser:
     out.add_argument("--turntable", type=_positive_int, metavar="N",
                      help="N frames around the model, as an animated GIF or APNG")
     out.add_argument("--depth", metavar="OUT.npy", help="also save the depth buffer (float32)")
+    many = r.add_argument_group("batches (several models or folders into the folder -o)")
+    many.add_argument("--jobs", type=_whole_number, default=1, metavar="N",
+                      help="N worker processes sharing the cores (default 1; 0: one per core)")
+    many.add_argument("--scheduler", metavar="ADDRESS",
+                      help="render on a Dask cluster (tcp://host:port); its workers must reach -o")
+    many.add_argument("--resume", action="store_true",
+                      help="skip models whose image is complete and newer than the model")
+    many.add_argument("--contact-sheet", metavar="SHEET.png", help="also write a grid of all thumbnails")
     _add_limits(r)
     return parser
 
@@ -216,6 +234,20 @@ def _without_scipy() -> None:
     its process is its own."""
     if "scipy" not in sys.modules:
         sys.meta_path.insert(0, _NoScipy())
+
+
+def render_options(**options) -> argparse.Namespace:
+    """The ``render`` command's options as its parser makes them: the defaults, then
+    ``options`` (Python values: ``size=(640, 480)``, ``mode="solid"``, ``eye=(1, 2, 3)``...).
+    Raises ``TypeError`` for a name the command does not have."""
+    args = _parser().parse_args(["render", "--demo", "-o", "unused.png"])
+    batch_only = {"models", "demo", "output", "depth", "threads", "jobs", "scheduler", "resume", "contact_sheet",
+                  "max_file_size", "max_memory", "command"}
+    for name, value in options.items():
+        if name in batch_only or not hasattr(args, name):
+            raise TypeError(f"unknown render option {name!r}")
+        setattr(args, name, value)
+    return args
 
 
 def _render(args) -> int:
