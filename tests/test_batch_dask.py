@@ -60,19 +60,22 @@ def test_a_cluster_writes_the_images_of_one_process(cluster, tmp_path):
 
 
 def test_killing_a_worker_still_yields_every_image_and_a_complete_manifest(cluster, tmp_path):
-    folder = _folder(tmp_path, 10, 4)
+    folder = _folder(tmp_path, 24, 4)
     result = {}
     thread = threading.Thread(target=lambda: result.update(
-        s=rasterkit.render_many(folder, tmp_path / "out", client=cluster, size=(640, 480), mode="solid", samples=16)))
+        s=rasterkit.render_many(folder, tmp_path / "out", client=cluster, size=(800, 600), mode="solid", samples=32)))
     thread.start()
-    time.sleep(3.0)
+    manifest = tmp_path / "out" / "manifest.jsonl"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and len(read_manifest(manifest) if manifest.exists() else []) < 2:
+        time.sleep(0.01)
     pids = cluster.run(os.getpid)
     assert thread.is_alive()  # the batch is still running
     os.kill(next(iter(pids.values())), signal.SIGKILL)
     thread.join(timeout=600)
     summary = result["s"]
-    assert (summary.done, summary.failed) == (10, 1)
+    assert (summary.done, summary.failed) == (24, 1)
     records = read_manifest(tmp_path / "out" / "manifest.jsonl")
     assert sorted(r["input"] for r in records) == sorted(str(p) for p in folder.glob("*.obj"))
-    assert len(list((tmp_path / "out").glob("*.png"))) == 10
+    assert len(list((tmp_path / "out").glob("*.png"))) == 24
     assert not list((tmp_path / "out").glob(".*.tmp"))
