@@ -15,20 +15,9 @@ import math
 from pathlib import Path
 
 from . import _report
-from ._report import UsageError
+from ._cli_args import framed_camera
 
 __all__ = ["render_model"]
-
-
-def _camera(options, center, radius):
-    from .camera import Camera
-
-    width, height = options.size
-    return Camera.preset(options.projection, center, radius, width=width, height=height,
-                         azimuth=options.azimuth, elevation=options.elevation, fov_y=options.fov,
-                         distance=options.distance, eye=options.eye, target=options.target, up=options.up,
-                         near=options.near, far=options.far, aperture=options.aperture,
-                         focus_distance=options.focus)
 
 
 def _turntable(mesh, camera, center, frames: int, style: dict):
@@ -61,10 +50,7 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
     if say is not None:
         for warning in mesh.warnings:
             say(f"rasterkit: warning: {_report.one_line(warning)}")
-    center, radius = mesh.bounding_sphere()
-    if radius == 0.0:
-        raise UsageError("the model has no extent (all vertices coincide)")
-    camera = _camera(options, center, radius)
+    camera, center = framed_camera(options, mesh)
     style = dict(mode=options.mode, cull=options.cull, shading=options.shading, color=options.color,
                  line_color=options.line_color, background=options.background, aa=options.aa,
                  samples=options.samples, vignette=options.vignette)

@@ -6,12 +6,16 @@ internal error (a bug of rasterkit, one line too); 130 interrupted by Ctrl-C (SI
 stopped by SIGTERM; 141 stdout closed by its reader (``rasterkit info ... | head``). Interrupted or stopped, rasterkit removes its temporary file and leaves
 the output as it was. A folder of models renders every model it can and reports each failure
 in one line (:mod:`rasterkit._batch`); every message is one line (:mod:`rasterkit._report`).
+``explain`` prints the lecture's camera chain or line algorithms (:mod:`rasterkit.explain`)
+for the camera ``render`` would use: both build it with the argument types and view flags
+of :mod:`rasterkit._cli_args`.
 
 Startup: at module level this imports only the standard library and rasterkit's pure-Python
-modules (:mod:`rasterkit.options`, :mod:`rasterkit.limits`), so ``--help`` and the usage
-errors argparse finds come without NumPy or Numba (0.04 s, not 0.5 s). Numba loads once a
-render or ``info`` starts; then the first kernel that has to be compiled (no cached copy)
-prints one notice on stderr (:mod:`rasterkit._notice`).
+modules (:mod:`rasterkit.options`, :mod:`rasterkit.limits`, :mod:`rasterkit._cli_args`), so
+``--help`` and the usage errors argparse finds come without NumPy or Numba (0.04 s, not
+0.5 s). Numba loads once a render or ``info`` starts (for ``explain``: a model file or
+``--line``'s grids); then the first kernel that has to be compiled (no cached copy) prints
+one notice on stderr (:mod:`rasterkit._notice`).
 """
 
 from __future__ import annotations
@@ -19,7 +23,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import importlib.abc
-import math
 import os
 import signal
 import sys
@@ -28,7 +31,9 @@ from typing import Iterator
 
 from . import _report, limits
 from ._report import UsageError
-from .options import CULL, MAX_IMAGE_SIZE, MODES, PROJECTIONS, SHADING
+from ._cli_args import (add_limits, add_view_arguments, attach_number_lists, framed_camera,
+                        integers, point, positive_int, samples, unit_interval, whole_number)
+from .options import CULL, MODES, SHADING
 
 __all__ = ["main", "Terminated"]
 
@@ -42,6 +47,17 @@ examples:
   rasterkit render model.obj -o spin.gif --turntable 36 --mode solid
   rasterkit render models/ -o images/ --mode solid      (every .obj in a folder)
   rasterkit info model.obj
+  rasterkit explain model.obj --point 0.5,0.5,0.5 --projection cabinet
+  rasterkit explain --line 0,0,7,3
+
+explain: the lecture made visible, as text. 'rasterkit explain [MODEL | --demo]' prints
+  the camera that 'render' would use with the same flags, factor by factor as in the
+  lecture (T, R, H, S_xy, S_far, P_persp, P_parallel, S_raster, Raster; T_near, S_xyz for
+  parallel cameras): what each does, its 4x4 matrix, their product K checked against the
+  camera's matrix; --point X,Y,Z carries a world point through every factor to its pixel.
+  Without a model it frames the unit cube. 'rasterkit explain --line X0,Y0,X1,Y1' draws
+  the segment's pixels by brute force, DDA and Bresenham side by side (at most 64x64) and
+  tabulates Bresenham's decision variable d at each step.
 
 exit codes:
   0    success
@@ -60,84 +76,6 @@ class Terminated(BaseException):
     on the way out) and exits with 143. A BaseException, like KeyboardInterrupt, so that no
     ``except Exception`` swallows it."""
 
-def _size(text: str) -> tuple[int, int]:
-    parts = text.lower().split("x")
-    try:
-        width, height = (int(p) for p in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"size must be WIDTHxHEIGHT, e.g. 640x480, got {text!r}")
-    if not (1 <= width <= MAX_IMAGE_SIZE and 1 <= height <= MAX_IMAGE_SIZE):
-        raise argparse.ArgumentTypeError(
-            f"width and height must be 1 to {MAX_IMAGE_SIZE}, got {text!r}")
-    return width, height
-
-
-def _finite(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}")
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
-    return value
-
-
-def _point(text: str) -> tuple[float, float, float]:
-    parts = text.split(",")
-    if len(parts) != 3:
-        raise argparse.ArgumentTypeError(f"a point is X,Y,Z, got {text!r}")
-    return tuple(_finite(p) for p in parts)
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
-
-
-def _whole_number(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
-    return value
-
-
-def _focus(text: str) -> float | None:
-    if text.strip().lower() == "auto":
-        return None
-    value = _finite(text)
-    if value <= 0.0:
-        raise argparse.ArgumentTypeError(f"the focus distance must be positive (or 'auto'), got {text!r}")
-    return value
-
-
-def _samples(text: str) -> int:
-    value = _positive_int(text)
-    if value > 256:
-        raise argparse.ArgumentTypeError(f"at most 256 samples, got {value}")
-    return value
-
-
-def _unit_interval(text: str) -> float:
-    value = _finite(text)
-    if not 0.0 <= value <= 1.0:
-        raise argparse.ArgumentTypeError(f"must lie in [0, 1], got {text!r}")
-    return value
-
-
-def _size_limit(text: str) -> int:
-    try:
-        return limits.parse_size(text)
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e))
-
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # argparse prints usage + message; we want one line, exit 2
@@ -150,7 +88,7 @@ def _parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     info = commands.add_parser("info", help="print counts, bounds, groups, materials, warnings")
     info.add_argument("models", nargs="+", metavar="MODEL.obj")
-    _add_limits(info)
+    add_limits(info)
     r = commands.add_parser("render", help="render models to images", epilog=EXAMPLES,
                             formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("models", nargs="*", metavar="MODEL.obj",
@@ -158,27 +96,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--demo", action="store_true", help="render the built-in demo model")
     r.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="image (.png; .gif/.png/.apng with --turntable), or a folder")
-    r.add_argument("--size", type=_size, default=(800, 600), metavar="WIDTHxHEIGHT",
-                   help="image size in pixels (default 800x600)")
     r.add_argument("--mode", choices=MODES, default="wire", help="default wire")
-    r.add_argument("--projection", choices=PROJECTIONS, default="perspective")
-    cam = r.add_argument_group("camera (default: framed automatically around the model)")
-    cam.add_argument("--eye", type=_point, metavar="X,Y,Z")
-    cam.add_argument("--target", type=_point, metavar="X,Y,Z")
-    cam.add_argument("--up", type=_point, metavar="X,Y,Z")
-    cam.add_argument("--fov", type=_finite, default=45.0, metavar="DEG",
-                     help="vertical field of view (default 45)")
-    cam.add_argument("--near", type=_finite, metavar="N")
-    cam.add_argument("--far", type=_finite, metavar="F")
-    cam.add_argument("--azimuth", type=_finite, default=30.0, metavar="DEG",
-                     help="about +Y, from +Z towards +X (default 30)")
-    cam.add_argument("--elevation", type=_finite, default=20.0, metavar="DEG",
-                     help="above the horizon (default 20)")
-    cam.add_argument("--distance", type=_finite, metavar="D", help="eye distance from the target")
-    cam.add_argument("--aperture", type=_finite, default=0.0, metavar="A",
-                     help="lens diameter, world units: depth of field with --samples (default 0, a pinhole)")
-    cam.add_argument("--focus", type=_focus, default=None, metavar="F",
-                     help="distance of the plane in focus, or 'auto' (default): the distance to the target")
+    add_view_arguments(r)
     look = r.add_argument_group("appearance")
     look.add_argument("--color", default="lightgray", help="surface colour (name or #rrggbb)")
     look.add_argument("--line-color", default="black", help="line colour (name or #rrggbb)")
@@ -187,37 +106,64 @@ def _parser() -> argparse.ArgumentParser:
     look.add_argument("--cull", choices=CULL, default="back")
     look.add_argument("--shading", choices=SHADING, default="flat")
     look.add_argument("--aa", action="store_true", help="anti-aliased (Wu) lines")
-    look.add_argument("--samples", type=_samples, default=1, metavar="N",
+    look.add_argument("--samples", type=samples, default=1, metavar="N",
                       help="jittered samples per pixel, averaged: anti-aliasing, and depth of field "
                            "with --aperture (1 to 256, default 1)")
-    look.add_argument("--vignette", type=_unit_interval, default=0.0, metavar="V",
+    look.add_argument("--vignette", type=unit_interval, default=0.0, metavar="V",
                       help="natural cos^4 falloff towards the corners, 0 (none, default) to 1 (full)")
     out = r.add_argument_group("output")
-    out.add_argument("--threads", type=_positive_int, metavar="N",
+    out.add_argument("--threads", type=positive_int, metavar="N",
                      help="threads for the kernels (default: all cores)")
-    out.add_argument("--turntable", type=_positive_int, metavar="N",
+    out.add_argument("--turntable", type=positive_int, metavar="N",
                      help="N frames around the model, as an animated GIF or APNG")
     out.add_argument("--depth", metavar="OUT.npy", help="also save the depth buffer (float32)")
+    _add_batch_arguments(r)
+    add_limits(r)
+    _add_explain(commands)
+    return parser
+
+
+def _add_batch_arguments(r) -> None:
     many = r.add_argument_group("batches (several models or folders into the folder -o)")
-    many.add_argument("--jobs", type=_whole_number, default=1, metavar="N",
+    many.add_argument("--jobs", type=whole_number, default=1, metavar="N",
                       help="N worker processes sharing the cores (default 1; 0: one per core)")
     many.add_argument("--scheduler", metavar="ADDRESS",
                       help="render on a Dask cluster (tcp://host:port); its workers must reach -o")
     many.add_argument("--resume", action="store_true",
                       help="skip models whose image is complete and newer than the model")
     many.add_argument("--contact-sheet", metavar="SHEET.png", help="also write a grid of all thumbnails")
-    _add_limits(r)
-    return parser
 
 
-def _add_limits(parser: argparse.ArgumentParser) -> None:
-    group = parser.add_argument_group("limits (sizes in bytes, or with K, M, G, T: 512M, 4G)")
-    group.add_argument("--max-file-size", type=_size_limit, metavar="SIZE",
-                       help="refuse model and material files larger than this "
-                            "(default 2G, or RASTERKIT_MAX_FILE_SIZE)")
-    group.add_argument("--max-memory", type=_size_limit, metavar="SIZE",
-                       help="refuse work that needs more memory than this "
-                            "(default: the machine's memory, or RASTERKIT_MAX_MEMORY)")
+def render_options(**options) -> argparse.Namespace:
+    """The ``render`` command's options as its parser makes them: the defaults, then
+    ``options`` (Python values: ``size=(640, 480)``, ``mode="solid"``, ``eye=(1, 2, 3)``...).
+    Raises ``TypeError`` for a name the command does not have (or one of a single render's)."""
+    args = _parser().parse_args(["render", "--demo", "-o", "unused.png"])
+    not_options = {"models", "demo", "output", "depth", "threads", "jobs", "scheduler", "resume", "contact_sheet",
+                   "max_file_size", "max_memory", "command"}
+    for name, value in options.items():
+        if name in not_options or not hasattr(args, name):
+            raise TypeError(f"unknown render option {name!r}")
+        setattr(args, name, value)
+    return args
+
+
+def _add_explain(commands) -> None:
+    e = commands.add_parser(
+        "explain", help="print the camera chain factor by factor, or how a line becomes pixels",
+        description="Print the camera chain of 'render' factor by factor (with a point carried "
+                    "through it), or (--line) the pixels of three line algorithms.",
+        epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
+    e.add_argument("model", nargs="?", metavar="MODEL.obj",
+                   help="the model the camera frames (default: the unit cube, shapes.cube())")
+    e.add_argument("--demo", action="store_true", help="frame the built-in demo model")
+    e.add_argument("--point", type=point, metavar="X,Y,Z",
+                   help="carry this world point through every factor to its pixel")
+    e.add_argument("--line", type=integers(4, "X0,Y0,X1,Y1"), metavar="X0,Y0,X1,Y1",
+                   help="instead: the pixels of this segment by brute force, DDA and Bresenham, "
+                        "and Bresenham's decision variable (at most 64x64 pixels)")
+    add_view_arguments(e)
+    add_limits(e)
 
 
 class _NoScipy(importlib.abc.MetaPathFinder):
@@ -234,20 +180,6 @@ def _without_scipy() -> None:
     its process is its own."""
     if "scipy" not in sys.modules:
         sys.meta_path.insert(0, _NoScipy())
-
-
-def render_options(**options) -> argparse.Namespace:
-    """The ``render`` command's options as its parser makes them: the defaults, then
-    ``options`` (Python values: ``size=(640, 480)``, ``mode="solid"``, ``eye=(1, 2, 3)``...).
-    Raises ``TypeError`` for a name the command does not have."""
-    args = _parser().parse_args(["render", "--demo", "-o", "unused.png"])
-    batch_only = {"models", "demo", "output", "depth", "threads", "jobs", "scheduler", "resume", "contact_sheet",
-                  "max_file_size", "max_memory", "command"}
-    for name, value in options.items():
-        if name in batch_only or not hasattr(args, name):
-            raise TypeError(f"unknown render option {name!r}")
-        setattr(args, name, value)
-    return args
 
 
 def _render(args) -> int:
@@ -273,6 +205,44 @@ def _info(args) -> int:
 
     with compile_notice():
         return _info_models(args.models)
+
+
+def _explain(args) -> int:
+    from . import explain
+
+    if args.line is not None:
+        if args.model or args.demo or args.point:
+            raise UsageError("--line takes no MODEL, --demo or --point")
+        explain.check_segment(*args.line)  # before Numba loads
+        _without_scipy()
+        from ._notice import compile_notice
+
+        with compile_notice():
+            text = explain.format_line(*args.line)
+    else:
+        if args.model and args.demo:
+            raise UsageError("give a MODEL.obj or --demo, not both")
+        camera, _ = framed_camera(args, _explained_mesh(args))
+        text = explain.format_chain(explain.chain_steps(camera, args.point), camera)
+    print(text, flush=True)
+    return 0
+
+
+def _explained_mesh(args):
+    """The model of ``explain``: MODEL.obj, the demo model, or the unit cube."""
+    from . import shapes
+
+    if args.model is None:
+        return shapes.demo() if args.demo else shapes.cube()
+    _without_scipy()
+    from ._notice import compile_notice
+    from .obj import load_obj
+
+    with _report.model(args.model), compile_notice():
+        mesh = load_obj(args.model)
+    for warning in mesh.warnings:
+        print(f"rasterkit: warning: {args.model}: {_report.one_line(warning)}", file=sys.stderr)
+    return mesh
 
 
 def _info_models(models: list[str]) -> int:
@@ -375,9 +345,9 @@ def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (see the module's documentation)."""
     with _stop_signals(), _report.one_line_warnings():
         try:
-            args = _parser().parse_args(argv)
+            args = _parser().parse_args(attach_number_lists(sys.argv[1:] if argv is None else argv))
             with _limits(args):
-                return _render(args) if args.command == "render" else _info(args)
+                return {"render": _render, "info": _info, "explain": _explain}[args.command](args)
         except (KeyboardInterrupt, Terminated) as e:
             _stop_helper()
             interrupted = isinstance(e, KeyboardInterrupt)

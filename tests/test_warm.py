@@ -17,7 +17,7 @@ from PIL import Image
 
 import rasterkit
 from rasterkit._notice import MESSAGE
-from rasterkit._batch import _camera
+from rasterkit._cli_args import framed_camera
 from rasterkit.cli import _parser
 from rasterkit.obj import load_obj
 
@@ -145,7 +145,7 @@ def test_first_cli_render_with_the_helper_equals_a_cached_one_and_the_api(tmp_pa
     # The same picture in this process, through the API, with the command line's camera.
     args = _parser().parse_args(["render", str(model), "-o", "unused.png", *options])
     mesh = load_obj(model)
-    fb = rasterkit.render(mesh, _camera(args, *mesh.bounding_sphere()), mode="solid", cull=args.cull,
+    fb = rasterkit.render(mesh, framed_camera(args, mesh)[0], mode="solid", cull=args.cull,
                           shading=args.shading, color=args.color, line_color=args.line_color,
                           background=args.background, aa=args.aa)
     np.testing.assert_array_equal(fb.color, first)

@@ -1,0 +1,219 @@
+"""The command line's argument types and the view flags that ``render`` and ``explain`` share.
+
+``render`` and ``explain`` take the same size, projection and camera flags
+(:func:`add_view_arguments`) and turn them into a camera with the same function
+(:func:`framed_camera`), so ``rasterkit explain`` always shows the camera that
+``rasterkit render`` would use for that model and those flags.
+
+Pure standard library at module level (NumPy loads when a camera is made), so the parser,
+``--help`` and argparse's usage errors come without NumPy or Numba.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+
+from . import limits
+from ._report import UsageError
+from .options import MAX_IMAGE_SIZE, PROJECTIONS
+
+__all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite",
+           "focus", "framed_camera", "integers", "point", "positive_int", "samples", "size",
+           "size_limit", "unit_interval"]
+
+
+def size(text: str) -> tuple[int, int]:
+    """``WIDTHxHEIGHT``, each 1 to :data:`MAX_IMAGE_SIZE`."""
+    parts = text.lower().split("x")
+    try:
+        width, height = (int(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size must be WIDTHxHEIGHT, e.g. 640x480, got {text!r}")
+    if not (1 <= width <= MAX_IMAGE_SIZE and 1 <= height <= MAX_IMAGE_SIZE):
+        raise argparse.ArgumentTypeError(
+            f"width and height must be 1 to {MAX_IMAGE_SIZE}, got {text!r}")
+    return width, height
+
+
+def finite(text: str) -> float:
+    """A finite float."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}")
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
+    return value
+
+
+def point(text: str) -> tuple[float, float, float]:
+    """``X,Y,Z``: three finite floats."""
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"a point is X,Y,Z, got {text!r}")
+    return tuple(finite(p) for p in parts)
+
+
+def integers(count: int, form: str):
+    """An argument type: ``count`` comma-separated whole numbers, written as ``form``."""
+    def parse(text: str) -> tuple[int, ...]:
+        parts = text.split(",")
+        if len(parts) != count:
+            raise argparse.ArgumentTypeError(f"expected {count} whole numbers {form}, got {text!r}")
+        try:
+            return tuple(int(p) for p in parts)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected whole numbers {form}, got {text!r}")
+    return parse
+
+
+def positive_int(text: str) -> int:
+    """A whole number >= 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def whole_number(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
+    return value
+
+
+def focus(text: str) -> float | None:
+    """A positive focus distance, or ``auto`` (None: the distance to the target)."""
+    if text.strip().lower() == "auto":
+        return None
+    value = finite(text)
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"the focus distance must be positive (or 'auto'), got {text!r}")
+    return value
+
+
+def samples(text: str) -> int:
+    """Samples per pixel, 1 to 256."""
+    value = positive_int(text)
+    if value > 256:
+        raise argparse.ArgumentTypeError(f"at most 256 samples, got {value}")
+    return value
+
+
+def unit_interval(text: str) -> float:
+    """A float in [0, 1]."""
+    value = finite(text)
+    if not 0.0 <= value <= 1.0:
+        raise argparse.ArgumentTypeError(f"must lie in [0, 1], got {text!r}")
+    return value
+
+
+def size_limit(text: str) -> int:
+    """A size in bytes, or with K, M, G, T (:func:`rasterkit.limits.parse_size`)."""
+    try:
+        return limits.parse_size(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e))
+
+
+#: The options whose value is a list of numbers, which may start with a minus sign.
+NUMBER_LISTS = ("--eye", "--target", "--up", "--point", "--line")
+
+_NEGATIVE_START = re.compile(r"-[0-9.]")
+
+
+def attach_number_lists(argv: list[str]) -> list[str]:
+    """``argv`` with ``--point -1,2,3`` written as ``--point=-1,2,3``.
+
+    argparse takes a value that starts with ``-`` for an option unless it is one plain
+    negative number, so it would refuse ``--point -1,2,3`` with "expected one argument".
+    """
+    out, k = [], 0
+    while k < len(argv):
+        if argv[k] in NUMBER_LISTS and k + 1 < len(argv) and _NEGATIVE_START.match(argv[k + 1]):
+            out.append(f"{argv[k]}={argv[k + 1]}")
+            k += 2
+        else:
+            out.append(argv[k])
+            k += 1
+    return out
+
+
+def add_view_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--size``, ``--projection`` and the camera flags, read by :func:`framed_camera`."""
+    parser.add_argument("--size", type=size, default=(800, 600), metavar="WIDTHxHEIGHT",
+                        help="image size in pixels (default 800x600)")
+    parser.add_argument("--projection", choices=PROJECTIONS, default="perspective")
+    cam = parser.add_argument_group("camera (default: framed automatically around the model)")
+    cam.add_argument("--eye", type=point, metavar="X,Y,Z")
+    cam.add_argument("--target", type=point, metavar="X,Y,Z")
+    cam.add_argument("--up", type=point, metavar="X,Y,Z")
+    cam.add_argument("--fov", type=finite, default=45.0, metavar="DEG",
+                     help="vertical field of view (default 45)")
+    cam.add_argument("--near", type=finite, metavar="N")
+    cam.add_argument("--far", type=finite, metavar="F")
+    cam.add_argument("--azimuth", type=finite, default=30.0, metavar="DEG",
+                     help="about +Y, from +Z towards +X (default 30)")
+    cam.add_argument("--elevation", type=finite, default=20.0, metavar="DEG",
+                     help="above the horizon (default 20)")
+    cam.add_argument("--distance", type=finite, metavar="D", help="eye distance from the target")
+    cam.add_argument("--aperture", type=finite, default=0.0, metavar="A",
+                     help="lens diameter, world units: depth of field with --samples (default 0, a pinhole)")
+    cam.add_argument("--focus", type=focus, default=None, metavar="F",
+                     help="distance of the plane in focus, or 'auto' (default): the distance to the target")
+
+
+def add_limits(parser: argparse.ArgumentParser) -> None:
+    """``--max-file-size`` and ``--max-memory``."""
+    group = parser.add_argument_group("limits (sizes in bytes, or with K, M, G, T: 512M, 4G)")
+    group.add_argument("--max-file-size", type=size_limit, metavar="SIZE",
+                       help="refuse model and material files larger than this "
+                            "(default 2G, or RASTERKIT_MAX_FILE_SIZE)")
+    group.add_argument("--max-memory", type=size_limit, metavar="SIZE",
+                       help="refuse work that needs more memory than this "
+                            "(default: the machine's memory, or RASTERKIT_MAX_MEMORY)")
+
+
+def framed_camera(args, mesh):
+    """The camera of the view flags in ``args`` for ``mesh``, and the centre it frames.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed by a parser with :func:`add_view_arguments`.
+    mesh : rasterkit.Mesh
+        The model: its bounding sphere is framed (then the flags move the camera).
+
+    Returns
+    -------
+    camera : rasterkit.Camera
+    center : (3,) float64 ndarray
+        The centre of the bounding sphere (a turntable spins about it).
+
+    Raises
+    ------
+    UsageError
+        If the model has no extent.
+    ValueError
+        If the flags make an invalid camera.
+    """
+    from .camera import Camera
+
+    center, radius = mesh.bounding_sphere()
+    if radius == 0.0:
+        raise UsageError("the model has no extent (all vertices coincide)")
+    width, height = args.size
+    camera = Camera.preset(args.projection, center, radius, width=width, height=height,
+                           azimuth=args.azimuth, elevation=args.elevation, fov_y=args.fov,
+                           distance=args.distance, eye=args.eye, target=args.target, up=args.up,
+                           near=args.near, far=args.far, aperture=args.aperture,
+                           focus_distance=args.focus)
+    return camera, center
