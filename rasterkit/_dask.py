@@ -95,7 +95,7 @@ def run(client, tasks, options, on_result) -> None:
             except Exception as e:  # the task failed on the cluster: a worker kept dying
                 source, output = futures[future]
                 record = {"input": source, "output": output, "status": "error", "code": 1,
-                          "error": f"internal error: {source}: {type(e).__name__}: {e}".splitlines()[0],
+                          "error": f"{source}: {type(e).__name__}: {e}".splitlines()[0],
                           "seconds": None, "triangles": None}
             on_result(record)
     finally:

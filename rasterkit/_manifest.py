@@ -4,8 +4,11 @@ The manifest has one JSON object per line, one per model, appended as its result
 each line with one ``write`` to a file opened for appending: a run that is killed leaves
 every finished model's line and no half line (a reader skips a line that does not parse,
 in case the disk filled up in the middle of one). Fields: ``input``, ``output``,
-``status`` (``"ok"`` or ``"error"``), ``error`` (the one-line message, or null),
-``seconds`` (the model's own time in its worker), ``triangles`` (null when it did not load).
+``status`` (``"ok"`` or ``"error"``), ``error`` (the one-line message, or null; the
+command line prints it after ``rasterkit: error:``, or ``rasterkit: internal error:`` for a
+bug of rasterkit or a worker that died),
+``seconds`` (the model's own time in its worker), ``triangles`` (null when it did not load),
+``warnings`` (the loader's warning lines).
 A new run starts a new manifest; a ``--resume`` run appends to the old one, and writes no
 line for the models it skips (their line is in the manifest already).
 

@@ -83,6 +83,8 @@ def run(pairs: list[tuple[Path | None, Path]], out_dir: Path, options, *, jobs: 
 
         def on_result(record: dict) -> None:
             code = record.pop("code", 0 if record["status"] == "ok" else 1)
+            for warning in record.get("warnings", ()):
+                say(warning)
             manifest.write(record)
             summary.records.append(record)
             codes.append(code)
@@ -90,7 +92,7 @@ def run(pairs: list[tuple[Path | None, Path]], out_dir: Path, options, *, jobs: 
                 summary.done += 1
             else:
                 summary.failed += 1
-                say("rasterkit: " + record["error"])
+                say(f"rasterkit: {'error' if code == 2 else 'internal error'}: {record['error']}")
             report.advance(Path(record["input"]).name, record["status"], record["seconds"])
 
         try:

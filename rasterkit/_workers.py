@@ -76,15 +76,16 @@ def run_task(source: str, output: str, options, threads: int | None = None) -> d
         _jit.set_threads(threads)
     started = time.perf_counter()
     record = {"input": source, "output": output, "status": "ok", "error": None}
-    triangles = None
+    triangles, warnings = None, []
     with _report.model(source):
         try:
             with compile_lock(options):
-                triangles = render_model(Path(source), Path(output), options)
+                triangles = render_model(Path(source), Path(output), options, say=warnings.append)
         except Exception as e:
             code, line = _report.error_line(e)
-            record.update(status="error", error=line.removeprefix("rasterkit: "), code=code)
-    record.update(seconds=round(time.perf_counter() - started, 4), triangles=triangles)
+            prefix = "rasterkit: error: " if code == 2 else "rasterkit: internal error: "
+            record.update(status="error", error=line.removeprefix(prefix), code=code)
+    record.update(seconds=round(time.perf_counter() - started, 4), triangles=triangles, warnings=warnings)
     return record
 
 
@@ -177,7 +178,7 @@ class LocalPool:
         code = worker["process"].exitcode
         why = f"signal {-code}" if code is not None and code < 0 else f"exit code {code}"
         on_result({"input": source, "output": output, "status": "error", "code": 1,
-                   "error": f"internal error: {source}: the worker process died ({why})",
+                   "error": f"{source}: the worker process died ({why})",
                    "seconds": None, "triangles": None})
         self._workers.remove(worker)
         worker["conn"].close()
