@@ -30,6 +30,7 @@ if TYPE_CHECKING:  # the real imports, for type checkers and editors
     from .mesh import Mesh
     from .obj import ObjError, load_obj
     from .options import PROJECTIONS
+    from .batch import render_many
     from .render import render
     from .scene import Scene
 
@@ -43,6 +44,7 @@ __all__ = [
     "load_obj",
     "parse_color",
     "render",
+    "render_many",
     "Scene",
     "set_threads",
     "shapes",
@@ -61,6 +63,7 @@ _HOMES = {
     "load_obj": ".obj",
     "parse_color": ".colors",
     "render": ".render",
+    "render_many": ".batch",
     "Scene": ".scene",
     "set_threads": "._jit",
 }

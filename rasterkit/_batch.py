@@ -14,13 +14,13 @@ NumPy and Numba load when a model is rendered.
 
 from __future__ import annotations
 
-import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 from . import _report
-from ._cli_args import framed_camera
+from ._manifest import up_to_date
+from ._render_one import render_model
 from ._report import UsageError
 
 __all__ = ["jobs", "render_jobs"]
@@ -58,11 +58,17 @@ def jobs(args) -> tuple[list[Job], bool]:
     sources = [None] if args.demo else _inputs(args.models)
     if len(sources) == 1 and not any(Path(m).is_dir() for m in args.models):
         _check_image_path(out, animated=bool(args.turntable))
+        if args.contact_sheet or args.scheduler:
+            raise UsageError("--contact-sheet and --scheduler are for several models (a folder for -o)")
         return [Job(sources[0], out)], False
     if out.suffix.lower() in IMAGE_SUFFIXES:
         raise UsageError(f"{out}: several models render into a folder; give a folder for -o")
     if args.depth:
         raise UsageError("--depth takes one model")
+    if args.scheduler and args.jobs != 1:
+        raise UsageError("give --jobs or --scheduler, not both")
+    if args.contact_sheet and not args.contact_sheet.lower().endswith(".png"):
+        raise UsageError(f"{args.contact_sheet}: the contact sheet must end in .png")
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: not a folder")
     suffix = ".gif" if args.turntable else ".png"
@@ -83,52 +89,12 @@ def _check_image_path(out: Path, animated: bool) -> None:
         raise UsageError(f"{out}: folder {str(out.parent)!r} does not exist")
 
 
-def _turntable(mesh, camera, center, frames: int, style: dict):
-    """The frames of a turntable, rendered one at a time as they are asked for."""
-    from .render import render
-    from .scene import Scene
-    from .transform import rotate_axis
-
-    for k in range(frames):
-        spin = rotate_axis(2 * math.pi * k / frames, (0, 1, 0), center)
-        yield render(Scene(camera).add(mesh, spin), **style).color
-
-
-def _render_job(job: Job, args) -> None:
-    import numpy as np
-
-    from . import _warm
-    from .image import atomic_write, save_animation
-    from .obj import load_obj
-    from .render import render
-    from .shapes import demo
-
-    _warm.start(dict(mode=args.mode, cull=args.cull, shading=args.shading, background=args.background,
-                     aa=args.aa), depth=bool(args.depth), loading=job.source is not None)
-    mesh = demo() if job.source is None else load_obj(job.source)
-    for warning in mesh.warnings:
-        _say(f"rasterkit: warning: {_report.one_line(warning)}")
-    camera, center = framed_camera(args, mesh)
-    style = dict(mode=args.mode, cull=args.cull, shading=args.shading, color=args.color,
-                 line_color=args.line_color, background=args.background, aa=args.aa,
-                 samples=args.samples, vignette=args.vignette)
-    if args.turntable:  # streamed: one frame in memory at a time
-        save_animation(_turntable(mesh, camera, center, args.turntable, style), job.output)
-        return
-    fb = render(mesh, camera, **style)
-    if args.depth:
-        with atomic_write(args.depth) as tmp:
-            with open(tmp, "wb") as f:
-                np.save(f, fb.depth)
-    fb.save(job.output)
-
-
 def _attempt(job: Job, args) -> int:
     """Render one job; on failure print its one line. Returns its exit code. Only
     exceptions are caught: KeyboardInterrupt and SIGTERM stop everything."""
     with _report.model(job.source):
         try:
-            _render_job(job, args)
+            render_model(job.source, job.output, args, say=_say)
             return 0
         except Exception as e:
             code, line = _report.error_line(e)
@@ -139,42 +105,27 @@ def _attempt(job: Job, args) -> int:
 def render_jobs(jobs: list[Job], batch: bool, args) -> int:
     """Render every job; the exit code (see the module's documentation)."""
     if not batch:
+        if getattr(args, "resume", False) and jobs[0].source is not None and up_to_date(jobs[0].source, jobs[0].output):
+            return 0
         return _attempt(jobs[0], args)
-    jobs[0].output.parent.mkdir(parents=True, exist_ok=True)
-    codes = []
+    from . import _many
+
+    client = None
+    if args.scheduler:
+        from . import _dask
+
+        client = _dask.client_for(args.scheduler)
     try:
-        for k, job in enumerate(jobs, 1):
-            _show_progress(k, len(jobs), job.source.name)
-            codes.append(_attempt(job, args))
+        summary = _many.run([(job.source, job.output) for job in jobs], jobs[0].output.parent, args,
+                            jobs=args.jobs, client=client, resume=args.resume,
+                            contact_sheet=Path(args.contact_sheet) if args.contact_sheet else None)
     finally:
-        _clear_progress()
-    failed = sum(code != 0 for code in codes)
-    _say(f"rasterkit: rendered {len(codes) - failed}, failed {failed}")
-    return 1 if 1 in codes else max(codes)
-
-
-_progress_shown = False  # a progress line waits at the start of the terminal's line
-
-
-def _show_progress(k: int, n: int, name: str) -> None:
-    """The progress line: redrawn in place on a terminal, one line a model otherwise."""
-    global _progress_shown
-    _clear_progress()
-    width = 24
-    bar = "#" * (width * k // n) + "-" * (width - width * k // n)
-    tty = sys.stderr.isatty()
-    print(f"[{bar}] {k}/{n} {name}".ljust(72), end="\r" if tty else "\n", file=sys.stderr, flush=True)
-    _progress_shown = tty
-
-
-def _clear_progress() -> None:
-    global _progress_shown
-    if _progress_shown:
-        print(" " * 72, end="\r", file=sys.stderr, flush=True)
-        _progress_shown = False
+        if client is not None:
+            client.close()
+    print(summary.line(), file=sys.stderr, flush=True)
+    return summary.exit_code
 
 
 def _say(line: str) -> None:
-    """Print a line of the command line's on stderr (after taking a progress line away)."""
-    _clear_progress()
+    """Print a line of the command line's on stderr."""
     print(line, file=sys.stderr, flush=True)

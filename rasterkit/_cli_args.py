@@ -80,6 +80,16 @@ def positive_int(text: str) -> int:
     return value
 
 
+def whole_number(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
+    return value
+
+
 def focus(text: str) -> float | None:
     """A positive focus distance, or ``auto`` (None: the distance to the target)."""
     if text.strip().lower() == "auto":

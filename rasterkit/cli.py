@@ -32,7 +32,7 @@ from typing import Iterator
 from . import _report, limits
 from ._report import UsageError
 from ._cli_args import (add_limits, add_view_arguments, attach_number_lists, framed_camera,
-                        integers, point, positive_int, samples, unit_interval)
+                        integers, point, positive_int, samples, unit_interval, whole_number)
 from .options import CULL, MODES, SHADING
 
 __all__ = ["main", "Terminated"]
@@ -117,9 +117,35 @@ def _parser() -> argparse.ArgumentParser:
     out.add_argument("--turntable", type=positive_int, metavar="N",
                      help="N frames around the model, as an animated GIF or APNG")
     out.add_argument("--depth", metavar="OUT.npy", help="also save the depth buffer (float32)")
+    _add_batch_arguments(r)
     add_limits(r)
     _add_explain(commands)
     return parser
+
+
+def _add_batch_arguments(r) -> None:
+    many = r.add_argument_group("batches (several models or folders into the folder -o)")
+    many.add_argument("--jobs", type=whole_number, default=1, metavar="N",
+                      help="N worker processes sharing the cores (default 1; 0: one per core)")
+    many.add_argument("--scheduler", metavar="ADDRESS",
+                      help="render on a Dask cluster (tcp://host:port); its workers must reach -o")
+    many.add_argument("--resume", action="store_true",
+                      help="skip models whose image is complete and newer than the model")
+    many.add_argument("--contact-sheet", metavar="SHEET.png", help="also write a grid of all thumbnails")
+
+
+def render_options(**options) -> argparse.Namespace:
+    """The ``render`` command's options as its parser makes them: the defaults, then
+    ``options`` (Python values: ``size=(640, 480)``, ``mode="solid"``, ``eye=(1, 2, 3)``...).
+    Raises ``TypeError`` for a name the command does not have (or one of a single render's)."""
+    args = _parser().parse_args(["render", "--demo", "-o", "unused.png"])
+    not_options = {"models", "demo", "output", "depth", "threads", "jobs", "scheduler", "resume", "contact_sheet",
+                   "max_file_size", "max_memory", "command"}
+    for name, value in options.items():
+        if name in not_options or not hasattr(args, name):
+            raise TypeError(f"unknown render option {name!r}")
+        setattr(args, name, value)
+    return args
 
 
 def _add_explain(commands) -> None:

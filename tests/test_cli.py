@@ -208,7 +208,7 @@ def test_several_models_and_folders_render_into_an_output_folder(cube_obj, tmp_p
     out = tmp_path / "images"
     code, err = _run(["render", models, cube_obj, "-o", out, "--size", "20x20"], capsys)
     assert code == 0, err
-    assert sorted(p.name for p in out.iterdir()) == ["a.png", "b.png", "cube.png"]
+    assert sorted(p.name for p in out.iterdir()) == ["a.png", "b.png", "cube.png", "manifest.jsonl"]
     assert "3/3" in err  # progress on stderr
 
 
@@ -219,7 +219,7 @@ def test_a_bad_model_among_several_is_reported_and_the_others_still_render(cube_
     code, err = _run(["render", bad, cube_obj, "-o", out, "--size", "20x20"], capsys)
     assert code == 2
     assert "bad.obj:2:" in err and "Traceback" not in err
-    assert sorted(p.name for p in out.iterdir()) == ["cube.png"]
+    assert sorted(p.name for p in out.glob("*.png")) == ["cube.png"]
 
 
 def test_info_prints_counts_bounds_and_warnings(cube_obj, tmp_path, capsys):

@@ -7,6 +7,7 @@ import importlib
 import io
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -78,29 +79,31 @@ def test_a_folder_renders_every_good_model_and_reports_each_failure_in_one_line(
     _failing_loader(monkeypatch, {"d": IndexError("list index out of range")})  # a bug of ours
     code, lines = _run(["render", models, "-o", out, "--size", "32x24", "--mode", "solid"], capsys)
     assert code == 1  # an internal error among the failures
-    assert sorted(p.name for p in out.iterdir()) == ["a.png", "c.png", "e.png"]
+    assert sorted(p.name for p in out.iterdir()) == ["a.png", "c.png", "e.png", "manifest.jsonl"]
     for name in ("a.png", "c.png"):
         with Image.open(out / name) as im:
             assert im.size == (32, 24) and np.asarray(im).min() < 255
-    messages = [line for line in lines if not line.startswith("[")]  # without the progress lines
+    progress = [line for line in lines if re.match(r"\d+/5 \S+\.obj (ok|error)", line)]
+    messages = [line for line in lines if line not in progress]
     assert messages[0].startswith(f"rasterkit: error: {models / 'b.obj'}:2: ")
     assert messages == [
         messages[0],
         f"rasterkit: internal error: {models / 'd.obj'}: IndexError: list index out of range",
         f"rasterkit: error: {models / 'e.obj'}: {out / 'e.png'}: Is a directory",
-        "rasterkit: rendered 2, failed 3",
+        messages[-1],
     ]
-    assert sum(line.startswith("[") for line in lines) == 5
+    assert messages[-1].startswith("rasterkit: rendered 2, skipped 0, failed 3 in ")
+    assert [line.split()[0] for line in progress] == ["1/5", "2/5", "3/5", "4/5", "5/5"]
     assert not _temporary_files(out)
 
 
 def test_a_folder_with_only_bad_input_exits_2_and_one_without_failures_0(tmp_path, capsys):
     models = _models(tmp_path / "models", a=TETRA, b=BAD)
     code, lines = _run(["render", models, "-o", tmp_path / "out", "--size", "16x16"], capsys)
-    assert code == 2 and lines[-1] == "rasterkit: rendered 1, failed 1"
+    assert code == 2 and lines[-1].startswith("rasterkit: rendered 1, skipped 0, failed 1 in ")
     (models / "b.obj").write_text(TETRA)
     code, lines = _run(["render", models, "-o", tmp_path / "out", "--size", "16x16"], capsys)
-    assert code == 0 and lines[-1] == "rasterkit: rendered 2, failed 0"
+    assert code == 0 and lines[-1].startswith("rasterkit: rendered 2, skipped 0, failed 0 in ")
 
 
 @pytest.mark.parametrize("error, message", [
@@ -121,7 +124,7 @@ def test_an_error_while_rendering_names_the_model(tmp_path, capsys, monkeypatch,
     assert (code, lines) == (2, [f"rasterkit: error: {model}: {message}"])
     code, lines = _run(["render", tmp_path, "-o", tmp_path / "out"], capsys)  # the same in a folder
     assert code == 2 and f"rasterkit: error: {model}: {message}" in lines
-    assert not (tmp_path / "m.png").exists() and list((tmp_path / "out").iterdir()) == []
+    assert not (tmp_path / "m.png").exists() and [p.name for p in (tmp_path / "out").iterdir()] == ["manifest.jsonl"]
 
 
 def test_ctrl_c_in_a_folder_stops_at_once(tmp_path, capsys, monkeypatch):
@@ -130,7 +133,7 @@ def test_ctrl_c_in_a_folder_stops_at_once(tmp_path, capsys, monkeypatch):
     code, lines = _run(["render", models, "-o", tmp_path / "out", "--size", "16x16"], capsys)
     assert code == 130 and lines[-1] == "rasterkit: interrupted"
     assert not any("rendered" in line for line in lines)
-    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["a.png"]
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["a.png", "manifest.jsonl"]
 
 
 def test_two_models_with_one_output_name_are_a_usage_error(tmp_path, capsys):
@@ -152,12 +155,13 @@ def test_the_broken_models_of_other_loaders_render_as_folders(tmp_path):
     assert done.code in (0, 2), done.describe()  # never an internal error, a crash or a hang
     lines = _lines(done.stderr)
     errors = [line for line in lines if line.startswith("rasterkit: error: ")]
-    images = sorted(out.iterdir())
-    assert all(line.startswith(("rasterkit: error: ", "rasterkit: warning: ", "[", "rasterkit: rendered "))
-               for line in lines), lines
+    images = sorted(out.glob("*.png"))
+    progress = re.compile(r"\d+/%d \S+\.obj (ok|error) " % len(files))
+    assert all(line.startswith(("rasterkit: error: ", "rasterkit: warning: ", "rasterkit: rendered "))
+               or progress.match(line) for line in lines), lines
     failed = [next(f for f in files if line.startswith(f"rasterkit: error: {f}")) for line in errors]
     assert sorted(p.stem for p in images) == sorted(f.stem for f in files if f not in failed)
-    assert lines[-1] == f"rasterkit: rendered {len(images)}, failed {len(errors)}"
+    assert lines[-1].startswith(f"rasterkit: rendered {len(images)}, skipped 0, failed {len(errors)} in ")
     assert done.code == (2 if errors else 0)
     for image in images:
         with Image.open(image) as im:
@@ -281,7 +285,8 @@ def test_sigterm_during_a_folder_stops_it_and_leaves_no_temporary_file(tmp_path)
                                   out, signal.SIGTERM)
     assert code == 143 and lines[-1] == "rasterkit: terminated"
     assert not any("rendered" in line for line in lines)
-    assert sorted(p.name for p in out.iterdir()) == ["a.gif"] and (out / "a.gif").read_bytes() == b"old"
+    assert sorted(p.name for p in out.iterdir()) == ["a.gif", "manifest.jsonl"]
+    assert (out / "a.gif").read_bytes() == b"old"
 
 
 def test_signal_handlers_are_restored_and_an_ignored_signal_stays_ignored(tmp_path, capsys):

@@ -1,0 +1,126 @@
+"""The batch engine: many models into one folder, by one of three engines, with a manifest.
+
+1. ``--resume``: models whose image is complete and newer than the model are skipped
+   without loading them (:func:`rasterkit._manifest.up_to_date`).
+2. The rest render on one engine — this process (``jobs=1``), a pool of ``jobs`` local
+   worker processes (:class:`rasterkit._workers.LocalPool`), or a Dask cluster
+   (:mod:`rasterkit._dask`) — each model through :func:`rasterkit._workers.run_task`, so the
+   images are the same bytes whatever the engine and the number of workers.
+3. Each result is appended to ``OUTDIR/manifest.jsonl`` as it arrives, a failure is
+   reported in one line, the progress advances; at the end a summary line, and the contact
+   sheet if asked for.
+
+Kernel threads: one process alone uses every core; ``jobs`` workers share them
+(``cores // jobs`` threads each, at least one), so the cores are never oversubscribed.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ._manifest import Manifest, up_to_date
+from ._progress import Progress
+
+__all__ = ["BatchSummary", "cores", "run"]
+
+
+@dataclass
+class BatchSummary:
+    """What a batch did: counts, time, the manifest's records of this run, and the exit
+    code the command line gives it (0 all rendered or skipped, 2 a model failed on bad
+    input, 1 a failure was an internal error)."""
+
+    done: int = 0
+    skipped: int = 0
+    failed: int = 0
+    seconds: float = 0.0
+    manifest: Path | None = None
+    records: list = field(default_factory=list)
+    exit_code: int = 0
+
+    @property
+    def models_per_second(self) -> float:
+        return (self.done + self.failed) / self.seconds if self.seconds > 0 else 0.0
+
+    def line(self) -> str:
+        return (f"rasterkit: rendered {self.done}, skipped {self.skipped}, failed {self.failed} "
+                f"in {self.seconds:.1f} s ({self.models_per_second:.2f} models/s)")
+
+
+def cores() -> int:
+    """The cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
+def run(pairs: list[tuple[Path | None, Path]], out_dir: Path, options, *, jobs: int = 1, client=None,
+        resume: bool = False, progress: bool = True, contact_sheet: Path | None = None,
+        say=None) -> BatchSummary:
+    """Render ``pairs`` of (model, image) into ``out_dir`` (see the module's documentation).
+    ``jobs`` 0: one worker per core. ``say(line)``: where one-line messages go (default:
+    the progress stream)."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    jobs = cores() if jobs == 0 else jobs
+    summary = BatchSummary()
+    report = Progress(len(pairs), enabled=progress)
+    say = say or report.say
+    started = time.monotonic()
+    todo = []
+    for source, output in pairs:
+        if resume and source is not None and up_to_date(source, output):
+            summary.skipped += 1
+            report.advance(source.name, "skipped")
+        else:
+            todo.append((os.fspath(source), os.fspath(output)))
+    codes = []
+    with Manifest(out_dir, append=resume) as manifest:
+        summary.manifest = manifest.path
+
+        def on_result(record: dict) -> None:
+            code = record.pop("code", 0 if record["status"] == "ok" else 1)
+            for warning in record.get("warnings", ()):
+                say(warning)
+            manifest.write(record)
+            summary.records.append(record)
+            codes.append(code)
+            if record["status"] == "ok":
+                summary.done += 1
+            else:
+                summary.failed += 1
+                say(f"rasterkit: {'error' if code == 2 else 'internal error'}: {record['error']}")
+            report.advance(Path(record["input"]).name, record["status"], record["seconds"])
+
+        try:
+            _engine(todo, options, jobs, client, on_result)
+        finally:
+            report.close()
+    summary.seconds = time.monotonic() - started
+    summary.exit_code = 1 if 1 in codes else max(codes, default=0)
+    if contact_sheet is not None:
+        from ._contact import contact_sheet as write_sheet
+
+        write_sheet([output for _, output in pairs], contact_sheet)
+    return summary
+
+
+def _engine(todo, options, jobs, client, on_result) -> None:
+    if not todo:
+        return
+    if client is not None:
+        from . import _dask
+
+        _dask.run(client, todo, options, on_result)
+    elif jobs > 1 and len(todo) > 1:
+        from ._workers import LocalPool
+
+        LocalPool(min(jobs, len(todo)), max(1, cores() // jobs), options).run(todo, on_result)
+    else:
+        from ._workers import run_task
+
+        for source, output in todo:
+            on_result(run_task(source, output, options))

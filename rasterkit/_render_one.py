@@ -1,0 +1,66 @@
+"""One model of ``rasterkit render`` to one file: load, frame, render, save.
+
+Shared by the command line's single render, the in-process batch and the batch workers
+(:mod:`rasterkit._workers`, :mod:`rasterkit._dask`), so that every engine writes the same
+bytes. ``options`` is the ``render`` command's argument namespace (the command line's, or
+:func:`rasterkit.cli.render_options` for :func:`rasterkit.render_many`).
+
+At module level this imports only the standard library and rasterkit's pure-Python modules:
+NumPy and Numba load when a model is rendered.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from . import _report
+from ._cli_args import framed_camera
+
+__all__ = ["render_model"]
+
+
+def _turntable(mesh, camera, center, frames: int, style: dict):
+    """The frames of a turntable, rendered one at a time as they are asked for."""
+    from .render import render
+    from .scene import Scene
+    from .transform import rotate_axis
+
+    for k in range(frames):
+        spin = rotate_axis(2 * math.pi * k / frames, (0, 1, 0), center)
+        yield render(Scene(camera).add(mesh, spin), **style).color
+
+
+def render_model(source: Path | None, output: Path, options, say=None) -> int:
+    """Render the model ``source`` (None: the built-in demo) into ``output`` as ``options``
+    say; returns its number of triangles. ``say(line)`` prints the loader's warnings (one
+    line each; default: dropped)."""
+    import numpy as np
+
+    from . import _warm
+    from .image import atomic_write, save_animation
+    from .obj import load_obj
+    from .render import render
+    from .shapes import demo
+
+    _warm.start(dict(mode=options.mode, cull=options.cull, shading=options.shading,
+                     background=options.background, aa=options.aa),
+                depth=bool(options.depth), loading=source is not None)
+    mesh = demo() if source is None else load_obj(source)
+    if say is not None:
+        for warning in mesh.warnings:
+            say(f"rasterkit: warning: {_report.one_line(warning)}")
+    camera, center = framed_camera(options, mesh)
+    style = dict(mode=options.mode, cull=options.cull, shading=options.shading, color=options.color,
+                 line_color=options.line_color, background=options.background, aa=options.aa,
+                 samples=options.samples, vignette=options.vignette)
+    if options.turntable:  # streamed: one frame in memory at a time
+        save_animation(_turntable(mesh, camera, center, options.turntable, style), output)
+        return len(mesh.faces)
+    fb = render(mesh, camera, **style)
+    if options.depth:
+        with atomic_write(options.depth) as tmp:
+            with open(tmp, "wb") as f:
+                np.save(f, fb.depth)
+    fb.save(output)
+    return len(mesh.faces)

@@ -1,0 +1,202 @@
+"""Rendering one model in a worker, and the local pool of worker processes (``--jobs N``).
+
+:func:`run_task` is what every engine runs per model — the in-process loop, the local pool
+here, and Dask's workers (:mod:`rasterkit._dask`): it renders with
+:func:`rasterkit._render_one.render_model` and returns the model's manifest record instead
+of raising, so a failing model never stops a batch.
+
+The local pool starts ``jobs`` processes with the ``spawn`` method: a new interpreter per
+worker, which inherits no threads, locks or kernel state from the process that starts
+them, whatever that process has run before. The parent hands each idle worker the next
+model through its own pipe and waits on the pipes and the processes at once
+(``multiprocessing.connection.wait``): a worker that dies (a crash, the OOM killer) costs
+only its model, recorded as an error, and a new worker takes its place. On Ctrl-C or
+SIGTERM the parent stops the workers with SIGTERM; each removes the temporary file of the
+image it was writing.
+
+Compiling happens once, not once per worker: a worker whose kernels are not in Numba's
+disk cache yet renders its first model holding a lock file (``rasterkit-compile.lock`` in
+the temporary folder), so one worker compiles and the others then load the cached
+kernels (:func:`compile_lock`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import tempfile
+import time
+from collections import deque
+from pathlib import Path
+
+from . import _report
+
+__all__ = ["LocalPool", "compile_lock", "run_task"]
+
+_first_done = False  # in a worker: its first model has been rendered
+
+
+@contextlib.contextmanager
+def compile_lock(options):
+    """Hold the host's compile lock while this process renders its first model, when the
+    kernels of ``options``' mode are not cached yet (a no-op afterwards, and where ``fcntl``
+    is missing)."""
+    global _first_done
+    if _first_done:
+        yield
+        return
+    _first_done = True
+    try:
+        import fcntl
+
+        from . import _warm
+        style = dict(mode=options.mode, aa=options.aa)
+        cached = _warm._cached(_warm._band_worker(style))
+    except ImportError:
+        cached = True
+    if cached:
+        yield
+        return
+    path = Path(tempfile.gettempdir()) / f"rasterkit-compile-{os.getuid()}.lock"
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
+def run_task(source: str, output: str, options, threads: int | None = None) -> dict:
+    """Render ``source`` into ``output``; its manifest record (status ok or error)."""
+    from . import _jit
+    from ._render_one import render_model
+
+    if threads is not None:
+        _jit.set_threads(threads)
+    started = time.perf_counter()
+    record = {"input": source, "output": output, "status": "ok", "error": None}
+    triangles, warnings = None, []
+    with _report.model(source):
+        try:
+            with compile_lock(options):
+                triangles = render_model(Path(source), Path(output), options, say=warnings.append)
+        except Exception as e:
+            code, line = _report.error_line(e)
+            prefix = "rasterkit: error: " if code == 2 else "rasterkit: internal error: "
+            record.update(status="error", error=line.removeprefix(prefix), code=code)
+    record.update(seconds=round(time.perf_counter() - started, 4), triangles=triangles, warnings=warnings)
+    return record
+
+
+class _Stop(BaseException):
+    """SIGTERM in a worker: unwinds the render (temporary files are removed) and exits."""
+
+
+def _worker_main(conn, threads: int, options, limit_state) -> None:
+    """A worker process: render the models that arrive on ``conn`` until ``None`` does."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the parent decides
+
+    def stop(signum, frame):
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise _Stop()
+
+    signal.signal(signal.SIGTERM, stop)
+    from . import limits
+
+    limits._max_file_size, limits._memory_limit = limit_state
+    try:
+        while True:
+            task = conn.recv()
+            if task is None:
+                return
+            conn.send(run_task(task[0], task[1], options, threads))
+    except (_Stop, EOFError, BrokenPipeError):
+        return
+
+
+class LocalPool:
+    """``jobs`` worker processes, each rendering with ``threads`` kernel threads."""
+
+    def __init__(self, jobs: int, threads: int, options):
+        import multiprocessing
+
+        from . import limits
+
+        self._ctx = multiprocessing.get_context("spawn")
+        self.jobs, self.threads, self.options = jobs, threads, options
+        self._limits = (limits._max_file_size, limits._memory_limit)
+        self._workers: list[dict] = []
+
+    def _start(self) -> dict:
+        parent, child = self._ctx.Pipe()
+        process = self._ctx.Process(target=_worker_main, args=(child, self.threads, self.options, self._limits),
+                                    daemon=True, name="rasterkit-worker")
+        process.start()
+        child.close()
+        worker = {"process": process, "conn": parent, "task": None}
+        self._workers.append(worker)
+        return worker
+
+    def run(self, tasks, on_result) -> None:
+        """Render ``tasks`` (``(source, output)`` pairs of strings), calling
+        ``on_result(record)`` in this process as each finishes, in finishing order."""
+        from multiprocessing.connection import wait
+
+        pending = deque(tasks)
+        try:
+            for _ in range(min(self.jobs, len(pending))):
+                self._give(self._start(), pending)
+            while any(w["task"] is not None for w in self._workers):
+                busy = [w for w in self._workers if w["task"] is not None]
+                ready = wait([w["conn"] for w in busy] + [w["process"].sentinel for w in busy])
+                for worker in busy:
+                    if worker["conn"] in ready or worker["process"].sentinel in ready:
+                        self._collect(worker, pending, on_result)
+        finally:
+            self._stop_all()
+
+    def _give(self, worker: dict, pending: deque) -> None:
+        worker["task"] = pending.popleft() if pending else None
+        try:
+            worker["conn"].send(worker["task"])
+        except (BrokenPipeError, OSError):
+            pass  # it died: the sentinel says so next
+
+    def _collect(self, worker: dict, pending: deque, on_result) -> None:
+        try:
+            if worker["conn"].poll():
+                record = worker["conn"].recv()
+                on_result(record)
+                self._give(worker, pending)
+                return
+        except (EOFError, OSError):
+            pass
+        if worker["process"].is_alive():
+            return
+        source, output = worker["task"]  # it died while rendering this model
+        code = worker["process"].exitcode
+        why = f"signal {-code}" if code is not None and code < 0 else f"exit code {code}"
+        on_result({"input": source, "output": output, "status": "error", "code": 1,
+                   "error": f"{source}: the worker process died ({why})",
+                   "seconds": None, "triangles": None})
+        self._workers.remove(worker)
+        worker["conn"].close()
+        if pending:
+            self._give(self._start(), pending)
+
+    def _stop_all(self) -> None:
+        for worker in self._workers:
+            process = worker["process"]
+            if worker["task"] is None:
+                with contextlib.suppress(OSError):
+                    worker["conn"].send(None)
+            elif process.is_alive():
+                process.terminate()  # SIGTERM: it removes its temporary file and exits
+        for worker in self._workers:
+            worker["process"].join(timeout=10)
+            if worker["process"].is_alive():
+                worker["process"].kill()
+                worker["process"].join()
+            worker["conn"].close()
+        self._workers = []
