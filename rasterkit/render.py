@@ -66,7 +66,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
            shading: str = "flat", color: ColorLike = "lightgray",
            line_color: ColorLike = "black", background: ColorLike | None = None,
            light=None, aa: bool = False, ids: bool = False, samples: int = 1,
-           vignette: float = 0.0) -> Framebuffer:
+           vignette: float = 0.0, normals: bool = False) -> Framebuffer:
     """Render a mesh or a scene seen by a camera into a new :class:`Framebuffer`.
 
     Parameters
@@ -97,7 +97,9 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     aa : bool
         Anti-aliased (Xiaolin Wu) lines.
     ids : bool
-        Also fill the framebuffer's id buffer with the index of the visible face.
+        Also fill the framebuffer's id buffer with the index of the visible face; for a
+        :class:`Scene`, its index within its object, and ``fb.object_ids`` with the index of
+        the object (both -1 where none).
     samples : int
         Samples per pixel, 1 to 256, averaged (rounded to the nearest level). Each sample
         draws the whole scene once at a fixed, stratified sub-pixel offset
@@ -129,10 +131,13 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         When the render would need more memory than :func:`rasterkit.limits.memory_limit`
         (:func:`memory_needed` estimates it before anything is allocated).
     """
+    object_faces = None
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
         background = background if background is not None else mesh.background
         light = light if light is not None else mesh.light
+        if ids:
+            object_faces = [len(o.mesh.faces) for o in mesh.objects]
         mesh = mesh.world_mesh(color)
     mesh = as_mesh(mesh)
     if not isinstance(camera, Camera):
@@ -143,15 +148,34 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
                        _choice("shading", shading, SHADING), parse_color(color),
                        parse_color(line_color), bool(aa), light)
     samples, vignette = _accumulate.check(samples, vignette)
+    normals = bool(normals)
     alpha = parse_color(background)[3] < 255
-    check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids)
-                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette),
+    check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids or normals)
+                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette)
+                 + _maps_bytes(mesh, camera.width * camera.height, normals, object_faces is not None),
                  f"a {camera.width}x{camera.height} {options.mode} render of {len(mesh.faces)} faces")
     if samples == 1 and vignette == 0.0:
-        return _frame(mesh, camera, options, background, ids)
-    return _accumulate.render_samples(camera, samples, vignette, background, ids,
-                                      partial(_draw_frame, mesh, options),
-                                      partial(_frame, mesh, camera, options, background))
+        fb = _frame(mesh, camera, options, background, ids or normals)
+    else:
+        fb = _accumulate.render_samples(camera, samples, vignette, background, ids or normals,
+                                        partial(_draw_frame, mesh, options),
+                                        partial(_frame, mesh, camera, options, background))
+    fb.camera = camera
+    if normals or object_faces is not None:  # imported here: a plain render loads none of it
+        from .vision import fill_maps
+
+        fill_maps(fb, mesh, camera, camera.world_to_raster(), options.shading if normals else None, object_faces)
+        if not ids:
+            fb.ids = None
+    return fb
+
+
+def _maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool) -> int:
+    """Bytes of the normal and object-id images and their per-vertex and per-face terms."""
+    if not (normals or objects):
+        return 0
+    return (12 * pixels + len(mesh.vertices) * 80 + len(mesh.faces) * 84 if normals else 0) + \
+        (4 * pixels + len(mesh.faces) * 4 if objects else 0)
 
 
 def _frame(mesh: Mesh, camera: Camera, options: _Options, background, ids: bool) -> Framebuffer:
