@@ -77,7 +77,9 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         the defaults for ``camera``, ``background`` and ``light``.
     camera : Camera
         Gives the image size and the world -> raster chain (optional for a scene that has
-        one).
+        one). A camera with ``distortion`` coefficients (``Camera.from_opencv(...,
+        dist=...)``) gives the distorted image: an undistorted render resampled through
+        OpenCV's distortion model (:mod:`rasterkit.distortion`).
     mode : {"wire", "hidden", "solid", "solid+wire"}
         ``wire``: every edge, no depth test. ``hidden``: hidden-line removal: a depth pass of
         the triangles, then only the visible parts of the edges. ``solid``: shaded triangles.
@@ -131,6 +133,14 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         When the render would need more memory than :func:`rasterkit.limits.memory_limit`
         (:func:`memory_needed` estimates it before anything is allocated).
     """
+    seen_by = mesh.camera if camera is None and isinstance(mesh, Scene) else camera
+    if isinstance(seen_by, Camera) and seen_by.distortion:  # an undistorted render, resampled
+        from .distortion import render_distorted
+
+        return render_distorted(seen_by, lambda ideal: render(
+            mesh, ideal, mode, cull=cull, shading=shading, color=color, line_color=line_color,
+            background=background, light=light, aa=aa, ids=ids, samples=samples, vignette=vignette,
+            normals=normals))
     object_faces = None
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
