@@ -60,8 +60,9 @@ def jobs(args) -> tuple[list[Job], bool]:
         return [Job(sources[0], out)], False
     if out.suffix.lower() in IMAGE_SUFFIXES:
         raise UsageError(f"{out}: several models render into a folder; give a folder for -o")
-    if args.depth:
-        raise UsageError("--depth takes one model")
+    for flag in ("depth", "normals", "ids"):
+        if getattr(args, flag):
+            raise UsageError(f"--{flag} takes one model")
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: not a folder")
     suffix = ".gif" if args.turntable else ".png"
@@ -85,12 +86,36 @@ def _check_image_path(out: Path, animated: bool) -> None:
 def _camera(args, center, radius):
     from .camera import Camera
 
+    if args.camera_opencv:
+        return _opencv_camera(args, center, radius)
     width, height = args.size
     return Camera.preset(args.projection, center, radius, width=width, height=height,
                          azimuth=args.azimuth, elevation=args.elevation, fov_y=args.fov,
                          distance=args.distance, eye=args.eye, target=args.target, up=args.up,
                          near=args.near, far=args.far, aperture=args.aperture,
                          focus_distance=args.focus)
+
+
+def _opencv_camera(args, center, radius):
+    """``--camera-opencv``'s camera; near and far (from the file, else ``--near``/``--far``,
+    else enclosing the model's bounding sphere with room to spare)."""
+    import numpy as np
+
+    from .camera import Camera
+
+    data = dict(args.camera_opencv)
+    source = data.pop("source")
+    try:
+        r, t = np.asarray(data["R"], float), np.asarray(data["t"], float).reshape(-1)
+        distance = float(np.linalg.norm(r @ np.asarray(center) + t))
+    except (TypeError, ValueError) as e:
+        raise UsageError(f"{source}: bad camera: {e}") from None
+    data.setdefault("near", args.near if args.near is not None else max(distance - 1.5 * radius, 1e-3 * (distance + radius)))
+    data.setdefault("far", args.far if args.far is not None else distance + 2.0 * radius)
+    try:
+        return Camera.from_opencv(**data)
+    except (TypeError, ValueError) as e:
+        raise UsageError(f"{source}: {e}") from None
 
 
 def _turntable(mesh, camera, center, frames: int, style: dict):
@@ -105,10 +130,8 @@ def _turntable(mesh, camera, center, frames: int, style: dict):
 
 
 def _render_job(job: Job, args) -> None:
-    import numpy as np
-
     from . import _warm
-    from .image import atomic_write, save_animation
+    from .image import save_animation
     from .obj import load_obj
     from .render import render
     from .shapes import demo
@@ -128,11 +151,13 @@ def _render_job(job: Job, args) -> None:
     if args.turntable:  # streamed: one frame in memory at a time
         save_animation(_turntable(mesh, camera, center, args.turntable, style), job.output)
         return
-    fb = render(mesh, camera, **style)
+    fb = render(mesh, camera, **style, normals=bool(args.normals), ids=bool(args.ids))
     if args.depth:
-        with atomic_write(args.depth) as tmp:
-            with open(tmp, "wb") as f:
-                np.save(f, fb.depth)
+        fb.save_depth(args.depth)
+    if args.normals:
+        fb.save_normals(args.normals)
+    if args.ids:
+        fb.save_ids(args.ids)
     fb.save(job.output)
 
 

@@ -41,6 +41,7 @@ examples:
   rasterkit render model.obj -o model.png --mode solid --samples 16 --aperture 0.2 --focus auto
   rasterkit render model.obj -o spin.gif --turntable 36 --mode solid
   rasterkit render models/ -o images/ --mode solid      (every .obj in a folder)
+  rasterkit render model.obj -o rgb.png --mode solid --camera-opencv cam.json --depth depth.png --ids ids.png
   rasterkit info model.obj
 
 exit codes:
@@ -187,7 +188,18 @@ def _parser() -> argparse.ArgumentParser:
                      help="threads for the kernels (default: all cores)")
     out.add_argument("--turntable", type=_positive_int, metavar="N",
                      help="N frames around the model, as an animated GIF or APNG")
-    out.add_argument("--depth", metavar="OUT.npy", help="also save the depth buffer (float32)")
+    out.add_argument("--depth", metavar="OUT.npy|OUT.png",
+                     help="also save the depth along the optical axis, world units, 0 where nothing "
+                          "was drawn: .npy float32, or .png 16-bit in thousandths (mm for metres)")
+    out.add_argument("--normals", metavar="OUT.npy|OUT.png",
+                     help="also save the camera-space unit normals: .npy float32 (NaN: empty), "
+                          "or .png RGB (n + 1)/2")
+    out.add_argument("--ids", metavar="OUT.npy|OUT.png",
+                     help="also save the visible face's index: .npy int32 (-1: none), or .png "
+                          "16-bit id + 1 (0: none)")
+    cam.add_argument("--camera-opencv", metavar="CAM.json",
+                     help='an OpenCV camera: {"K": 3x3, "R": 3x3, "t": [3], "width": W, "height": H, '
+                          'optional "dist", "near", "far"}; replaces the framing and --size')
     _add_limits(r)
     return parser
 
@@ -221,8 +233,14 @@ def _without_scipy() -> None:
 def _render(args) -> int:
     from . import _batch
 
-    if args.depth and not args.depth.lower().endswith(".npy"):
-        raise UsageError(f"{args.depth}: the depth output must end in .npy")
+    for flag in ("depth", "normals", "ids"):
+        path = getattr(args, flag)
+        if path and not path.lower().endswith((".npy", ".png")):
+            raise UsageError(f"{path}: the {flag} output must end in .npy or .png")
+        if path and args.turntable:
+            raise UsageError(f"--{flag} takes a still image, not --turntable")
+    if args.camera_opencv:
+        args.camera_opencv = _opencv_camera_file(args.camera_opencv)
     jobs, batch = _batch.jobs(args)
     _without_scipy()
     from . import _jit  # the first import of Numba: the usage errors above come without it
@@ -234,6 +252,26 @@ def _render(args) -> int:
         raise UsageError(str(e)) from None
     with compile_notice():
         return _batch.render_jobs(jobs, batch, args)
+
+
+_CAMERA_KEYS = ("K", "R", "t", "width", "height")
+
+
+def _opencv_camera_file(path: str) -> dict:
+    """The keyword arguments of ``Camera.from_opencv`` from a JSON file (checked there)."""
+    import json
+
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except (OSError, ValueError) as e:
+        raise UsageError(f"{path}: cannot read the camera: {getattr(e, 'strerror', None) or e}") from None
+    if not isinstance(data, dict) or any(k not in data for k in _CAMERA_KEYS):
+        raise UsageError(f"{path}: the camera must be a JSON object with {', '.join(_CAMERA_KEYS)}")
+    extra = set(data) - set(_CAMERA_KEYS) - {"dist", "near", "far"}
+    if extra:
+        raise UsageError(f"{path}: unknown camera keys: {', '.join(sorted(extra))}")
+    return dict(data, source=path)
 
 
 def _info(args) -> int:

@@ -226,3 +226,33 @@ def test_camera_depth_equals_llvmpipe_linearised_depth(name):
     both = (ours > 0) & (theirs > 0)
     assert both.sum() > 0.98 * max((ours > 0).sum(), (theirs > 0).sum())
     assert np.median(np.abs(ours[both] - theirs[both]) / theirs[both]) < 1e-4
+
+
+# --- the command line --------------------------------------------------------------------------
+
+
+def test_cli_renders_an_opencv_camera_with_depth_normals_and_ids(tmp_path):
+    import json
+
+    from rasterkit.cli import main
+
+    k = [[100.0, 0, 30.0], [0, 110.0, 22.0], [0, 0, 1]]
+    r = [[1, 0, 0], [0, -1, 0], [0, 0, -1]]  # looking down world -z, from z = 4
+    cam = tmp_path / "cam.json"
+    cam.write_text(json.dumps(dict(K=k, R=r, t=[0, 0, 4.0], width=64, height=48)))
+    out = tmp_path / "rgb.png"
+    args = ["render", "--demo", "-o", str(out), "--mode", "solid", "--camera-opencv", str(cam),
+            "--depth", str(tmp_path / "d.npy"), "--normals", str(tmp_path / "n.png"), "--ids", str(tmp_path / "i.png")]
+    assert main(args) == 0
+    assert Image.open(out).size == (64, 48)
+    depth = np.load(tmp_path / "d.npy")
+    ids = np.asarray(Image.open(tmp_path / "i.png")).astype(int) - 1
+    assert np.array_equal(depth > 0, ids >= 0) and (ids >= 0).any()
+    mesh = shapes.demo()
+    camera = Camera.from_opencv(k, r, [0, 0, 4.0], 64, 48, near=depth[depth > 0].min() / 2, far=100)
+    expected = rasterkit.render(mesh, camera, mode="solid").camera_depth()
+    assert np.allclose(depth, expected, rtol=1e-4)
+    assert np.asarray(Image.open(tmp_path / "n.png")).shape == (48, 64, 3)
+    assert main(["render", "--demo", "-o", str(out), "--depth", str(tmp_path / "d.txt")]) == 2
+    cam.write_text(json.dumps(dict(K=k, R=r, t=[0, 0, 4.0])))
+    assert main(["render", "--demo", "-o", str(out), "--camera-opencv", str(cam)]) == 2
