@@ -9,7 +9,7 @@ The pipeline, in the spaces its variables are named after::
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
@@ -54,6 +54,7 @@ class _Options:
     line_color: np.ndarray
     aa: bool
     light: np.ndarray  # (3,) unit world-space direction towards the light
+    keep_depth: bool = False  # solid: draw the depth buffer in the colour pass, not when read
 
 
 def _choice(name: str, value: str, allowed: tuple) -> str:
@@ -159,6 +160,9 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
                        parse_color(line_color), bool(aa), light)
     samples, vignette = _accumulate.check(samples, vignette)
     normals = bool(normals)
+    if (ids or normals) and samples == 1 and vignette == 0.0:
+        # a vision frame: its depth is wanted too, and a deferred depth pass would draw again
+        options = replace(options, keep_depth=True)
     alpha = parse_color(background)[3] < 255
     check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids or normals)
                  + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette)
@@ -219,7 +223,7 @@ def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha:
     and the edge path's in every mode but solid (with the wireframe's byte mask of the
     image)."""
     n, m = len(mesh.vertices), len(mesh.faces)
-    total = buffer_bytes(width, height, alpha, ids, depth=options.mode in ("hidden", "solid+wire"))
+    total = buffer_bytes(width, height, alpha, ids, depth=options.mode in ("hidden", "solid+wire") or options.keep_depth)
     if options.mode != "wire":
         smooth = options.shading == "smooth" and options.mode != "hidden"
         total += n * 32 + _triangles.scratch_bytes(n, m, width, get_threads(), smooth=smooth,
@@ -246,7 +250,7 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
         return
     face_colors, vertex_colors = _shade(mesh, options)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
-    if options.mode == "solid":  # nothing is drawn after: keep the depth only if it is read
+    if options.mode == "solid" and not options.keep_depth:  # nothing drawn after: depth only if read
         depth = None
         fb.defer_depth(partial(_depth_pass, clip, mesh.faces, options.cull))
     else:

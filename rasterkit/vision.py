@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _png
+from . import _memory, _png
 from ._atomic import atomic_write
 from ._jit import run_workers
 
@@ -37,36 +37,35 @@ DEPTH_PNG_SCALE = 1000.0
 def camera_depth(depth: np.ndarray, camera) -> np.ndarray:
     """(H, W) float32 distance along the optical axis, world units, 0 where nothing was drawn
     (see the module docstring); ``depth`` the (H, W) float32 depth buffer of ``camera``."""
-    d = depth.astype(np.float64)
-    drawn = np.isfinite(d)
-    n, f = camera.near, camera.far
-    with np.errstate(divide="ignore", invalid="ignore"):
-        metric = f * n / (f - d * (f - n)) if camera.kind == "perspective" else n + d * (f - n)
-    return np.where(drawn, metric, 0.0).astype(np.float32)
+    from .kernels.maps import metric_depth
+
+    out = _memory.take(depth.shape, np.float32)
+    run_workers(metric_depth, np.ascontiguousarray(depth), out, float(camera.near), float(camera.far),
+                camera.kind == "perspective")
+    return out
 
 
 def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> None:
     """Fill ``fb.normals`` (``normals``: 'flat' per face, 'smooth' interpolated, None: not) and, for a scene (``object_faces``, the faces of
     each object in order), ``fb.object_ids``, turning ``fb.ids`` into indices within each
     object; from ``fb.ids``, the faces of ``mesh`` (world space) seen through ``matrix``."""
-    from .kernels.maps import surface_maps
+    from .kernels.maps import camera_normals, surface_maps
     from .kernels.records import Maps
     from .kernels.shade import bary_matrices, vertex_normals
     from ._vertex import transform_points
 
     height, width = fb.ids.shape
-    rotation = camera.view_matrix()[:3, :3]
+    rotation = np.ascontiguousarray(camera.view_matrix()[:3, :3])
     smooth = normals == "smooth"
-    no_f32, no_f64 = np.zeros((0, 3), np.float32), np.zeros((0, 3))
-    face_normals, vertex = no_f32, no_f64
+    face_normals, vertex = np.zeros((0, 3), np.float32), np.zeros((0, 3))
     bary = np.zeros((0, 9))
     if smooth:
         world = mesh.normals if mesh.normals is not None else vertex_normals(mesh.vertices, mesh.faces)
-        vertex = np.ascontiguousarray(np.asarray(world, np.float64) @ rotation.T)
+        vertex = np.ascontiguousarray(world, np.float64)
         bary = bary_matrices(transform_points(mesh.vertices, matrix), mesh.faces)
     elif normals:
-        face_normals = np.ascontiguousarray((mesh.face_normals @ rotation.T).astype(np.float32))
-    out_normals = np.empty((height, width, 3) if normals else (0, 0, 3), np.float32)
+        face_normals = camera_normals(mesh.face_normals, rotation)
+    out_normals = _memory.take((height, width, 3), np.float32) if normals else np.empty((0, 0, 3), np.float32)
     objects = object_faces is not None
     if objects:
         counts = np.asarray(object_faces, np.int64)
@@ -74,9 +73,9 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
         face_object = np.repeat(np.arange(len(counts), dtype=np.int32), counts)
     else:
         first, face_object = np.zeros(0, np.int64), np.zeros(0, np.int32)
-    object_ids = np.empty((height, width) if objects else (0, 0), np.int32)
+    object_ids = _memory.take((height, width), np.int32) if objects else np.empty((0, 0), np.int32)
     run_workers(surface_maps, fb.ids, Maps(normals is not None, out_normals, smooth, face_normals, vertex, bary,
-                                           mesh.faces, objects, object_ids, face_object, first))
+                                           mesh.faces, rotation, objects, object_ids, face_object, first))
     fb.normals = out_normals if normals else None
     if objects:
         fb.object_ids, fb.object_first = object_ids, first
