@@ -55,6 +55,7 @@ class _Options:
     aa: bool
     light: np.ndarray  # (3,) unit world-space direction towards the light
     keep_depth: bool = False  # solid: draw the depth buffer in the colour pass, not when read
+    points: object = None  # rasterkit.points.Points, drawn last as depth-tested splats
 
 
 def _choice(name: str, value: str, allowed: tuple) -> str:
@@ -67,14 +68,15 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
            shading: str = "flat", color: ColorLike = "lightgray",
            line_color: ColorLike = "black", background: ColorLike | None = None,
            light=None, aa: bool = False, ids: bool = False, samples: int = 1,
-           vignette: float = 0.0, normals: bool = False) -> Framebuffer:
+           vignette: float = 0.0, normals: bool = False, points=None, point_size: int = 1,
+           point_color: ColorLike = "black") -> Framebuffer:
     """Render a mesh or a scene seen by a camera into a new :class:`Framebuffer`.
 
     Parameters
     ----------
     mesh : Scene, Mesh, (vertices, faces) tuple, or object with ``.vertices`` and ``.faces``
         Positions in world space, (N, 3) float; faces (M, 3) int, counter-clockwise seen
-        from the front. A :class:`Scene` brings its objects' model matrices and colours, and
+        from the front. None draws only ``points``. A :class:`Scene` brings its objects' model matrices and colours, and
         the defaults for ``camera``, ``background`` and ``light``.
     camera : Camera
         Gives the image size and the world -> raster chain (optional for a scene that has
@@ -117,6 +119,17 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         In [0, 1]: 1 darkens every pixel (background too) by the natural cos⁴θ falloff of a
         lens camera, θ the angle between the pixel's ray and the optical axis; 0 none (the
         default); in between, ``1 - vignette·(1 - cos⁴θ)``. Parallel cameras have none.
+    normals : bool
+        Also fill ``fb.normals``, (H, W, 3) float32 unit surface normals in camera space (x
+        right, y up, looking down -z), NaN where nothing was drawn: per face with flat
+        shading, interpolated (perspective-correct) from the vertex normals with smooth
+        shading; the geometric normal, also on back faces drawn with ``cull="none"``.
+        With ``samples > 1``, the centre sample's (:mod:`rasterkit.vision`).
+    points : (K, 3) array_like of float, optional
+        A point cloud, world space, drawn after the faces and edges as squares of
+        ``point_size`` pixels (1 to 64) centred on each point, depth-tested against the faces
+        and each other (:mod:`rasterkit.points`); ``point_color`` is one colour or (K, 3|4)
+        values 0-255, one per point. Points write colour and depth, not ids or normals.
 
     Returns
     -------
@@ -141,7 +154,13 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         return render_distorted(seen_by, lambda ideal: render(
             mesh, ideal, mode, cull=cull, shading=shading, color=color, line_color=line_color,
             background=background, light=light, aa=aa, ids=ids, samples=samples, vignette=vignette,
-            normals=normals))
+            normals=normals, points=points, point_size=point_size, point_color=point_color))
+    if points is not None:  # imported here, as the other extras: a plain render loads none
+        from .points import check_points
+
+        points = check_points(points, point_color, point_size)
+        if mesh is None:
+            mesh = Mesh(np.zeros((0, 3)), np.zeros((0, 3), np.int64))
     object_faces = None
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
@@ -160,9 +179,10 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
                        parse_color(line_color), bool(aa), light)
     samples, vignette = _accumulate.check(samples, vignette)
     normals = bool(normals)
-    if (ids or normals) and samples == 1 and vignette == 0.0:
-        # a vision frame: its depth is wanted too, and a deferred depth pass would draw again
-        options = replace(options, keep_depth=True)
+    if (ids or normals) and samples == 1 and vignette == 0.0 or points is not None:
+        # a vision frame (its depth is wanted too), or points to test against the depth: a
+        # deferred depth pass would draw again
+        options = replace(options, keep_depth=True, points=points)
     alpha = parse_color(background)[3] < 255
     check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids or normals)
                  + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette)
@@ -209,11 +229,15 @@ def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarr
         # the edges' vertex pass transforms the vertices itself: one pass over them less
         _draw_edges(fb, mesh, None, options, depth_test=False, clear=True,
                     transform=(mesh.vertices, matrix))
-        return
-    clip = transform_points(mesh.vertices, matrix)
-    _draw_triangles(fb, mesh, clip, options)
-    if options.mode != "solid":
-        _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
+    else:
+        clip = transform_points(mesh.vertices, matrix)
+        _draw_triangles(fb, mesh, clip, options)
+        if options.mode != "solid":
+            _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
+    if options.points is not None:
+        from .points import draw_points
+
+        draw_points(fb, options.points, matrix)
 
 
 def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha: bool, ids: bool) -> int:
@@ -224,6 +248,8 @@ def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha:
     image)."""
     n, m = len(mesh.vertices), len(mesh.faces)
     total = buffer_bytes(width, height, alpha, ids, depth=options.mode in ("hidden", "solid+wire") or options.keep_depth)
+    if options.points is not None:  # their homogeneous coordinates
+        total += len(options.points.positions) * 32
     if options.mode != "wire":
         smooth = options.shading == "smooth" and options.mode != "hidden"
         total += n * 32 + _triangles.scratch_bytes(n, m, width, get_threads(), smooth=smooth,

@@ -256,3 +256,15 @@ def test_cli_renders_an_opencv_camera_with_depth_normals_and_ids(tmp_path):
     assert main(["render", "--demo", "-o", str(out), "--depth", str(tmp_path / "d.txt")]) == 2
     cam.write_text(json.dumps(dict(K=k, R=r, t=[0, 0, 4.0])))
     assert main(["render", "--demo", "-o", str(out), "--camera-opencv", str(cam)]) == 2
+
+
+def test_a_plain_render_loads_none_of_the_vision_code():
+    import subprocess
+    import sys
+
+    code = ("import sys, rasterkit; from rasterkit import Camera, shapes; "
+            "fb = rasterkit.render(shapes.cube(), Camera.look_at((0, 0, 5), (0, 0, 0), width=32, height=24), 'solid'); "
+            "fb.depth; print(sorted(m for m in sys.modules if m.split('.')[-1] in "
+            "('maps', 'vision', 'points', 'distortion')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
