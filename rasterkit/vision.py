@@ -55,7 +55,7 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     from ._vertex import transform_points
 
     height, width = fb.ids.shape
-    rotation = np.ascontiguousarray(camera.view_matrix()[:3, :3])
+    rotation = np.stack(camera.basis())  # rows u, v, w: world -> camera
     smooth = normals == "smooth"
     face_normals, vertex = np.zeros((0, 3), np.float32), np.zeros((0, 3))
     bary = np.zeros((0, 9))

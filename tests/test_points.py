@@ -49,3 +49,12 @@ def test_bad_points_are_refused():
         rasterkit.render(None, camera, points=[[1, 2, 3]], point_size=0)
     with pytest.raises(ValueError, match="point_color"):
         rasterkit.render(None, camera, points=[[1, 2, 3]], point_color=[[1, 2, 3], [4, 5, 6]])
+
+
+def test_a_line_set_from_arrays_is_a_mesh_without_faces():
+    camera = _camera()
+    vertices = np.array([[-0.2, 0.0, 0.0], [0.2, 0.0, 0.0], [0.0, -0.2, 0.0], [0.0, 0.2, 0.0]])
+    lines = rasterkit.Mesh(vertices, np.zeros((0, 3), np.int64), lines=[[0, 1], [2, 3]])
+    fb = rasterkit.render(lines, camera, "wire", line_color="blue")
+    blue = np.all(fb.color == (0, 0, 255), axis=2)
+    assert blue.sum(axis=1).max() >= 8 and blue.sum(axis=0).max() >= 8  # a cross, 0.4 units = 8 px
