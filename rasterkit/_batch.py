@@ -22,7 +22,7 @@ from pathlib import Path
 from . import _report
 from ._report import UsageError
 
-__all__ = ["jobs", "render_jobs"]
+__all__ = ["jobs", "read_camera_file", "render_jobs"]
 
 IMAGE_SUFFIXES = (".png", ".gif", ".apng")
 
@@ -73,6 +73,26 @@ def jobs(args) -> tuple[list[Job], bool]:
             raise UsageError(f"{seen[job.output]} and {job.source} would both be written to {job.output}")
         seen[job.output] = job.source
     return batch, True
+
+
+_CAMERA_KEYS = ("K", "R", "t", "width", "height")
+
+
+def read_camera_file(path: str) -> dict:
+    """The keyword arguments of ``Camera.from_opencv`` from a JSON file (checked there)."""
+    import json
+
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except (OSError, ValueError) as e:
+        raise UsageError(f"{path}: cannot read the camera: {getattr(e, 'strerror', None) or e}") from None
+    if not isinstance(data, dict) or any(k not in data for k in _CAMERA_KEYS):
+        raise UsageError(f"{path}: the camera must be a JSON object with {', '.join(_CAMERA_KEYS)}")
+    extra = set(data) - set(_CAMERA_KEYS) - {"dist", "near", "far"}
+    if extra:
+        raise UsageError(f"{path}: unknown camera keys: {', '.join(sorted(extra))}")
+    return dict(data, source=path)
 
 
 def _check_image_path(out: Path, animated: bool) -> None:

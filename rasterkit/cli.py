@@ -240,7 +240,7 @@ def _render(args) -> int:
         if path and args.turntable:
             raise UsageError(f"--{flag} takes a still image, not --turntable")
     if args.camera_opencv:
-        args.camera_opencv = _opencv_camera_file(args.camera_opencv)
+        args.camera_opencv = _batch.read_camera_file(args.camera_opencv)
     jobs, batch = _batch.jobs(args)
     _without_scipy()
     from . import _jit  # the first import of Numba: the usage errors above come without it
@@ -252,26 +252,6 @@ def _render(args) -> int:
         raise UsageError(str(e)) from None
     with compile_notice():
         return _batch.render_jobs(jobs, batch, args)
-
-
-_CAMERA_KEYS = ("K", "R", "t", "width", "height")
-
-
-def _opencv_camera_file(path: str) -> dict:
-    """The keyword arguments of ``Camera.from_opencv`` from a JSON file (checked there)."""
-    import json
-
-    try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-    except (OSError, ValueError) as e:
-        raise UsageError(f"{path}: cannot read the camera: {getattr(e, 'strerror', None) or e}") from None
-    if not isinstance(data, dict) or any(k not in data for k in _CAMERA_KEYS):
-        raise UsageError(f"{path}: the camera must be a JSON object with {', '.join(_CAMERA_KEYS)}")
-    extra = set(data) - set(_CAMERA_KEYS) - {"dist", "near", "far"}
-    if extra:
-        raise UsageError(f"{path}: unknown camera keys: {', '.join(sorted(extra))}")
-    return dict(data, source=path)
 
 
 def _info(args) -> int:
