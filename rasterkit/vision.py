@@ -46,9 +46,10 @@ def camera_depth(depth: np.ndarray, camera) -> np.ndarray:
 
 
 def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> None:
-    """Fill ``fb.normals`` (``normals``: 'flat' per face, 'smooth' interpolated, None: not) and, for a scene (``object_faces``, the faces of
-    each object in order), ``fb.object_ids``, turning ``fb.ids`` into indices within each
-    object; from ``fb.ids``, the faces of ``mesh`` (world space) seen through ``matrix``."""
+    """Fill ``fb.normals`` (``normals``: 'flat' per face, 'smooth' interpolated, None: not)
+    and, for a scene (``object_faces``: the number of faces of each object, in order),
+    ``fb.object_ids``, turning ``fb.ids`` into indices within each object; from ``fb.ids``,
+    the faces of ``mesh`` (world space) seen through ``matrix``."""
     from .kernels.maps import camera_normals, surface_maps
     from .kernels.records import Maps
     from .kernels.shade import bary_matrices, vertex_normals
