@@ -181,3 +181,18 @@ def test_pixel_aspect_changes_only_the_window_width():
         kind="perspective", eye=(0, 0, 5), target=(0, 0, 0), fov_y=45, width=80, height=60, pixel_aspect=2.0)
     a, b = square.project([[1.0, 1.0, 0.0]])[0], wide.project([[1.0, 1.0, 0.0]])[0]
     assert b[1] == pytest.approx(a[1]) and (b[0] - 40) == pytest.approx((a[0] - 40) / 2)
+
+
+def test_pose_with_intrinsics_is_the_opencv_camera_seen_in_opengl_axes():
+    """pyrender's IntrinsicsCamera at a pose: the same camera as OpenCV's K with R, t of the
+    inverse pose, its y and z axes flipped."""
+    rng = np.random.default_rng(11)
+    k, rvec, r, t, width, height = _random_camera(rng)
+    camera = Camera.from_opencv(k, r, t, width, height)
+    pose = camera.pose()
+    again = Camera.from_pose(pose, width=width, height=height, K=k)
+    points = rng.uniform(-1, 1, size=(50, 3))
+    expected = cv2.projectPoints(points, rvec, t, k, None)[0].reshape(-1, 2) + 0.5
+    assert np.max(np.abs(again.project(points)[:, :2] - expected)) < 1e-6
+    with pytest.raises(ValueError, match="rigid"):
+        Camera.from_pose(np.ones((4, 4)), K=k)

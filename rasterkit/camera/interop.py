@@ -68,10 +68,11 @@ class Interop:
 
     @classmethod
     def from_pose(cls, pose, fov_y: float = 45.0, width: int = 640, height: int = 480,
-                  near: float = 0.1, far: float = 100.0) -> Camera:
+                  near: float = 0.1, far: float = 100.0, K=None) -> Camera:
         """A perspective camera at a trimesh / pyrender pose: the camera -> world (4, 4)
         matrix of a camera node, OpenGL axes (looking down the pose's -z column, its y column
-        up). ``fov_y`` in degrees (pyrender's ``yfov`` is in radians).
+        up). ``fov_y`` in degrees (pyrender's ``yfov`` is in radians); or ``K``, OpenCV's
+        intrinsic matrix (pyrender's ``IntrinsicsCamera(fx, fy, cx, cy)``), in its place.
 
         Examples
         --------
@@ -82,6 +83,10 @@ class Interop:
         >>> bool(np.allclose(cam.pose(), pose))
         True
         """
+        if K is not None:
+            view = np.linalg.inv(opengl.pose_matrix(pose))
+            flip = np.diag([1.0, -1.0, -1.0])  # OpenGL's camera axes -> OpenCV's (y down, z ahead)
+            return cls.from_opencv(K, flip @ view[:3, :3], flip @ view[:3, 3], width, height, near, far)
         eye, target, up = opengl.from_pose(pose)
         return cls(kind="perspective", eye=eye, target=target, up=up, fov_y=fov_y, width=width,
                    height=height, near=near, far=far)

@@ -74,13 +74,20 @@ def opengl_matrices(camera) -> tuple[np.ndarray, np.ndarray]:
     return p, camera.view_matrix()
 
 
-def from_pose(pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(eye, target, up) of a camera -> world pose (4x4, OpenGL axes: the camera looks down
-    its -z column, its y column is up)."""
+def pose_matrix(pose) -> np.ndarray:
+    """A camera -> world pose checked: a finite rigid 4x4 matrix (a new float64 array)."""
     m = _matrix(pose, (4, 4), "pose")
     if not np.array_equal(m[3], [0.0, 0.0, 0.0, 1.0]):
         raise ValueError("pose must be rigid (last row 0, 0, 0, 1)")
-    r = rotation(m[:3, :3].T, "pose's rotation")
+    rotation(m[:3, :3], "pose's rotation")
+    return m
+
+
+def from_pose(pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(eye, target, up) of a camera -> world pose (4x4, OpenGL axes: the camera looks down
+    its -z column, its y column is up)."""
+    m = pose_matrix(pose)
+    r = m[:3, :3].T
     eye = m[:3, 3]
     return eye, eye - r[2] * max(1.0, float(np.max(np.abs(eye)))), r[1]
 
