@@ -77,6 +77,10 @@ class Settings:
         Model of the ``aa`` family (``samples=4`` against 4x MSAA).
     aa_size : (width, height)
         Its image size.
+    cv_model : str
+        Model of the ``cv`` family (colour, depth, normals and ids against a plain frame).
+    cv_size : (width, height)
+        Its image size.
     """
 
     name: str
@@ -105,6 +109,8 @@ class Settings:
     contention_seconds: float = 2.0
     aa_model: str = "ogre"
     aa_size: tuple = TARGET_SIZE
+    cv_model: str = "ogre"
+    cv_size: tuple = TARGET_SIZE
 
 
 FULL = Settings(
@@ -157,7 +163,7 @@ TINY = Settings(
     sweep_model="suzanne", memory=("render",), process_repeat=1,
     startup_model="suzanne", startup_size=(64, 48), demo_size=(64, 48), startup_cold_runs=1,
     startup_sequence=False, contention_processes=(1, 2), contention_seconds=0.3,
-    aa_model="suzanne", aa_size=(64, 48),
+    aa_model="suzanne", aa_size=(64, 48), cv_model="suzanne", cv_size=(64, 48),
 )
 
 

@@ -63,8 +63,9 @@ def jobs(args) -> tuple[list[Job], bool]:
         return [Job(sources[0], out)], False
     if out.suffix.lower() in IMAGE_SUFFIXES:
         raise UsageError(f"{out}: several models render into a folder; give a folder for -o")
-    if args.depth:
-        raise UsageError("--depth takes one model")
+    for flag in ("depth", "normals", "ids"):
+        if getattr(args, flag):
+            raise UsageError(f"--{flag} takes one model")
     if args.scheduler and args.jobs != 1:
         raise UsageError("give --jobs or --scheduler, not both")
     if args.contact_sheet and not args.contact_sheet.lower().endswith(".png"):

@@ -169,6 +169,9 @@ def add_view_arguments(parser: argparse.ArgumentParser) -> None:
                      help="lens diameter, world units: depth of field with --samples (default 0, a pinhole)")
     cam.add_argument("--focus", type=focus, default=None, metavar="F",
                      help="distance of the plane in focus, or 'auto' (default): the distance to the target")
+    cam.add_argument("--camera-opencv", metavar="CAM.json",
+                     help='an OpenCV camera: {"K": 3x3, "R": 3x3, "t": [3], "width": W, "height": H, '
+                          'optional "dist", "near", "far"}; replaces the framing and --size')
 
 
 def add_limits(parser: argparse.ArgumentParser) -> None:
@@ -210,6 +213,8 @@ def framed_camera(args, mesh):
     center, radius = mesh.bounding_sphere()
     if radius == 0.0:
         raise UsageError("the model has no extent (all vertices coincide)")
+    if getattr(args, "camera_opencv", None):
+        return _opencv_camera(args.camera_opencv, args, center, radius), center
     width, height = args.size
     camera = Camera.preset(args.projection, center, radius, width=width, height=height,
                            azimuth=args.azimuth, elevation=args.elevation, fov_y=args.fov,
@@ -217,3 +222,46 @@ def framed_camera(args, mesh):
                            near=args.near, far=args.far, aperture=args.aperture,
                            focus_distance=args.focus)
     return camera, center
+
+
+_CAMERA_KEYS = ("K", "R", "t", "width", "height")
+
+
+def read_camera_file(path: str) -> dict:
+    """The keyword arguments of ``Camera.from_opencv`` from the JSON file of
+    ``--camera-opencv`` (their values are checked there), with ``source``: the path."""
+    import json
+
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except (OSError, ValueError) as e:
+        raise UsageError(f"{path}: cannot read the camera: {getattr(e, 'strerror', None) or e}") from None
+    if not isinstance(data, dict) or any(k not in data for k in _CAMERA_KEYS):
+        raise UsageError(f"{path}: the camera must be a JSON object with {', '.join(_CAMERA_KEYS)}")
+    extra = set(data) - set(_CAMERA_KEYS) - {"dist", "near", "far"}
+    if extra:
+        raise UsageError(f"{path}: unknown camera keys: {', '.join(sorted(extra))}")
+    return dict(data, source=path)
+
+
+def _opencv_camera(data: dict, args, center, radius):
+    """``--camera-opencv``'s camera; near and far from the file, else ``--near``/``--far``,
+    else enclosing the model's bounding sphere with room to spare."""
+    import numpy as np
+
+    from .camera import Camera
+
+    data = dict(data)
+    source = data.pop("source")
+    try:
+        r, t = np.asarray(data["R"], float), np.asarray(data["t"], float).reshape(-1)
+        distance = float(np.linalg.norm(r @ np.asarray(center) + t))
+    except (TypeError, ValueError) as e:
+        raise UsageError(f"{source}: bad camera: {e}") from None
+    data.setdefault("near", args.near if args.near is not None else max(distance - 1.5 * radius, 1e-3 * (distance + radius)))
+    data.setdefault("far", args.far if args.far is not None else distance + 2.0 * radius)
+    try:
+        return Camera.from_opencv(**data)
+    except (TypeError, ValueError) as e:
+        raise UsageError(f"{source}: {e}") from None

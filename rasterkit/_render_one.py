@@ -35,10 +35,8 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
     """Render the model ``source`` (None: the built-in demo) into ``output`` as ``options``
     say; returns its number of triangles. ``say(line)`` prints the loader's warnings (one
     line each; default: dropped)."""
-    import numpy as np
-
     from . import _warm
-    from .image import atomic_write, save_animation
+    from .image import save_animation
     from .obj import load_obj
     from .render import render
     from .shapes import demo
@@ -57,10 +55,12 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
     if options.turntable:  # streamed: one frame in memory at a time
         save_animation(_turntable(mesh, camera, center, options.turntable, style), output)
         return len(mesh.faces)
-    fb = render(mesh, camera, **style)
+    fb = render(mesh, camera, **style, normals=bool(options.normals), ids=bool(options.ids))
     if options.depth:
-        with atomic_write(options.depth) as tmp:
-            with open(tmp, "wb") as f:
-                np.save(f, fb.depth)
+        fb.save_depth(options.depth)
+    if options.normals:
+        fb.save_normals(options.normals)
+    if options.ids:
+        fb.save_ids(options.ids)
     fb.save(output)
     return len(mesh.faces)

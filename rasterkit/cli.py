@@ -31,7 +31,7 @@ from typing import Iterator
 
 from . import _report, limits
 from ._report import UsageError
-from ._cli_args import (add_limits, add_view_arguments, attach_number_lists, framed_camera,
+from ._cli_args import (add_limits, add_view_arguments, attach_number_lists, framed_camera, read_camera_file,
                         integers, point, positive_int, samples, unit_interval, whole_number)
 from .options import CULL, MODES, SHADING
 
@@ -46,6 +46,7 @@ examples:
   rasterkit render model.obj -o model.png --mode solid --samples 16 --aperture 0.2 --focus auto
   rasterkit render model.obj -o spin.gif --turntable 36 --mode solid
   rasterkit render models/ -o images/ --mode solid      (every .obj in a folder)
+  rasterkit render model.obj -o rgb.png --mode solid --camera-opencv cam.json --depth depth.png --ids ids.png
   rasterkit info model.obj
   rasterkit explain model.obj --point 0.5,0.5,0.5 --projection cabinet
   rasterkit explain --line 0,0,7,3
@@ -116,7 +117,15 @@ def _parser() -> argparse.ArgumentParser:
                      help="threads for the kernels (default: all cores)")
     out.add_argument("--turntable", type=positive_int, metavar="N",
                      help="N frames around the model, as an animated GIF or APNG")
-    out.add_argument("--depth", metavar="OUT.npy", help="also save the depth buffer (float32)")
+    out.add_argument("--depth", metavar="OUT.npy|OUT.png",
+                     help="also save the depth along the optical axis, world units, 0 where nothing "
+                          "was drawn: .npy float32, or .png 16-bit in thousandths (mm for metres)")
+    out.add_argument("--normals", metavar="OUT.npy|OUT.png",
+                     help="also save the camera-space unit normals: .npy float32 (NaN: empty), "
+                          "or .png RGB (n + 1)/2")
+    out.add_argument("--ids", metavar="OUT.npy|OUT.png",
+                     help="also save the visible face's index: .npy int32 (-1: none), or .png "
+                          "16-bit id + 1 (0: none)")
     _add_batch_arguments(r)
     add_limits(r)
     _add_explain(commands)
@@ -139,12 +148,14 @@ def render_options(**options) -> argparse.Namespace:
     ``options`` (Python values: ``size=(640, 480)``, ``mode="solid"``, ``eye=(1, 2, 3)``...).
     Raises ``TypeError`` for a name the command does not have (or one of a single render's)."""
     args = _parser().parse_args(["render", "--demo", "-o", "unused.png"])
-    not_options = {"models", "demo", "output", "depth", "threads", "jobs", "scheduler", "resume", "contact_sheet",
+    not_options = {"models", "demo", "output", "depth", "normals", "ids", "threads", "jobs", "scheduler", "resume", "contact_sheet",
                    "max_file_size", "max_memory", "command"}
     for name, value in options.items():
         if name in not_options or not hasattr(args, name):
             raise TypeError(f"unknown render option {name!r}")
         setattr(args, name, value)
+    if isinstance(args.camera_opencv, (str, os.PathLike)):
+        args.camera_opencv = read_camera_file(os.fspath(args.camera_opencv))
     return args
 
 
@@ -185,8 +196,14 @@ def _without_scipy() -> None:
 def _render(args) -> int:
     from . import _batch
 
-    if args.depth and not args.depth.lower().endswith(".npy"):
-        raise UsageError(f"{args.depth}: the depth output must end in .npy")
+    for flag in ("depth", "normals", "ids"):
+        path = getattr(args, flag)
+        if path and not path.lower().endswith((".npy", ".png")):
+            raise UsageError(f"{path}: the {flag} output must end in .npy or .png")
+        if path and args.turntable:
+            raise UsageError(f"--{flag} takes a still image, not --turntable")
+    if args.camera_opencv:
+        args.camera_opencv = read_camera_file(args.camera_opencv)
     jobs, batch = _batch.jobs(args)
     _without_scipy()
     from . import _jit  # the first import of Numba: the usage errors above come without it
@@ -222,6 +239,8 @@ def _explain(args) -> int:
     else:
         if args.model and args.demo:
             raise UsageError("give a MODEL.obj or --demo, not both")
+        if args.camera_opencv:
+            args.camera_opencv = read_camera_file(args.camera_opencv)
         camera, _ = framed_camera(args, _explained_mesh(args))
         text = explain.format_chain(explain.chain_steps(camera, args.point), camera)
     print(text, flush=True)

@@ -51,7 +51,15 @@ class Framebuffer:
         with a band-sized depth buffer per thread and leaves a recipe that makes this one
         (the same depths, by a depth-only pass over the same triangles) when it is read.
     ids : (H, W) int32 or None
-        Index of the triangle seen at each pixel, -1 where none.
+        Index of the triangle seen at each pixel, -1 where none (for a scene rendered with
+        ``ids=True``: its index within its object).
+    object_ids : (H, W) int32 or None
+        ``render(scene, ids=True)``: the index of the scene object seen, -1 where none.
+    normals : (H, W, 3) float32 or None
+        ``render(..., normals=True)``: unit surface normals in camera space (x right, y up,
+        looking down -z), NaN where nothing was drawn.
+    camera : Camera or None
+        The camera a render drew with (:meth:`camera_depth` inverts its depth mapping).
     width, height : int
         The colour buffer's size (read-only).
 
@@ -83,6 +91,8 @@ class Framebuffer:
         self._depth = None  # not made yet: all farthest, or what _depth_source draws (defer_depth)
         self._depth_source = None
         self.ids = _memory.take((height, width), np.int32) if ids else None
+        self.object_ids = self.normals = self.camera = None
+        self.object_first = None  # (K,) int64: each scene object's first face, with object_ids
         if cleared:
             self.clear()
 
@@ -166,6 +176,59 @@ class Framebuffer:
             self._depth.fill(FARTHEST)
         if self.ids is not None:
             self.ids.fill(-1)
+
+    # --- the images of a vision pipeline (rasterkit.vision) -------------------------------
+
+    def camera_depth(self) -> np.ndarray:
+        """Depth along the camera's optical axis, world units: (H, W) float32, 0 where nothing
+        was drawn (pyrender's convention); the exact inverse of :attr:`depth` for the camera
+        of the render (:mod:`rasterkit.vision`). Raises ``ValueError`` for a framebuffer that
+        no render drew."""
+        from .vision import camera_depth
+
+        return camera_depth(self.depth, self._camera("camera_depth"))
+
+    def visible_faces(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(face_ids, pixel_counts)``, int64 arrays: the faces seen (ascending) and the
+        pixels each covers, from :attr:`ids` (``render(..., ids=True)``). For a scene a
+        face's index is its index in ``scene.world_mesh()``."""
+        if self.ids is None:
+            raise ValueError("visible_faces needs the face ids: render with ids=True")
+        from .vision import visible_faces
+
+        return visible_faces(self.ids, self.object_ids, self.object_first)
+
+    def save_depth(self, path: str | os.PathLike, scale: float = 1000.0) -> None:
+        """:meth:`camera_depth` to ``.npy`` (float32, as it is) or to a 16-bit greyscale
+        ``.png`` holding ``round(depth·scale)``, by default millimetres when the world unit
+        is the metre, clipped to 65535; 0 where nothing was drawn. Written atomically."""
+        from .vision import save_depth
+
+        save_depth(self.camera_depth(), path, scale)
+
+    def save_normals(self, path: str | os.PathLike) -> None:
+        """:attr:`normals` to ``.npy`` or to an RGB ``.png`` of ``(n + 1)/2·255`` (black where
+        nothing was drawn)."""
+        if self.normals is None:
+            raise ValueError("no normals: render with normals=True")
+        from .vision import save_normals
+
+        save_normals(self.normals, path)
+
+    def save_ids(self, path: str | os.PathLike, objects: bool = False) -> None:
+        """:attr:`ids` (or :attr:`object_ids` when ``objects``) to ``.npy`` (int32, -1 for
+        none) or to a 16-bit greyscale ``.png`` of ``id + 1`` (0 for none)."""
+        ids = self.object_ids if objects else self.ids
+        if ids is None:
+            raise ValueError("no ids: render with ids=True" + (" a Scene" if objects else ""))
+        from .vision import save_ids
+
+        save_ids(ids, path)
+
+    def _camera(self, what: str):
+        if self.camera is None:
+            raise ValueError(f"{what} needs the camera of a render: this framebuffer was not drawn by render()")
+        return self.camera
 
     def to_image(self):
         """The colour buffer as a Pillow image (RGB or RGBA)."""

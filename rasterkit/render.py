@@ -9,7 +9,7 @@ The pipeline, in the spaces its variables are named after::
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
@@ -54,6 +54,8 @@ class _Options:
     line_color: np.ndarray
     aa: bool
     light: np.ndarray  # (3,) unit world-space direction towards the light
+    keep_depth: bool = False  # solid: draw the depth buffer in the colour pass, not when read
+    points: object = None  # rasterkit.points.Points, drawn last as depth-tested splats
 
 
 def _choice(name: str, value: str, allowed: tuple) -> str:
@@ -66,18 +68,21 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
            shading: str = "flat", color: ColorLike = "lightgray",
            line_color: ColorLike = "black", background: ColorLike | None = None,
            light=None, aa: bool = False, ids: bool = False, samples: int = 1,
-           vignette: float = 0.0) -> Framebuffer:
+           vignette: float = 0.0, normals: bool = False, points=None, point_size: int = 1,
+           point_color: ColorLike = "black") -> Framebuffer:
     """Render a mesh or a scene seen by a camera into a new :class:`Framebuffer`.
 
     Parameters
     ----------
     mesh : Scene, Mesh, (vertices, faces) tuple, or object with ``.vertices`` and ``.faces``
         Positions in world space, (N, 3) float; faces (M, 3) int, counter-clockwise seen
-        from the front. A :class:`Scene` brings its objects' model matrices and colours, and
+        from the front. None draws only ``points``. A :class:`Scene` brings its objects' model matrices and colours, and
         the defaults for ``camera``, ``background`` and ``light``.
     camera : Camera
         Gives the image size and the world -> raster chain (optional for a scene that has
-        one).
+        one). A camera with ``distortion`` coefficients (``Camera.from_opencv(...,
+        dist=...)``) gives the distorted image: an undistorted render resampled through
+        OpenCV's distortion model (:mod:`rasterkit.distortion`).
     mode : {"wire", "hidden", "solid", "solid+wire"}
         ``wire``: every edge, no depth test. ``hidden``: hidden-line removal: a depth pass of
         the triangles, then only the visible parts of the edges. ``solid``: shaded triangles.
@@ -97,7 +102,9 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     aa : bool
         Anti-aliased (Xiaolin Wu) lines.
     ids : bool
-        Also fill the framebuffer's id buffer with the index of the visible face.
+        Also fill the framebuffer's id buffer with the index of the visible face; for a
+        :class:`Scene`, its index within its object, and ``fb.object_ids`` with the index of
+        the object (both -1 where none).
     samples : int
         Samples per pixel, 1 to 256, averaged (rounded to the nearest level). Each sample
         draws the whole scene once at a fixed, stratified sub-pixel offset
@@ -112,6 +119,17 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         In [0, 1]: 1 darkens every pixel (background too) by the natural cos⁴θ falloff of a
         lens camera, θ the angle between the pixel's ray and the optical axis; 0 none (the
         default); in between, ``1 - vignette·(1 - cos⁴θ)``. Parallel cameras have none.
+    normals : bool
+        Also fill ``fb.normals``, (H, W, 3) float32 unit surface normals in camera space (x
+        right, y up, looking down -z), NaN where nothing was drawn: per face with flat
+        shading, interpolated (perspective-correct) from the vertex normals with smooth
+        shading; the geometric normal, also on back faces drawn with ``cull="none"``.
+        With ``samples > 1``, the centre sample's (:mod:`rasterkit.vision`).
+    points : (K, 3) array_like of float, optional
+        A point cloud, world space, drawn after the faces and edges as squares of
+        ``point_size`` pixels (1 to 64) centred on each point, depth-tested against the faces
+        and each other (:mod:`rasterkit.points`); ``point_color`` is one colour or (K, 3|4)
+        values 0-255, one per point. Points write colour and depth, not ids or normals.
 
     Returns
     -------
@@ -129,10 +147,27 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         When the render would need more memory than :func:`rasterkit.limits.memory_limit`
         (:func:`memory_needed` estimates it before anything is allocated).
     """
+    seen_by = mesh.camera if camera is None and isinstance(mesh, Scene) else camera
+    if isinstance(seen_by, Camera) and seen_by.distortion:  # an undistorted render, resampled
+        from .distortion import render_distorted
+
+        return render_distorted(seen_by, lambda ideal: render(
+            mesh, ideal, mode, cull=cull, shading=shading, color=color, line_color=line_color,
+            background=background, light=light, aa=aa, ids=ids, samples=samples, vignette=vignette,
+            normals=normals, points=points, point_size=point_size, point_color=point_color))
+    if points is not None:  # imported here, as the other extras: a plain render loads none
+        from .points import check_points
+
+        points = check_points(points, point_color, point_size)
+        if mesh is None:
+            mesh = Mesh(np.zeros((0, 3)), np.zeros((0, 3), np.int64))
+    object_faces = None
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
         background = background if background is not None else mesh.background
         light = light if light is not None else mesh.light
+        if ids:
+            object_faces = [len(o.mesh.faces) for o in mesh.objects]
         mesh = mesh.world_mesh(color)
     mesh = as_mesh(mesh)
     if not isinstance(camera, Camera):
@@ -143,15 +178,38 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
                        _choice("shading", shading, SHADING), parse_color(color),
                        parse_color(line_color), bool(aa), light)
     samples, vignette = _accumulate.check(samples, vignette)
+    normals = bool(normals)
+    if (ids or normals) and samples == 1 and vignette == 0.0 or points is not None:
+        # a vision frame (its depth is wanted too), or points to test against the depth: a
+        # deferred depth pass would draw again
+        options = replace(options, keep_depth=True, points=points)
     alpha = parse_color(background)[3] < 255
-    check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids)
-                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette),
+    check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids or normals)
+                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette)
+                 + _maps_bytes(mesh, camera.width * camera.height, normals, object_faces is not None),
                  f"a {camera.width}x{camera.height} {options.mode} render of {len(mesh.faces)} faces")
     if samples == 1 and vignette == 0.0:
-        return _frame(mesh, camera, options, background, ids)
-    return _accumulate.render_samples(camera, samples, vignette, background, ids,
-                                      partial(_draw_frame, mesh, options),
-                                      partial(_frame, mesh, camera, options, background))
+        fb = _frame(mesh, camera, options, background, ids or normals)
+    else:
+        fb = _accumulate.render_samples(camera, samples, vignette, background, ids or normals,
+                                        partial(_draw_frame, mesh, options),
+                                        partial(_frame, mesh, camera, options, background))
+    fb.camera = camera
+    if normals or object_faces is not None:  # imported here: a plain render loads none of it
+        from .vision import fill_maps
+
+        fill_maps(fb, mesh, camera, camera.world_to_raster(), options.shading if normals else None, object_faces)
+        if not ids:
+            fb.ids = None
+    return fb
+
+
+def _maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool) -> int:
+    """Bytes of the normal and object-id images and their per-vertex and per-face terms."""
+    if not (normals or objects):
+        return 0
+    return (12 * pixels + len(mesh.vertices) * 80 + len(mesh.faces) * 84 if normals else 0) + \
+        (4 * pixels + len(mesh.faces) * 4 if objects else 0)
 
 
 def _frame(mesh: Mesh, camera: Camera, options: _Options, background, ids: bool) -> Framebuffer:
@@ -171,11 +229,15 @@ def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarr
         # the edges' vertex pass transforms the vertices itself: one pass over them less
         _draw_edges(fb, mesh, None, options, depth_test=False, clear=True,
                     transform=(mesh.vertices, matrix))
-        return
-    clip = transform_points(mesh.vertices, matrix)
-    _draw_triangles(fb, mesh, clip, options)
-    if options.mode != "solid":
-        _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
+    else:
+        clip = transform_points(mesh.vertices, matrix)
+        _draw_triangles(fb, mesh, clip, options)
+        if options.mode != "solid":
+            _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
+    if options.points is not None:
+        from .points import draw_points
+
+        draw_points(fb, options.points, matrix)
 
 
 def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha: bool, ids: bool) -> int:
@@ -185,7 +247,9 @@ def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha:
     and the edge path's in every mode but solid (with the wireframe's byte mask of the
     image)."""
     n, m = len(mesh.vertices), len(mesh.faces)
-    total = buffer_bytes(width, height, alpha, ids, depth=options.mode in ("hidden", "solid+wire"))
+    total = buffer_bytes(width, height, alpha, ids, depth=options.mode in ("hidden", "solid+wire") or options.keep_depth)
+    if options.points is not None:  # their homogeneous coordinates
+        total += len(options.points.positions) * 32
     if options.mode != "wire":
         smooth = options.shading == "smooth" and options.mode != "hidden"
         total += n * 32 + _triangles.scratch_bytes(n, m, width, get_threads(), smooth=smooth,
@@ -212,7 +276,7 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
         return
     face_colors, vertex_colors = _shade(mesh, options)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
-    if options.mode == "solid":  # nothing is drawn after: keep the depth only if it is read
+    if options.mode == "solid" and not options.keep_depth:  # nothing drawn after: depth only if read
         depth = None
         fb.defer_depth(partial(_depth_pass, clip, mesh.faces, options.cull))
     else:

@@ -17,6 +17,9 @@ The package, one part per module:
 - ``rays``: the lecture's ray-tracer camera, the ray through a raster point;
 - ``lens``: the thin lens and the per-sample matrices of a multi-sample render (sub-pixel
   jitter and lens points as window shifts, so the shear H does real work), and vignetting;
+- ``opencv``, ``opengl``: OpenCV's K, R, t (and distortion coefficients), OpenGL's
+  projection and view matrices and trimesh / pyrender poses, in and out; ``interop``: their
+  ``Camera`` methods;
 - ``checks``: the rules for a valid camera;
 - ``camera``: the ``Camera`` object, which validates its fields and ties the others together.
 

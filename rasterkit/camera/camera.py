@@ -18,17 +18,19 @@ from ..transform import compose, from_homogeneous, to_homogeneous
 from . import projections
 from .chain import camera_frame, parallel_chain, perspective_chain
 from .checks import KINDS, Vec3, camera_fields, check_matrix
+from .interop import Interop
 from .presets import NamedProjections
 from .rays import parallel_ray, perspective_ray, window_coordinates
 
 
 @dataclass(frozen=True, kw_only=True)
-class Camera(NamedProjections):
+class Camera(NamedProjections, Interop):
     """An immutable pinhole or thin-lens (perspective) or parallel camera.
 
     Build cameras with the classmethods (``look_at``, ``orthographic``, ``frame``, the
     axonometric, oblique and 1/2/3-point presets, whose geometry is explained in
-    :mod:`rasterkit.camera.projections`); the constructor validates every field, raising
+    :mod:`rasterkit.camera.projections`; ``from_opencv``, ``from_opengl``, ``from_pose``
+    of :mod:`rasterkit.camera.interop`); the constructor validates every field, raising
     ``TypeError`` for what is not a real number (a string, a bool, None, arrays of them) and
     ``ValueError`` for values out of range, and makes the world -> raster matrix once: a
     camera whose matrix is not finite in float64 (sizes and distances too large or too
@@ -69,6 +71,14 @@ class Camera(NamedProjections):
     focus_distance : float or None
         Perspective only: distance of the plane in focus from the eye along the viewing
         direction, world units; None: the distance to ``target``.
+    pixel_aspect : float
+        Width over height of a pixel's footprint in the scene (OpenCV's ``fy/fx``): the
+        window is ``pixel_aspect·width/height`` times as wide as it is high. 1: square.
+    distortion : tuple of float
+        Perspective only: OpenCV's lens distortion coefficients (k1, k2, p1, p2[, k3[, k4,
+        k5, k6]]), or () for none; :func:`rasterkit.render` draws the distorted image
+        (:mod:`rasterkit.distortion`), while :meth:`matrix`, :meth:`project` and
+        :meth:`ray` stay the pinhole's.
     """
 
     kind: str
@@ -86,6 +96,8 @@ class Camera(NamedProjections):
     oblique_ratio: float = 0.0
     aperture: float = 0.0
     focus_distance: float | None = None
+    pixel_aspect: float = 1.0
+    distortion: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         checked = camera_fields(**{f.name: getattr(self, f.name) for f in fields(self)})
@@ -231,7 +243,7 @@ class Camera(NamedProjections):
             half_height = math.tan(math.radians(self.fov_y) / 2.0)
         else:
             half_height = self.view_height / 2.0
-        return self.aspect * half_height, half_height
+        return self.aspect * self.pixel_aspect * half_height, half_height
 
     def _target_distance(self) -> float:
         return float(np.linalg.norm(np.subtract(self.target, self.eye)))

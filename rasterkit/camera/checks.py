@@ -70,7 +70,8 @@ def camera_fields(
     *, kind: str, eye: Sequence[float], target: Sequence[float], up: Sequence[float],
     width: int, height: int, near: float, far: float, fov_y: float | None,
     shift: Sequence[float], view_height: float | None, oblique_angle: float, oblique_ratio: float,
-    aperture: float = 0.0, focus_distance: float | None = None,
+    aperture: float = 0.0, focus_distance: float | None = None, pixel_aspect: float = 1.0,
+    distortion: Sequence[float] = (),
 ) -> dict[str, Any]:
     """The fields of a ``Camera`` (see its docstring), checked and converted.
 
@@ -95,6 +96,8 @@ def camera_fields(
         oblique_ratio=finite(oblique_ratio, "oblique_ratio"),
         aperture=finite(aperture, "aperture"),
         focus_distance=None if focus_distance is None else positive(focus_distance, "focus_distance"),
+        pixel_aspect=positive(pixel_aspect, "pixel_aspect"),
+        distortion=distortion_coefficients(distortion),
     )
     if f["aperture"] < 0.0:
         raise ValueError(f"aperture must not be negative, got {aperture!r}")
@@ -113,6 +116,22 @@ def _shift(value: Sequence[float]) -> tuple[float, float]:
     if shift.shape != (2,):
         raise ValueError(f"shift must be 2 finite numbers, got {describe(value)}")
     return (finite(shift[0], "shift[0]"), finite(shift[1], "shift[1]"))
+
+
+#: Lengths OpenCV's distortion vector may have here: (k1, k2, p1, p2[, k3[, k4, k5, k6]]).
+DISTORTION_LENGTHS = (4, 5, 8)
+
+
+def distortion_coefficients(value) -> tuple[float, ...]:
+    """OpenCV's distortion coefficients as a tuple of 4, 5 or 8 floats (``()`` for None or
+    all zeros: no distortion)."""
+    if value is None:
+        return ()
+    d = real_array(value, "dist").reshape(-1)
+    if d.size not in DISTORTION_LENGTHS + (0,) or not np.all(np.isfinite(d)):
+        raise ValueError(f"dist must be 4, 5 or 8 finite numbers (k1, k2, p1, p2[, k3[, k4, k5, k6]]), "
+                         f"got {describe(value)}")
+    return tuple(float(x) for x in d) if np.any(d) else ()
 
 
 def _check_frame(eye: Vec3, target: Vec3, up: Vec3) -> None:
@@ -146,6 +165,8 @@ def _check_parallel(f: dict[str, Any]) -> None:
     f["view_height"] = positive(f["view_height"], "view_height")
     if f["fov_y"] is not None or f["shift"] != (0.0, 0.0):
         raise ValueError("fov_y and shift belong to perspective cameras")
+    if f["distortion"]:
+        raise ValueError("distortion belongs to perspective cameras")
     if f["aperture"] != 0.0 or f["focus_distance"] is not None:
         raise ValueError("aperture and focus_distance belong to perspective cameras (a parallel "
                          "camera has no lens)")

@@ -114,7 +114,7 @@ def vignette_factor(camera, strength: float) -> np.ndarray | None:
     f_px = (height / 2.0) / math.tan(math.radians(camera.fov_y) / 2.0)
     cx = (1.0 - camera.shift[0]) * width / 2.0
     cy = (1.0 + camera.shift[1]) * height / 2.0
-    dx = (np.arange(width) + 0.5 - cx) / f_px
+    dx = (np.arange(width) + 0.5 - cx) * camera.pixel_aspect / f_px
     dy = (np.arange(height) + 0.5 - cy) / f_px
     cos2 = 1.0 / (1.0 + dx[None, :] ** 2 + dy[:, None] ** 2)
     return (1.0 - strength * (1.0 - cos2 * cos2)).astype(np.float32)

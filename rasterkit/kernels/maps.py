@@ -1,0 +1,123 @@
+"""The images of a vision pipeline made from a render's face ids: camera-space normals and the
+scene object seen at each pixel (rasterkit.vision).
+
+Compiled only when a render asks for them: a plain render never loads this module.
+"""
+
+import numpy as np
+
+from rasterkit._jit import kernel
+from rasterkit.kernels.intrinsics import fetch_add
+
+#: The rows are worked on in this many chunks, shared out among the threads.
+N_CHUNKS = 64
+
+
+@kernel(inline="always")
+def _smooth_normal(f, px, py, faces, bary, vertex_normals):
+    """Vertex normals of face ``f`` interpolated perspective-correctly at raster (px, py),
+    unnormalised (the barycentrics of :func:`rasterkit.kernels.shade.bary_matrices`, which
+    are known up to a factor: its sign is made positive)."""
+    b0 = bary[f, 0] * px + bary[f, 1] * py + bary[f, 2]
+    b1 = bary[f, 3] * px + bary[f, 4] * py + bary[f, 5]
+    b2 = bary[f, 6] * px + bary[f, 7] * py + bary[f, 8]
+    if b0 + b1 + b2 < 0.0:
+        b0, b1, b2 = -b0, -b1, -b2
+    v0, v1, v2 = faces[f, 0], faces[f, 1], faces[f, 2]
+    x = b0 * vertex_normals[v0, 0] + b1 * vertex_normals[v1, 0] + b2 * vertex_normals[v2, 0]
+    y = b0 * vertex_normals[v0, 1] + b1 * vertex_normals[v1, 1] + b2 * vertex_normals[v2, 1]
+    z = b0 * vertex_normals[v0, 2] + b1 * vertex_normals[v1, 2] + b2 * vertex_normals[v2, 2]
+    return x, y, z
+
+
+@kernel(inline="always")
+def _put_normal(normals, j, i, rotation, x, y, z):
+    """``normals[j, i]``: the world-space vector (x, y, z) turned into camera space by
+    ``rotation`` (3, 3) and scaled to unit length (NaN for a zero vector)."""
+    cx = rotation[0, 0] * x + rotation[0, 1] * y + rotation[0, 2] * z
+    cy = rotation[1, 0] * x + rotation[1, 1] * y + rotation[1, 2] * z
+    cz = rotation[2, 0] * x + rotation[2, 1] * y + rotation[2, 2] * z
+    scale = 1.0 / np.sqrt(cx * cx + cy * cy + cz * cz)
+    normals[j, i, 0] = cx * scale
+    normals[j, i, 1] = cy * scale
+    normals[j, i, 2] = cz * scale
+
+
+@kernel
+def camera_normals(world, rotation):
+    """(M, 3) float32: the world-space normals ``world`` (M, 3) float32 turned by ``rotation``
+    (3, 3) float64 into camera space and scaled to unit length (NaN for zero ones)."""
+    out = np.empty((world.shape[0], 1, 3), np.float32)
+    for f in range(world.shape[0]):
+        _put_normal(out, f, 0, rotation, np.float64(world[f, 0]), np.float64(world[f, 1]),
+                    np.float64(world[f, 2]))
+    return out.reshape(world.shape[0], 3)
+
+
+@kernel
+def surface_maps(slot, counter, ids, maps):
+    """Per pixel of ``ids`` (H, W) int32 (the visible face, -1 for none): the unit camera-space
+    normal and the scene object, as a :class:`rasterkit.kernels.records.Maps` asks.
+
+    Normals (``maps.want_normals``) go into ``maps.normals`` (H, W, 3) float32, NaN where no
+    face is seen: ``maps.face_normals[f]`` (M, 3) float32 (camera space, unit:
+    :func:`camera_normals`) when ``maps.smooth`` is false, else ``maps.vertex_normals`` (N, 3)
+    float64 (world space) interpolated with ``maps.bary`` (M, 9) and ``maps.faces`` (M, 3)
+    int64, turned by ``maps.rotation`` (3, 3) float64 (world -> camera) and normalised. Objects (``maps.want_objects``): the object of
+    face ``f`` is ``maps.face_object[f]`` (M,) int32, written to ``maps.object_ids`` (H, W)
+    int32 (-1 where none), and ``ids`` becomes the index within that object (minus
+    ``maps.object_first[o]``, its first face). A worker of :func:`rasterkit._jit.run_workers`;
+    face indices in ``ids`` must lie in 0..M-1 (a render's ids do).
+    """
+    height, width = ids.shape
+    nan = np.float32(np.nan)
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for j in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
+            py = j + 0.5
+            for i in range(width):
+                f = ids[j, i]
+                if maps.want_normals:
+                    if f < 0:
+                        maps.normals[j, i, 0] = maps.normals[j, i, 1] = maps.normals[j, i, 2] = nan
+                    elif maps.smooth:
+                        x, y, z = _smooth_normal(f, i + 0.5, py, maps.faces, maps.bary, maps.vertex_normals)
+                        _put_normal(maps.normals, j, i, maps.rotation, x, y, z)
+                    else:  # already in camera space (camera_normals)
+                        maps.normals[j, i, 0] = maps.face_normals[f, 0]
+                        maps.normals[j, i, 1] = maps.face_normals[f, 1]
+                        maps.normals[j, i, 2] = maps.face_normals[f, 2]
+                if maps.want_objects:
+                    if f < 0:
+                        maps.object_ids[j, i] = -1
+                    else:
+                        o = maps.face_object[f]
+                        maps.object_ids[j, i] = o
+                        ids[j, i] = f - maps.object_first[o]
+    return 0
+
+
+@kernel(refcounts=False)
+def metric_depth(slot, counter, depth, out, near, far, perspective):
+    """``out`` (H, W) float32: the distance along the optical axis of each depth ``D`` of
+    ``depth`` (H, W) float32, in float64: ``f·n / (f - D·(f - n))`` for a perspective camera,
+    ``n + D·(f - n)`` for a parallel one; 0 where ``D`` is +inf (nothing drawn). A worker
+    like :func:`surface_maps`."""
+    height, width = depth.shape
+    span = far - near
+    product = far * near
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for j in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
+            for i in range(width):
+                d = np.float64(depth[j, i])
+                if perspective:
+                    value = product / (far - d * span)
+                else:
+                    value = near + d * span
+                out[j, i] = value if d < np.inf else 0.0
+    return 0
