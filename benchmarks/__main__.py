@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numba
 
-from . import aa, cli, contention, cv, fill, lines2d, loading, memory, render, report, scaling, startup
+from . import aa, batch, cli, contention, cv, fill, lines2d, loading, memory, render, report, scaling, startup
 from .peers import Peers
 from .settings import FULL, QUICK, TARGETS, TINY
 
@@ -25,9 +25,9 @@ from .settings import FULL, QUICK, TARGETS, TINY
 # process were seen to slow down ~10x for a minute after the CLI family's subprocesses.
 FAMILIES = {"render": render.run, "aa": aa.run, "cv": cv.run, "fill": fill.run, "lines2d": lines2d.run, "loading": loading.run,
             "scaling": scaling.run, "memory": memory.run, "cli": cli.run, "startup": startup.run,
-            "contention": contention.run, "threads": scaling.run_threads}
+            "contention": contention.run, "batch": batch.run, "threads": scaling.run_threads}
 DEFAULT_FAMILIES = ("render", "aa", "cv", "fill", "lines2d", "loading", "scaling", "memory", "cli", "startup",
-                    "contention")
+                    "contention", "batch")
 """What a run measures unless ``--only`` says otherwise (``threads`` is part of ``scaling``)."""
 TARGET_FAMILIES = ("render", "aa", "fill", "threads")
 

@@ -81,6 +81,10 @@ class Settings:
         Model of the ``cv`` family (colour, depth, normals and ids against a plain frame).
     cv_size : (width, height)
         Its image size.
+    batch_size : (width, height)
+        Image size of the ``batch`` family's folder renders.
+    batch_models : tuple of str
+        Its models (the medium ones, 50k-300k triangles, each twice).
     """
 
     name: str
@@ -111,6 +115,8 @@ class Settings:
     aa_size: tuple = TARGET_SIZE
     cv_model: str = "ogre"
     cv_size: tuple = TARGET_SIZE
+    batch_size: tuple = (1280, 960)
+    batch_models: tuple = ("stanford-bunny", "armadillo", "sponza", "lost_empire", "ogre", "sportsCar")
 
 
 FULL = Settings(
@@ -164,6 +170,7 @@ TINY = Settings(
     startup_model="suzanne", startup_size=(64, 48), demo_size=(64, 48), startup_cold_runs=1,
     startup_sequence=False, contention_processes=(1, 2), contention_seconds=0.3,
     aa_model="suzanne", aa_size=(64, 48), cv_model="suzanne", cv_size=(64, 48),
+    batch_size=(64, 48), batch_models=("suzanne",),
 )
 
 
