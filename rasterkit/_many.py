@@ -116,8 +116,9 @@ def _engine(todo, options, jobs, client, on_result) -> None:
 
         _dask.run(client, todo, options, on_result)
     elif jobs > 1 and len(todo) > 1:
-        from ._workers import LocalPool
+        from ._workers import LocalPool, warm_up
 
+        warm_up(options)  # compiled once, here; forked workers inherit the kernels
         LocalPool(min(jobs, len(todo)), max(1, cores() // jobs), options).run(todo, on_result)
     else:
         from ._workers import run_task

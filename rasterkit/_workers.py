@@ -5,9 +5,13 @@ here, and Dask's workers (:mod:`rasterkit._dask`): it renders with
 :func:`rasterkit._render_one.render_model` and returns the model's manifest record instead
 of raising, so a failing model never stops a batch.
 
-The local pool starts ``jobs`` processes with the ``spawn`` method: a new interpreter per
-worker, which inherits no threads, locks or kernel state from the process that starts
-them, whatever that process has run before. The parent hands each idle worker the next
+The local pool first renders a tiny model with the batch's options in this process
+(:func:`warm_up`: the kernels are loaded from Numba's cache, or compiled once), then starts
+``jobs`` processes. On Linux, when no thread but rasterkit's own kernel helpers runs here,
+it forks them: they start at once and inherit the loaded kernels (rasterkit's thread pool
+is not inherited: a child starts its own, :func:`rasterkit._jit._forget_pool`; no OpenMP
+runtime is involved). Otherwise (another platform, or a program with threads of its own,
+whose locks a fork could copy held) it spawns new interpreters, which inherit nothing. The parent hands each idle worker the next
 model through its own pipe and waits on the pipes and the processes at once
 (``multiprocessing.connection.wait``): a worker that dies (a crash, the OOM killer) costs
 only its model, recorded as an error, and a new worker takes its place. On Ctrl-C or
@@ -115,6 +119,39 @@ def _worker_main(conn, threads: int, options, limit_state) -> None:
         return
 
 
+def _start_method() -> str:
+    """``fork`` on Linux when no thread but rasterkit's kernel helpers runs, else ``spawn``."""
+    import sys
+    import threading
+
+    others = [t for t in threading.enumerate()
+              if t is not threading.main_thread() and t.name != "rasterkit-worker" and t.is_alive()]
+    return "fork" if sys.platform.startswith("linux") and not others else "spawn"
+
+
+_TINY_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+
+
+def warm_up(options) -> None:
+    """Render a tetrahedron from an OBJ file with ``options`` at 16x12 pixels in this
+    process: every kernel a batch with these options runs is then loaded (or compiled).
+    Whatever goes wrong is left for the real models to report."""
+    import copy
+
+    from ._render_one import render_model
+
+    tiny = copy.copy(options)
+    tiny.size, tiny.turntable, tiny.depth, tiny.normals, tiny.ids = (16, 12), None, None, None, None
+    tiny.camera_opencv = None
+    with tempfile.TemporaryDirectory(prefix="rasterkit-warm-") as folder:
+        model = Path(folder) / "tiny.obj"
+        model.write_text(_TINY_OBJ)
+        try:
+            render_model(model, Path(folder) / "tiny.png", tiny)
+        except Exception:
+            pass
+
+
 class LocalPool:
     """``jobs`` worker processes, each rendering with ``threads`` kernel threads."""
 
@@ -123,7 +160,7 @@ class LocalPool:
 
         from . import limits
 
-        self._ctx = multiprocessing.get_context("spawn")
+        self._ctx = multiprocessing.get_context(_start_method())
         self.jobs, self.threads, self.options = jobs, threads, options
         self._limits = (limits._max_file_size, limits._memory_limit)
         self._workers: list[dict] = []

@@ -217,3 +217,18 @@ def test_sigterm_stops_the_workers_and_leaves_no_temporary_file(tmp_path):
     for p in out.glob("*.png"):
         assert complete_image(p)
     assert all(json.loads(line)["status"] == "ok" for line in (out / "manifest.jsonl").read_text().splitlines())
+
+
+def test_workers_are_forked_only_when_no_other_thread_runs():
+    from rasterkit._workers import _start_method
+
+    expected = "fork" if sys.platform.startswith("linux") else "spawn"
+    assert _start_method() == expected
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait, name="someone-else")
+    other.start()
+    try:
+        assert _start_method() == "spawn"  # its locks could be copied held into a fork
+    finally:
+        stop.set()
+        other.join()
