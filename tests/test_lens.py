@@ -332,3 +332,37 @@ def test_transparent_samples_average_premultiplied_colour():
     assert np.all(clear.color[alpha > 0][:, :3] == 255)  # white wherever anything was drawn
     assert np.all(clear.color[alpha == 0][:, :3] == 0)
     assert np.abs(alpha - black.color[..., 0].astype(int)).max() <= 1
+
+
+def test_sixteen_samples_bound_the_coverage_of_random_triangles():
+    """The documented bound, over random triangles (not hand-picked ones): with 16 samples
+    at least 99.5 % of all edge pixels are within 1/10 of their covered fraction and none is
+    beyond 0.15 (16 point samples cannot keep every straight edge within 1/10: see
+    rasterkit.samples), and each triangle's total grey is its area within 1 %."""
+    width, height = 160, 120
+    camera = Camera.look_at((0.0, 0.0, 4.0), (0.0, 0.0, 0.0), fov_y=40.0, width=width, height=height)
+    rng = np.random.default_rng(2026)
+    errors, done = [], 0
+    while done < 24:
+        v = np.c_[rng.uniform(-1.4, 1.4, (3, 2)), np.zeros(3)]
+        xy = camera.project(v)[:, :2]
+        (ax, ay), (bx, by) = xy[1] - xy[0], xy[2] - xy[0]
+        area = 0.5 * abs(ax * by - ay * bx)
+        if area < 400:
+            continue
+        done += 1
+        fb = rasterkit.render((v, np.array([(0, 1, 2)])), camera, "solid", cull="none", color="black",
+                              background="white", samples=16)
+        dark = 1.0 - fb.color[..., 0] / 255.0
+        x0, y0 = np.floor(xy.min(axis=0)).astype(int)
+        x1, y1 = np.ceil(xy.max(axis=0)).astype(int)
+        x0, y0, x1, y1 = max(x0, 0), max(y0, 0), min(x1, width), min(y1, height)
+        exact = np.zeros((height, width))
+        exact[y0:y1, x0:x1] = _coverage(xy - (x0, y0), x1 - x0, y1 - y0)
+        edge = (exact > 0) & (exact < 1)
+        errors.append(np.abs(dark - exact)[edge])
+        assert abs(dark.sum() - area) <= 0.01 * area
+    errors = np.concatenate(errors)
+    assert errors.size > 2000
+    assert np.mean(errors <= 0.1) >= 0.995
+    assert errors.max() <= 0.15
