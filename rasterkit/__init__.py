@@ -32,6 +32,7 @@ if TYPE_CHECKING:  # the real imports, for type checkers and editors
     from .options import PROJECTIONS
     from .render import render
     from .scene import Scene
+    from .svg import render_svg
 
 __all__ = [
     "PROJECTIONS",
@@ -43,6 +44,7 @@ __all__ = [
     "load_obj",
     "parse_color",
     "render",
+    "render_svg",
     "Scene",
     "set_threads",
     "shapes",
@@ -61,6 +63,7 @@ _HOMES = {
     "load_obj": ".obj",
     "parse_color": ".colors",
     "render": ".render",
+    "render_svg": ".svg",
     "Scene": ".scene",
     "set_threads": "._jit",
 }

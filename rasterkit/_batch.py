@@ -21,6 +21,7 @@ from pathlib import Path
 
 from . import _report
 from ._report import UsageError
+from .options import SVG_MODES
 
 __all__ = ["jobs", "render_jobs"]
 
@@ -75,7 +76,7 @@ def jobs(args) -> tuple[list[Job], bool]:
 
 
 def _check_image_path(out: Path, animated: bool) -> None:
-    allowed = IMAGE_SUFFIXES if animated else (".png",)
+    allowed = IMAGE_SUFFIXES if animated else (".png", ".svg")
     if out.suffix.lower() not in allowed:
         raise UsageError(f"{out}: the output must end in {' or '.join(allowed)}")
     if not out.parent.is_dir():
@@ -104,6 +105,25 @@ def _turntable(mesh, camera, center, frames: int, style: dict):
         yield render(Scene(camera).add(mesh, spin), **style).color
 
 
+def _check_svg_options(args, svg: bool) -> None:
+    if not svg:
+        if args.hidden:
+            raise UsageError("--hidden dashed is for SVG output (-o NAME.svg)")
+        return
+    if args.mode not in SVG_MODES:
+        raise UsageError(f"an SVG drawing takes --mode {' or '.join(SVG_MODES)}, not {args.mode}")
+    if args.depth:
+        raise UsageError("--depth is for PNG output")
+
+
+def _render_svg_job(mesh, camera, job: Job, args) -> None:
+    from .svg import render_svg, save_svg
+
+    text = render_svg(mesh, camera, mode=args.mode, edges=args.edges, crease_angle=args.crease_angle,
+                      hidden=args.hidden, stroke=args.line_color)
+    save_svg(text, job.output)
+
+
 def _render_job(job: Job, args) -> None:
     import numpy as np
 
@@ -113,8 +133,11 @@ def _render_job(job: Job, args) -> None:
     from .render import render
     from .shapes import demo
 
-    _warm.start(dict(mode=args.mode, cull=args.cull, shading=args.shading, background=args.background,
-                     aa=args.aa), depth=bool(args.depth), loading=job.source is not None)
+    svg = job.output.suffix.lower() == ".svg"
+    _check_svg_options(args, svg)
+    if not svg:
+        _warm.start(dict(mode=args.mode, cull=args.cull, shading=args.shading, background=args.background,
+                         aa=args.aa), depth=bool(args.depth), loading=job.source is not None)
     mesh = demo() if job.source is None else load_obj(job.source)
     for warning in mesh.warnings:
         _say(f"rasterkit: warning: {_report.one_line(warning)}")
@@ -122,9 +145,13 @@ def _render_job(job: Job, args) -> None:
     if radius == 0.0:
         raise UsageError("the model has no extent (all vertices coincide)")
     camera = _camera(args, center, radius)
+    if svg:
+        _render_svg_job(mesh, camera, job, args)
+        return
     style = dict(mode=args.mode, cull=args.cull, shading=args.shading, color=args.color,
                  line_color=args.line_color, background=args.background, aa=args.aa,
-                 samples=args.samples, vignette=args.vignette)
+                 samples=args.samples, vignette=args.vignette, edges=args.edges,
+                 crease_angle=args.crease_angle)
     if args.turntable:  # streamed: one frame in memory at a time
         save_animation(_turntable(mesh, camera, center, args.turntable, style), job.output)
         return

@@ -28,7 +28,7 @@ from typing import Iterator
 
 from . import _report, limits
 from ._report import UsageError
-from .options import CULL, MAX_IMAGE_SIZE, MODES, PROJECTIONS, SHADING
+from .options import CULL, EDGES, MAX_IMAGE_SIZE, MODES, PROJECTIONS, SHADING
 
 __all__ = ["main", "Terminated"]
 
@@ -40,6 +40,7 @@ examples:
   rasterkit render model.obj -o model.png --eye 3,2,4 --target 0,0,0 --fov 35
   rasterkit render model.obj -o model.png --mode solid --samples 16 --aperture 0.2 --focus auto
   rasterkit render model.obj -o spin.gif --turntable 36 --mode solid
+  rasterkit render model.obj -o drawing.svg --mode hidden --edges feature --hidden dashed
   rasterkit render models/ -o images/ --mode solid      (every .obj in a folder)
   rasterkit info model.obj
 
@@ -147,7 +148,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="OBJ files or folders of them (several: -o names a folder)")
     r.add_argument("--demo", action="store_true", help="render the built-in demo model")
     r.add_argument("-o", "--output", required=True, metavar="OUT",
-                   help="image (.png; .gif/.png/.apng with --turntable), or a folder")
+                   help="image (.png; .gif/.png/.apng with --turntable), vector drawing (.svg: "
+                        "--mode wire or hidden), or a folder")
     r.add_argument("--size", type=_size, default=(800, 600), metavar="WIDTHxHEIGHT",
                    help="image size in pixels (default 800x600)")
     r.add_argument("--mode", choices=MODES, default="wire", help="default wire")
@@ -174,6 +176,13 @@ def _parser() -> argparse.ArgumentParser:
     look.add_argument("--line-color", default="black", help="line colour (name or #rrggbb)")
     look.add_argument("--background", default="white",
                       help="background colour; 'transparent' writes RGBA")
+    look.add_argument("--edges", choices=EDGES, default="all",
+                      help="the polygons' edges (default), or feature edges: silhouettes, "
+                           "boundaries, creases, material boundaries")
+    look.add_argument("--crease-angle", type=_finite, default=30.0, metavar="DEG",
+                      help="angle between face normals from which an edge is a crease (default 30)")
+    look.add_argument("--hidden", choices=("dashed",), default=None,
+                      help="SVG only: draw the hidden parts of the lines dashed, in a layer of their own")
     look.add_argument("--cull", choices=CULL, default="back")
     look.add_argument("--shading", choices=SHADING, default="flat")
     look.add_argument("--aa", action="store_true", help="anti-aliased (Wu) lines")
