@@ -77,6 +77,10 @@ class Settings:
         Model of the ``aa`` family (``samples=4`` against 4x MSAA).
     aa_size : (width, height)
         Its image size.
+    svg_models : tuple of str
+        Models of the ``svg`` family (hidden-line SVG, against fogleman/ln when built).
+    svg_size : (width, height)
+        Their drawing size.
     """
 
     name: str
@@ -105,6 +109,8 @@ class Settings:
     contention_seconds: float = 2.0
     aa_model: str = "ogre"
     aa_size: tuple = TARGET_SIZE
+    svg_models: tuple = ("armadillo", "sportsCar")
+    svg_size: tuple = TARGET_SIZE
 
 
 FULL = Settings(
@@ -158,6 +164,7 @@ TINY = Settings(
     startup_model="suzanne", startup_size=(64, 48), demo_size=(64, 48), startup_cold_runs=1,
     startup_sequence=False, contention_processes=(1, 2), contention_seconds=0.3,
     aa_model="suzanne", aa_size=(64, 48),
+    svg_models=("suzanne",), svg_size=(64, 48),
 )
 
 

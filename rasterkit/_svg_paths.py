@@ -71,10 +71,9 @@ def chain(xy: np.ndarray, keys: np.ndarray, group: np.ndarray) -> Polylines:
     oriented = xy[order].reshape(-1, 2, 2)
     flip = reverse.astype(bool)
     oriented[flip] = oriented[flip, ::-1]
-    sizes = np.diff(offsets)
     firsts = offsets[:-1]
     # each polyline: its first piece's start, then every piece's end
-    n_points = len(order) + len(sizes)
+    n_points = len(order) + len(firsts)
     points = np.empty((n_points, 2))
     point_offsets = offsets + np.arange(len(offsets))
     starts_at = point_offsets[:-1]
@@ -82,7 +81,6 @@ def chain(xy: np.ndarray, keys: np.ndarray, group: np.ndarray) -> Polylines:
     body = np.ones(n_points, bool)
     body[starts_at] = False
     points[body] = oriented[:, 1]
-    del sizes
     return Polylines(points, point_offsets.astype(np.int64), group[order[firsts]])
 
 

@@ -58,11 +58,9 @@ def clip_segments(clip: np.ndarray, edges: np.ndarray, width: int, height: int):
     """
     a, b = clip[edges[:, 0]], clip[edges[:, 1]]
     d = b - a
-    x, y, z, w = 0, 1, 2, 3
-    # each plane: f(P) = c . P >= 0 inside
+    # each plane c: c . (xh, yh, zh, w) >= 0 inside: zh >= 0, zh <= w, xh >= 0, xh <= W w, yh >= 0, yh <= H w
     planes = np.array([[0, 0, 1, 0], [0, 0, -1, 1], [1, 0, 0, 0], [-1, 0, 0, width],
                        [0, 1, 0, 0], [0, -1, 0, height]], np.float64)
-    del x, y, z, w
     t0 = np.zeros(len(edges))
     t1 = np.ones(len(edges))
     keep = np.all(np.isfinite(a), axis=1) & np.all(np.isfinite(b), axis=1)
@@ -138,11 +136,9 @@ def _pieces(seg, kept, ends, t, n_runs, out_t, first, redo=None, more_t=None) ->
         empty = np.zeros((0, 2), np.int64)
         return Pieces(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(0, bool), empty)
     width = max(int(n_runs.max()) + 1, 2)
-    bounds = np.full((len(seg), width), np.nan)
-    bounds[:, 0] = 0.0
-    small = np.minimum(out_t.shape[1], width)
-    if out_t.shape[1] >= 2:
-        bounds[:, :small] = out_t[:, :small]
+    bounds = np.zeros((len(seg), width))
+    kept_slots = min(out_t.shape[1], width)
+    bounds[:, :kept_slots] = out_t[:, :kept_slots]
     if redo is not None:
         bounds[redo, : more_t.shape[1]] = more_t
     bounds[np.arange(len(seg)), n_runs] = 1.0
