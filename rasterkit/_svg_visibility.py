@@ -56,31 +56,10 @@ def clip_segments(clip: np.ndarray, edges: np.ndarray, width: int, height: int):
     ends, t (S, 2) float64 the ends' parameters on the homogeneous edge)``; edges with a
     NaN or infinite end are dropped.
     """
-    a, b = clip[edges[:, 0]], clip[edges[:, 1]]
-    d = b - a
-    # each plane c: c . (xh, yh, zh, w) >= 0 inside: zh >= 0, zh <= w, xh >= 0, xh <= W w, yh >= 0, yh <= H w
-    planes = np.array([[0, 0, 1, 0], [0, 0, -1, 1], [1, 0, 0, 0], [-1, 0, 0, width],
-                       [0, 1, 0, 0], [0, -1, 0, height]], np.float64)
-    t0 = np.zeros(len(edges))
-    t1 = np.ones(len(edges))
-    keep = np.all(np.isfinite(a), axis=1) & np.all(np.isfinite(b), axis=1)
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        for c in planes:
-            fa, fd = a @ c, d @ c
-            keep &= ~((fd == 0) & (fa < 0))
-            t = -fa / fd
-            entering = fd > 0
-            leaving = fd < 0
-            t0 = np.where(entering, np.maximum(t0, t), t0)
-            t1 = np.where(leaving, np.minimum(t1, t), t1)
-        keep &= t0 <= t1
-        kept = np.flatnonzero(keep)
-        t = np.stack([t0[kept], t1[kept]], axis=1)
-        pa = a[kept] + t[:, :1] * d[kept]
-        pb = a[kept] + t[:, 1:] * d[kept]
-        seg = np.concatenate([pa[:, :3] / pa[:, 3:], pb[:, :3] / pb[:, 3:]], axis=1)
-    ok = np.all(np.isfinite(seg), axis=1)
-    return kept[ok], np.ascontiguousarray(seg[ok]), t[ok]
+    seg = np.empty((len(edges), 6))
+    t = np.empty((len(edges), 2))
+    kept = _kernels.clip_edges(readonly(clip), readonly(edges), float(width), float(height), seg, t)
+    return kept, seg[: len(kept)], t[: len(kept)]
 
 
 def _vertex_raster(clip: np.ndarray):
@@ -111,8 +90,9 @@ def split_visible(clip: np.ndarray, faces: np.ndarray, edges: np.ndarray, width:
                        np.zeros(len(seg), np.uint8))
     depth, ids = depth_pass(clip, faces, width, height)
     proj, front = _vertex_raster(clip)
-    args = (readonly(proj), readonly(front), readonly(faces), ids, depth, STEP, TOLERANCE, DEPTH_EPS,
-            DEPTH_EPS_BUFFER)
+    rec = np.empty((len(faces), _kernels.REC_FIELDS))
+    _kernels.face_records(proj, front, readonly(faces), rec)
+    args = (rec, ids, depth, STEP, TOLERANCE, DEPTH_EPS, DEPTH_EPS_BUFFER)
     n_seg = len(seg)
     out_t = np.empty((n_seg, _SLOTS))
     out_n = np.empty(n_seg, np.int64)

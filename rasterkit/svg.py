@@ -164,7 +164,7 @@ def memory_needed(n_vertices, n_faces, n_edges, width, height, mode) -> int:
     text (a few hundred bytes)."""
     total = n_vertices * 96 + n_faces * 3 * 48 + n_edges * 600
     if mode == "hidden":
-        total += width * height * 8 + n_faces * 64
+        total += width * height * 8 + n_faces * (64 + 8 * 13)
     return total
 
 
