@@ -28,7 +28,7 @@ from typing import Iterator
 
 from . import _report, limits
 from ._report import UsageError
-from .options import CULL, EDGES, MAX_IMAGE_SIZE, MODES, PROJECTIONS, SHADING
+from .options import CULL, EDGES, HIDDEN, MAX_IMAGE_SIZE, MODES, PROJECTIONS, SHADING
 
 __all__ = ["main", "Terminated"]
 
@@ -181,7 +181,7 @@ def _parser() -> argparse.ArgumentParser:
                            "boundaries, creases, material boundaries")
     look.add_argument("--crease-angle", type=_finite, default=30.0, metavar="DEG",
                       help="angle between face normals from which an edge is a crease (default 30)")
-    look.add_argument("--hidden", choices=("dashed",), default=None,
+    look.add_argument("--hidden", choices=tuple(h for h in HIDDEN if h is not None), default=None,
                       help="SVG only: draw the hidden parts of the lines dashed, in a layer of their own")
     look.add_argument("--cull", choices=CULL, default="back")
     look.add_argument("--shading", choices=SHADING, default="flat")
