@@ -138,6 +138,9 @@ def _render_job(job: Job, args) -> None:
     if not svg:
         _warm.start(dict(mode=args.mode, cull=args.cull, shading=args.shading, background=args.background,
                          aa=args.aa), depth=bool(args.depth), loading=job.source is not None)
+    elif args.mode == "hidden":  # the SVG's depth pass: the triangles' band worker, with face ids
+        _warm.start(dict(mode="hidden", cull="back", shading="flat", background="white", aa=False, ids=True),
+                    depth=False, loading=job.source is not None)
     mesh = demo() if job.source is None else load_obj(job.source)
     for warning in mesh.warnings:
         _say(f"rasterkit: warning: {_report.one_line(warning)}")

@@ -136,26 +136,42 @@ def segment_runs(seg, ends, s, row, rec, ids, depth, step, tol, eps, eps_buffer,
     length = math.sqrt(dx * dx + dy * dy)
     n = max(1, int(math.ceil(length / step)))
     slots = out_t.shape[1]
-    first = _hidden_at(seg, s, 0.0, a, b, rec, ids, depth, eps, eps_buffer)
-    state = first
+    # One loop with one test site, for the samples and the bisections alike: the test is
+    # inlined code, compiled once per site.
+    first = False
+    state = False
     runs = 1
     out_t[row, 0] = 0.0
-    for k in range(1, n + 1):
-        t = k / n
+    k = 0  # the next sample
+    bisecting = False
+    lo, hi = 0.0, 0.0
+    while True:
+        if bisecting:
+            t = 0.5 * (lo + hi)
+        elif k <= n:
+            t = k / n
+        else:
+            break
         now = _hidden_at(seg, s, t, a, b, rec, ids, depth, eps, eps_buffer)
-        if now == state:
-            continue
-        lo, hi = (k - 1) / n, t
-        while (hi - lo) * length > tol:
-            mid = 0.5 * (lo + hi)
-            if _hidden_at(seg, s, mid, a, b, rec, ids, depth, eps, eps_buffer) == state:
-                lo = mid
-            else:
-                hi = mid
-        if runs < slots - 1:
-            out_t[row, runs] = 0.5 * (lo + hi)
-        runs += 1
-        state = now
+        if not bisecting:
+            k += 1
+            if k == 1:
+                first = state = now
+                continue
+            if now == state:
+                continue
+            lo, hi = (k - 2) / n, t  # a change between the last two samples
+            bisecting = True
+        elif now == state:
+            lo = t
+        else:
+            hi = t
+        if (hi - lo) * length <= tol:
+            if runs < slots - 1:
+                out_t[row, runs] = 0.5 * (lo + hi)
+            runs += 1
+            state = not state
+            bisecting = False
     if runs < slots:
         out_t[row, runs] = 1.0
     return runs, first
