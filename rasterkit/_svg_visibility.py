@@ -4,7 +4,8 @@ edges where they pass behind a face (:mod:`rasterkit.kernels.svg_visibility`).
 Tolerances (documented in ``docs/svg.md``): samples every :data:`STEP` pixels along each
 edge, visibility changes found by bisection to :data:`TOLERANCE` pixels, a face hides a line
 when it is more than :data:`DEPTH_EPS` (depth units, 0 at the near plane and 1 at the far
-one) in front of it.
+one) in front of it; pieces cut off by a change of visibility shorter than :data:`MIN_PIECE`
+pixels are left out.
 """
 
 from __future__ import annotations
@@ -17,12 +18,15 @@ from ._jit import get_threads, readonly, run_workers
 from .kernels import svg_visibility as _kernels
 from .triangles import rasterize_triangles
 
-__all__ = ["DEPTH_EPS", "STEP", "TOLERANCE", "Pieces", "clip_segments", "split_visible"]
+__all__ = ["DEPTH_EPS", "MIN_PIECE", "STEP", "TOLERANCE", "Pieces", "clip_segments", "split_visible"]
 
 #: Distance between the samples along an edge, pixels.
 STEP = 0.5
 #: Visibility changes are located to this many pixels along the edge.
 TOLERANCE = 1e-3
+#: Pieces of an edge cut off by a change of visibility shorter than this (pixels) are left
+#: out: specks a plotter would dot, below the raster's resolution.
+MIN_PIECE = 0.5
 #: A face hides a point of a line when its depth there is smaller by more than this.
 DEPTH_EPS = 1e-7
 #: The same for a face with a corner behind the eye, tested against the depth buffer.
@@ -129,9 +133,9 @@ def _pieces(seg, kept, ends, t, n_runs, out_t, first, redo=None, more_t=None) ->
     hidden = ((first[s_idx].astype(np.int64) + r_idx) % 2).astype(bool)
     p0, p1 = seg[s_idx, :2], seg[s_idx, 3:5]
     d = p1 - p0
-    # runs the bisection found shorter than its tolerance are where an edge meets a face
-    # that hides the rest of it: no line to draw
-    long = ((u1 - u0) * np.hypot(d[:, 0], d[:, 1]) >= 2 * TOLERANCE) | (n_runs[s_idx] == 1)
+    # a piece cut off by a change of visibility shorter than MIN_PIECE is a speck (an edge
+    # leaving a vertex just before it passes behind a face): left out; whole edges stay
+    long = ((u1 - u0) * np.hypot(d[:, 0], d[:, 1]) >= MIN_PIECE) | (n_runs[s_idx] == 1)
     s_idx, r_idx, u0, u1, hidden, p0, d = (a[long] for a in (s_idx, r_idx, u0, u1, hidden, p0, d))
     xy = np.concatenate([p0 + u0[:, None] * d, p0 + u1[:, None] * d], axis=1)
     keys = np.full((len(s_idx), 2), -1, np.int64)
