@@ -119,17 +119,25 @@ def _pieces(seg, kept, ends, t, n_runs, out_t, first, redo=None, more_t=None) ->
     if len(seg) == 0:
         empty = np.zeros((0, 2), np.int64)
         return Pieces(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(0, bool), empty)
-    width = max(int(n_runs.max()) + 1, 2)
-    bounds = np.zeros((len(seg), width))
-    kept_slots = min(out_t.shape[1], width)
-    bounds[:, :kept_slots] = out_t[:, :kept_slots]
+    # the runs, flat and in segment order: (segment, run index, start, end), taken from the
+    # first pass's slots, or from the second pass's rows for the segments that overflowed
+    fits = np.flatnonzero(n_runs <= out_t.shape[1] - 1)
+    rows = [(fits, out_t[fits])]
     if redo is not None:
-        bounds[redo, : more_t.shape[1]] = more_t
-    bounds[np.arange(len(seg)), n_runs] = 1.0
-    run_index = np.arange(width - 1)
-    valid = run_index[None, :] < n_runs[:, None]
-    s_idx, r_idx = np.nonzero(valid)
-    u0, u1 = bounds[s_idx, r_idx], bounds[s_idx, r_idx + 1]
+        rows.append((redo, more_t))
+    s_parts, r_parts, u0_parts, u1_parts = [], [], [], []
+    for segs, bounds in rows:
+        bounds[np.arange(len(segs)), n_runs[segs]] = 1.0  # the kernel ends each row with 1.0 too
+        valid = np.arange(bounds.shape[1] - 1)[None, :] < n_runs[segs][:, None]
+        row, col = np.nonzero(valid)
+        s_parts.append(segs[row])
+        r_parts.append(col)
+        u0_parts.append(bounds[row, col])
+        u1_parts.append(bounds[row, col + 1])
+    s_idx = np.concatenate(s_parts)
+    order = np.argsort(s_idx, kind="stable")
+    s_idx = s_idx[order]
+    r_idx, u0, u1 = (np.concatenate(a)[order] for a in (r_parts, u0_parts, u1_parts))
     hidden = ((first[s_idx].astype(np.int64) + r_idx) % 2).astype(bool)
     p0, p1 = seg[s_idx, :2], seg[s_idx, 3:5]
     d = p1 - p0

@@ -195,3 +195,25 @@ def test_cli_errors_are_one_line_and_exit_2(tmp_path, capsys, argv, message):
 def test_cli_hidden_dashed_needs_svg(tmp_path, capsys):
     code = main(["render", "--demo", "-o", str(tmp_path / "x.png"), "--hidden", "dashed"])
     assert code == 2 and "--hidden" in capsys.readouterr().err
+
+
+def test_an_edge_behind_a_comb_is_split_at_every_tooth():
+    # a long far edge behind 8 near squares: 17 runs, more than the first pass keeps per edge
+    v = [(-6.0, 0.0, -1.0), (6.0, 0.0, -1.0), (6.0, 0.1, -1.0)]
+    faces = [(0, 1, 2)]
+    for k in range(8):
+        x = -4.4 + 1.1 * k
+        base = len(v)
+        v += [(x, -0.3, 0.0), (x + 0.5, -0.3, 0.0), (x + 0.5, 0.3, 0.0), (x, 0.3, 0.0)]
+        faces += [(base, base + 1, base + 2), (base, base + 2, base + 3)]
+    mesh = Mesh(np.array(v), np.array(faces))
+    camera = Camera.look_at((0.3, 0.2, 8.0), (0, 0, -0.5), width=900, height=300)
+    pieces = split_visible(camera.project_h(mesh.vertices), mesh.faces, np.array([[0, 1]]), 900, 300)
+    assert len(pieces.xy) == 17
+    assert list(pieces.hidden) == [k % 2 == 1 for k in range(17)]
+    proj = camera.project(mesh.vertices)[:, :2]
+    for k in range(8):  # each hidden piece starts and ends where the tooth's sides cross the edge
+        left, right = 3 + 4 * k, 4 + 4 * k
+        start = _crossing(proj[0], proj[1], proj[left], proj[left + 3])
+        end = _crossing(proj[0], proj[1], proj[right], proj[right + 1])
+        assert np.abs(pieces.xy[2 * k + 1] - [*start, *end]).max() < 1e-3
