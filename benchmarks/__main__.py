@@ -17,17 +17,18 @@ from pathlib import Path
 
 import numba
 
-from . import aa, batch, cli, contention, cv, fill, lines2d, loading, memory, render, report, scaling, startup
+from . import aa, batch, cli, contention, cv, fill, lines2d, loading, memory, render, report, scaling, startup, svg
 from .peers import Peers
 from .settings import FULL, QUICK, TARGETS, TINY
 
 # The families that start processes come last: in one run, rasterkit's 2-thread kernels in this
 # process were seen to slow down ~10x for a minute after the CLI family's subprocesses.
-FAMILIES = {"render": render.run, "aa": aa.run, "cv": cv.run, "fill": fill.run, "lines2d": lines2d.run, "loading": loading.run,
-            "scaling": scaling.run, "memory": memory.run, "cli": cli.run, "startup": startup.run,
-            "contention": contention.run, "batch": batch.run, "threads": scaling.run_threads}
-DEFAULT_FAMILIES = ("render", "aa", "cv", "fill", "lines2d", "loading", "scaling", "memory", "cli", "startup",
-                    "contention", "batch")
+FAMILIES = {"render": render.run, "aa": aa.run, "cv": cv.run, "svg": svg.run, "fill": fill.run,
+            "lines2d": lines2d.run, "loading": loading.run, "scaling": scaling.run, "memory": memory.run,
+            "cli": cli.run, "startup": startup.run, "contention": contention.run, "batch": batch.run,
+            "threads": scaling.run_threads}
+DEFAULT_FAMILIES = ("render", "aa", "cv", "svg", "fill", "lines2d", "loading", "scaling", "memory", "cli",
+                    "startup", "contention", "batch")
 """What a run measures unless ``--only`` says otherwise (``threads`` is part of ``scaling``)."""
 TARGET_FAMILIES = ("render", "aa", "fill", "threads")
 

@@ -81,10 +81,14 @@ class Settings:
         Model of the ``cv`` family (colour, depth, normals and ids against a plain frame).
     cv_size : (width, height)
         Its image size.
+    svg_models : tuple of str
+        Models of the ``svg`` family (hidden-line SVG, against fogleman/ln when built).
+    svg_size : (width, height)
+        Their drawing size.
     batch_size : (width, height)
         Image size of the ``batch`` family's folder renders.
     batch_models : tuple of str
-        Its models (the medium ones, 50k-300k triangles, each twice).
+        Its models (the medium ones, 50k-300k triangles, each 8 times).
     """
 
     name: str
@@ -115,6 +119,8 @@ class Settings:
     aa_size: tuple = TARGET_SIZE
     cv_model: str = "ogre"
     cv_size: tuple = TARGET_SIZE
+    svg_models: tuple = ("armadillo", "sportsCar")
+    svg_size: tuple = TARGET_SIZE
     batch_size: tuple = (1280, 960)
     batch_models: tuple = ("stanford-bunny", "armadillo", "sponza", "lost_empire", "ogre", "sportsCar")
 
@@ -170,7 +176,7 @@ TINY = Settings(
     startup_model="suzanne", startup_size=(64, 48), demo_size=(64, 48), startup_cold_runs=1,
     startup_sequence=False, contention_processes=(1, 2), contention_seconds=0.3,
     aa_model="suzanne", aa_size=(64, 48), cv_model="suzanne", cv_size=(64, 48),
-    batch_size=(64, 48), batch_models=("suzanne",),
+    svg_models=("suzanne",), svg_size=(64, 48), batch_size=(64, 48), batch_models=("suzanne",),
 )
 
 

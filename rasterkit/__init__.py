@@ -33,6 +33,7 @@ if TYPE_CHECKING:  # the real imports, for type checkers and editors
     from .batch import render_many
     from .render import render
     from .scene import Scene
+    from .svg import render_svg
 
 __all__ = [
     "PROJECTIONS",
@@ -45,6 +46,7 @@ __all__ = [
     "parse_color",
     "render",
     "render_many",
+    "render_svg",
     "Scene",
     "set_threads",
     "shapes",
@@ -64,6 +66,7 @@ _HOMES = {
     "parse_color": ".colors",
     "render": ".render",
     "render_many": ".batch",
+    "render_svg": ".svg",
     "Scene": ".scene",
     "set_threads": "._jit",
 }

@@ -83,7 +83,7 @@ def jobs(args) -> tuple[list[Job], bool]:
 
 
 def _check_image_path(out: Path, animated: bool) -> None:
-    allowed = IMAGE_SUFFIXES if animated else (".png",)
+    allowed = IMAGE_SUFFIXES if animated else (".png", ".svg")
     if out.suffix.lower() not in allowed:
         raise UsageError(f"{out}: the output must end in {' or '.join(allowed)}")
     if not out.parent.is_dir():

@@ -16,6 +16,8 @@ from pathlib import Path
 
 from . import _report
 from ._cli_args import framed_camera
+from ._report import UsageError
+from .options import SVG_MODES
 
 __all__ = ["render_model"]
 
@@ -41,17 +43,30 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
     from .render import render
     from .shapes import demo
 
-    _warm.start(dict(mode=options.mode, cull=options.cull, shading=options.shading,
-                     background=options.background, aa=options.aa),
-                depth=bool(options.depth), loading=source is not None)
+    svg = output.suffix.lower() == ".svg"
+    _check_svg_options(options, svg)
+    if not svg:
+        _warm.start(dict(mode=options.mode, cull=options.cull, shading=options.shading,
+                         background=options.background, aa=options.aa),
+                    depth=bool(options.depth), loading=source is not None)
+    elif options.mode == "hidden":  # the SVG's depth pass: the triangles' band worker, with face ids
+        _warm.start(dict(mode="hidden", cull="back", shading="flat", background="white", aa=False, ids=True),
+                    depth=False, loading=source is not None)
     mesh = demo() if source is None else load_obj(source)
     if say is not None:
         for warning in mesh.warnings:
             say(f"rasterkit: warning: {_report.one_line(warning)}")
     camera, center = framed_camera(options, mesh)
+    if svg:
+        from .svg import render_svg, save_svg
+
+        save_svg(render_svg(mesh, camera, mode=options.mode, edges=options.edges, crease_angle=options.crease_angle,
+                            hidden=options.hidden, stroke=options.line_color), output)
+        return len(mesh.faces)
     style = dict(mode=options.mode, cull=options.cull, shading=options.shading, color=options.color,
                  line_color=options.line_color, background=options.background, aa=options.aa,
-                 samples=options.samples, vignette=options.vignette)
+                 samples=options.samples, vignette=options.vignette, edges=options.edges,
+                 crease_angle=options.crease_angle)
     if options.turntable:  # streamed: one frame in memory at a time
         save_animation(_turntable(mesh, camera, center, options.turntable, style), output)
         return len(mesh.faces)
@@ -64,3 +79,15 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
         fb.save_ids(options.ids)
     fb.save(output)
     return len(mesh.faces)
+
+
+def _check_svg_options(options, svg: bool) -> None:
+    if not svg:
+        if options.hidden:
+            raise UsageError("--hidden dashed is for SVG output (-o NAME.svg)")
+        return
+    if options.mode not in SVG_MODES:
+        raise UsageError(f"an SVG drawing takes --mode {' or '.join(SVG_MODES)}, not {options.mode}")
+    for flag in ("depth", "normals", "ids"):
+        if getattr(options, flag):
+            raise UsageError(f"--{flag} is for PNG output")

@@ -32,8 +32,8 @@ from typing import Iterator
 from . import _report, limits
 from ._report import UsageError
 from ._cli_args import (add_limits, add_view_arguments, attach_number_lists, framed_camera, read_camera_file,
-                        integers, point, positive_int, samples, unit_interval, whole_number)
-from .options import CULL, MODES, SHADING
+                        finite, integers, point, positive_int, samples, unit_interval, whole_number)
+from .options import CULL, EDGES, HIDDEN, MODES, SHADING
 
 __all__ = ["main", "Terminated"]
 
@@ -45,6 +45,7 @@ examples:
   rasterkit render model.obj -o model.png --eye 3,2,4 --target 0,0,0 --fov 35
   rasterkit render model.obj -o model.png --mode solid --samples 16 --aperture 0.2 --focus auto
   rasterkit render model.obj -o spin.gif --turntable 36 --mode solid
+  rasterkit render model.obj -o drawing.svg --mode hidden --edges feature --hidden dashed
   rasterkit render models/ -o images/ --mode solid      (every .obj in a folder)
   rasterkit render model.obj -o rgb.png --mode solid --camera-opencv cam.json --depth depth.png --ids ids.png
   rasterkit info model.obj
@@ -96,7 +97,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="OBJ files or folders of them (several: -o names a folder)")
     r.add_argument("--demo", action="store_true", help="render the built-in demo model")
     r.add_argument("-o", "--output", required=True, metavar="OUT",
-                   help="image (.png; .gif/.png/.apng with --turntable), or a folder")
+                   help="image (.png; .gif/.png/.apng with --turntable), vector drawing (.svg: "
+                        "--mode wire or hidden), or a folder")
     r.add_argument("--mode", choices=MODES, default="wire", help="default wire")
     add_view_arguments(r)
     look = r.add_argument_group("appearance")
@@ -107,6 +109,13 @@ def _parser() -> argparse.ArgumentParser:
     look.add_argument("--cull", choices=CULL, default="back")
     look.add_argument("--shading", choices=SHADING, default="flat")
     look.add_argument("--aa", action="store_true", help="anti-aliased (Wu) lines")
+    look.add_argument("--edges", choices=EDGES, default="all",
+                      help="the polygons' edges (default), or feature edges: silhouettes, "
+                           "boundaries, creases, material boundaries")
+    look.add_argument("--crease-angle", type=finite, default=30.0, metavar="DEG",
+                      help="angle between face normals from which an edge is a crease (default 30)")
+    look.add_argument("--hidden", choices=tuple(h for h in HIDDEN if h is not None), default=None,
+                      help="SVG only: draw the hidden parts of the lines dashed, in a layer of their own")
     look.add_argument("--samples", type=samples, default=1, metavar="N",
                       help="jittered samples per pixel, averaged: anti-aliasing, and depth of field "
                            "with --aperture (1 to 256, default 1)")

@@ -6,11 +6,22 @@ builds its parser, answers ``--help`` and rejects bad arguments without loading 
 
 from .kernels.limits import MAX_IMAGE_SIZE
 
-__all__ = ["CULL", "MAX_IMAGE_SIZE", "MODES", "PROJECTIONS", "SHADING"]
+__all__ = ["CULL", "EDGES", "HIDDEN", "MAX_IMAGE_SIZE", "MODES", "PROJECTIONS", "SHADING", "SVG_MODES"]
 
 #: What :func:`rasterkit.render` draws: every edge; only the visible parts of the edges;
 #: shaded triangles; shaded triangles with their visible edges on top.
 MODES = ("wire", "hidden", "solid", "solid+wire")
+
+#: Which edges are drawn: those of the original polygons, or the feature edges (silhouettes,
+#: boundaries, creases, material boundaries: :mod:`rasterkit._features`).
+EDGES = ("all", "feature")
+
+#: What :func:`rasterkit.render_svg` draws: every edge, or only their visible parts.
+SVG_MODES = ("wire", "hidden")
+
+#: What a vector drawing does with the hidden parts of the edges: leaves them out (None) or
+#: draws them dashed.
+HIDDEN = (None, "dashed")
 
 #: Which triangles are removed before rasterization: those facing away from the camera,
 #: those facing it, or none.

@@ -69,7 +69,8 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
            line_color: ColorLike = "black", background: ColorLike | None = None,
            light=None, aa: bool = False, ids: bool = False, samples: int = 1,
            vignette: float = 0.0, normals: bool = False, points=None, point_size: int = 1,
-           point_color: ColorLike = "black") -> Framebuffer:
+           point_color: ColorLike = "black", edges: str = "all",
+           crease_angle: float = 30.0) -> Framebuffer:
     """Render a mesh or a scene seen by a camera into a new :class:`Framebuffer`.
 
     Parameters
@@ -115,6 +116,14 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         and the ids of a render with ``samples > 1`` are those of the centre sample: what
         ``samples=1`` gives with the same camera (the depth is drawn when first read; with
         ``ids`` the centre sample is drawn once more, eagerly).
+    edges : {"all", "feature"}
+        The edges the wire, hidden and solid+wire modes draw: those of the original
+        polygons, or the feature edges seen from this camera (silhouettes, boundaries,
+        creases, material boundaries: :mod:`rasterkit._features`), the lines a technical
+        drawing shows.
+    crease_angle : float
+        Degrees between two faces' normals from which their shared edge is a crease
+        (``edges="feature"``).
     vignette : float
         In [0, 1]: 1 darkens every pixel (background too) by the natural cos⁴θ falloff of a
         lens camera, θ the angle between the pixel's ray and the optical axis; 0 none (the
@@ -172,6 +181,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     mesh = as_mesh(mesh)
     if not isinstance(camera, Camera):
         raise TypeError(f"camera must be a rasterkit.Camera, got {type(camera).__name__}")
+    mesh = _with_edges(mesh, camera, edges, crease_angle, mode)
     light = _light_direction(light, camera)
     background = "white" if background is None else background
     options = _Options(_choice("mode", mode, MODES), _choice("cull", cull, CULL),
@@ -210,6 +220,20 @@ def _maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool) -> int:
         return 0
     return (12 * pixels + len(mesh.vertices) * 80 + len(mesh.faces) * 84 if normals else 0) + \
         (4 * pixels + len(mesh.faces) * 4 if objects else 0)
+
+
+def _with_edges(mesh: Mesh, camera: Camera, edges: str, crease_angle, mode: str) -> Mesh:
+    """``mesh``, or for ``edges="feature"`` a Mesh whose edges are its feature edges seen by
+    ``camera`` (silhouettes depend on the eye)."""
+    from . import _features
+
+    _features.check_edges(edges)
+    crease_angle = _features.check_crease_angle(crease_angle)
+    if edges == "all" or mode == "solid":
+        return mesh
+    clip = transform_points(mesh.vertices, np.ascontiguousarray(camera.world_to_raster()))
+    feature, _ = _features.feature_edges(mesh, clip, crease_angle)
+    return replace(mesh, edges=feature)
 
 
 def _frame(mesh: Mesh, camera: Camera, options: _Options, background, ids: bool) -> Framebuffer:

@@ -150,27 +150,26 @@ def test_a_worker_that_dies_costs_only_its_model(models, tmp_path):
 
     copies = tmp_path / "many"
     copies.mkdir()
-    for k in range(8):
-        _write_obj(copies / f"sphere{k}.obj", shapes.icosphere(3))
+    for k in range(16):
+        _write_obj(copies / f"sphere{k:02d}.obj", shapes.icosphere(4))
+    out = tmp_path / "out"
     result = {}
     thread = threading.Thread(target=lambda: result.update(
-        s=rasterkit.render_many(copies, tmp_path / "out", jobs=2, size=(320, 240), samples=16)))
+        s=rasterkit.render_many(copies, out, jobs=2, size=(640, 480), samples=32)))
     thread.start()
     deadline = time.monotonic() + 120
-    victim = None
-    while victim is None and time.monotonic() < deadline:
-        victim = next((p for p in multiprocessing.active_children() if p.name == "rasterkit-worker"), None)
-        time.sleep(0.05)
-    assert victim is not None
-    time.sleep(2.0)  # it has started rendering
+    while time.monotonic() < deadline and len(read_manifest(out / "manifest.jsonl") if (out / "manifest.jsonl").exists() else []) < 1:
+        time.sleep(0.01)
+    victim = next((p for p in multiprocessing.active_children() if p.name == "rasterkit-worker"), None)
+    assert victim is not None and thread.is_alive()  # results are arriving, the batch is not done
     os.kill(victim.pid, signal.SIGKILL)
     thread.join(timeout=300)
     summary = result["s"]
-    assert summary.done + summary.failed == 8 and len(summary.records) == 8
+    assert summary.done + summary.failed == 16 and len(summary.records) == 16
     died = [r for r in summary.records if r["status"] == "error"]
     assert len(died) <= 1 and all("worker process died (signal 9)" in r["error"] for r in died)
-    assert len(list((tmp_path / "out").glob("*.png"))) == summary.done
-    assert not list((tmp_path / "out").glob(".*.tmp"))
+    assert len(list(out.glob("*.png"))) == summary.done
+    assert not list(out.glob(".*.tmp"))
 
 
 _FORK_CHILD = """

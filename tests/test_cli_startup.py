@@ -106,7 +106,11 @@ def test_each_list_of_choices_has_one_home(monkeypatch):
     commands = next(a for a in _parser()._actions if isinstance(a, argparse._SubParsersAction))
     choices = {a.dest: tuple(a.choices) for a in commands.choices["render"]._actions if a.choices}
     assert choices == {"mode": options.MODES, "projection": options.PROJECTIONS,
-                       "cull": options.CULL, "shading": options.SHADING}
+                       "cull": options.CULL, "shading": options.SHADING, "edges": options.EDGES,
+                       "hidden": tuple(h for h in options.HIDDEN if h is not None)}
+    svg_module = importlib.import_module("rasterkit.svg")
+    assert svg_module.SVG_MODES is options.SVG_MODES and svg_module.HIDDEN is options.HIDDEN
+    assert importlib.import_module("rasterkit._features").EDGES is options.EDGES
 
 
 def test_first_render_announces_the_compile_once_and_a_cached_run_is_silent(tmp_path):
