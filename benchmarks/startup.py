@@ -300,6 +300,7 @@ def _import(settings, results) -> None:
 
 def run(settings, results, peers) -> None:
     """Cold runs (the demo alone; the sequence), the warm run against its peer, import time."""
+    cli.compile_bytecode()
     model = model_path(settings.startup_model)
     model_ok = model.is_file()
     if not model_ok:

@@ -54,7 +54,7 @@ def camera_normals(world, rotation):
     return out.reshape(world.shape[0], 3)
 
 
-@kernel
+@kernel(refcounts=False)
 def surface_maps(slot, counter, ids, maps):
     """Per pixel of ``ids`` (H, W) int32 (the visible face, -1 for none): the unit camera-space
     normal and the scene object, as a :class:`rasterkit.kernels.records.Maps` asks.
@@ -71,6 +71,12 @@ def surface_maps(slot, counter, ids, maps):
     """
     height, width = ids.shape
     nan = np.float32(np.nan)
+    # the record's fields as locals: read through the record inside the loop, every access
+    # would count a reference (an atomic operation) on the array
+    want_normals, smooth, want_objects = maps.want_normals, maps.smooth, maps.want_objects
+    normals, faces, bary = maps.normals, maps.faces, maps.bary
+    vertex_normals, face_normals, rotation = maps.vertex_normals, maps.face_normals, maps.rotation
+    object_ids, face_object, object_first = maps.object_ids, maps.face_object, maps.object_first
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
@@ -79,23 +85,23 @@ def surface_maps(slot, counter, ids, maps):
             py = j + 0.5
             for i in range(width):
                 f = ids[j, i]
-                if maps.want_normals:
+                if want_normals:
                     if f < 0:
-                        maps.normals[j, i, 0] = maps.normals[j, i, 1] = maps.normals[j, i, 2] = nan
-                    elif maps.smooth:
-                        x, y, z = _smooth_normal(f, i + 0.5, py, maps.faces, maps.bary, maps.vertex_normals)
-                        _put_normal(maps.normals, j, i, maps.rotation, x, y, z)
+                        normals[j, i, 0] = normals[j, i, 1] = normals[j, i, 2] = nan
+                    elif smooth:
+                        x, y, z = _smooth_normal(f, i + 0.5, py, faces, bary, vertex_normals)
+                        _put_normal(normals, j, i, rotation, x, y, z)
                     else:  # already in camera space (camera_normals)
-                        maps.normals[j, i, 0] = maps.face_normals[f, 0]
-                        maps.normals[j, i, 1] = maps.face_normals[f, 1]
-                        maps.normals[j, i, 2] = maps.face_normals[f, 2]
-                if maps.want_objects:
+                        normals[j, i, 0] = face_normals[f, 0]
+                        normals[j, i, 1] = face_normals[f, 1]
+                        normals[j, i, 2] = face_normals[f, 2]
+                if want_objects:
                     if f < 0:
-                        maps.object_ids[j, i] = -1
+                        object_ids[j, i] = -1
                     else:
-                        o = maps.face_object[f]
-                        maps.object_ids[j, i] = o
-                        ids[j, i] = f - maps.object_first[o]
+                        o = face_object[f]
+                        object_ids[j, i] = o
+                        ids[j, i] = f - object_first[o]
     return 0
 
 
