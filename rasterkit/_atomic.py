@@ -65,8 +65,8 @@ def _naming(e: OSError, path: Path) -> OSError:
     temporary files (``.NAME.*.tmp`` beside ``path``) or no file."""
     if e.filename is not None:
         named = Path(os.fsdecode(e.filename))
-        ours = named.parent == path.parent and named.name.startswith(f".{path.name}.") \
-            and named.name.endswith(".tmp")
+        same_folder = os.path.abspath(named.parent) == os.path.abspath(path.parent)  # one may be relative
+        ours = same_folder and named.name.startswith(f".{path.name}.") and named.name.endswith(".tmp")
         if not ours and named != path:
             return e  # about some other file: its own name is the right one
     args = (e.errno, e.strerror or str(e) or type(e).__name__, str(path))

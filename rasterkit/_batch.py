@@ -68,8 +68,8 @@ def jobs(args) -> tuple[list[Job], bool]:
             raise UsageError(f"--{flag} takes one model")
     if args.scheduler and args.jobs != 1:
         raise UsageError("give --jobs or --scheduler, not both")
-    if args.contact_sheet and not args.contact_sheet.lower().endswith(".png"):
-        raise UsageError(f"{args.contact_sheet}: the contact sheet must end in .png")
+    if args.contact_sheet:
+        check_sheet_path(Path(args.contact_sheet))
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: not a folder")
     suffix = ".gif" if args.turntable else ".png"
@@ -80,6 +80,14 @@ def jobs(args) -> tuple[list[Job], bool]:
             raise UsageError(f"{seen[job.output]} and {job.source} would both be written to {job.output}")
         seen[job.output] = job.source
     return batch, True
+
+
+def check_sheet_path(path: Path) -> None:
+    """A contact sheet's path: a .png in a folder that exists (checked before any model renders)."""
+    if path.suffix.lower() != ".png":
+        raise UsageError(f"{path}: the contact sheet must end in .png")
+    if not path.parent.is_dir():
+        raise UsageError(f"{path}: folder {str(path.parent)!r} does not exist")
 
 
 def _check_image_path(out: Path, animated: bool) -> None:

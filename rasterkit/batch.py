@@ -53,7 +53,7 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
 
     Images are byte-identical whatever ``jobs`` or the engine.
     """
-    from ._batch import IMAGE_SUFFIXES, _inputs
+    from ._batch import IMAGE_SUFFIXES, _inputs, check_sheet_path
     from ._report import UsageError
     from .cli import render_options as make_options
     from ._many import run
@@ -68,6 +68,8 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
         raise ValueError(f"{out}: out_dir must be a folder")
     try:
         sources = _inputs([os.fspath(p) for p in paths])
+        if contact_sheet is not None:
+            check_sheet_path(Path(contact_sheet))
     except UsageError as e:
         raise ValueError(str(e)) from None
     suffix = ".gif" if options.turntable else ".png"

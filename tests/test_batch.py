@@ -128,6 +128,7 @@ def test_cli_batch_with_jobs_contact_sheet_and_exit_code(models, tmp_path):
     (["--jobs", "-1"], "must be 0 or more"),
     (["--jobs", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
     (["--contact-sheet", "sheet.jpg"], "must end in .png"),
+    (["--contact-sheet", "no/such/folder/sheet.png"], "does not exist"),
 ])
 def test_cli_bad_batch_options_are_one_line_errors(models, tmp_path, argv, words):
     result = subprocess.run([sys.executable, "-m", "rasterkit", "render", str(models), "-o", str(tmp_path / "o"),
@@ -143,6 +144,9 @@ def test_render_many_refuses_bad_arguments(models, tmp_path):
         rasterkit.render_many(models, tmp_path / "o", jobs=-1)
     with pytest.raises(ValueError, match="folder"):
         rasterkit.render_many(models, tmp_path / "o.png")
+    with pytest.raises(ValueError, match="does not exist"):
+        rasterkit.render_many(models, tmp_path / "o", contact_sheet=tmp_path / "no" / "sheet.png")
+    assert not (tmp_path / "o").exists()  # refused before anything rendered
 
 
 def test_a_worker_that_dies_costs_only_its_model(models, tmp_path):
@@ -199,20 +203,22 @@ def test_a_process_forked_after_kernels_ran_renders_batches(models, tmp_path):
 def test_sigterm_stops_the_workers_and_leaves_no_temporary_file(tmp_path):
     folder = tmp_path / "models"
     folder.mkdir()
-    for k in range(6):
-        _write_obj(folder / f"s{k}.obj", shapes.icosphere(4))
+    for k in range(24):
+        _write_obj(folder / f"s{k:02d}.obj", shapes.icosphere(4))
     out = tmp_path / "out"
     child = subprocess.Popen([sys.executable, "-m", "rasterkit", "render", str(folder), "-o", str(out),
                               "--size", "1600x1200", "--samples", "64", "--jobs", "2"],
                              stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
-    while not (out / "manifest.jsonl").exists() and time.monotonic() < deadline:
-        time.sleep(0.05)
-    time.sleep(1.5)
+    while time.monotonic() < deadline and not (
+            (out / "manifest.jsonl").exists() and (out / "manifest.jsonl").read_text().count("\n") >= 1):
+        time.sleep(0.01)
+    assert child.poll() is None  # still rendering
     child.send_signal(signal.SIGTERM)
     _, err = child.communicate(timeout=60)
     assert child.returncode == 143, err
     assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+    assert len(list(out.glob("*.png"))) < 24  # stopped before the end
     for p in out.glob("*.png"):
         assert complete_image(p)
     assert all(json.loads(line)["status"] == "ok" for line in (out / "manifest.jsonl").read_text().splitlines())
