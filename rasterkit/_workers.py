@@ -132,10 +132,12 @@ def _start_method() -> str:
 _TINY_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 
 
-def warm_up(options) -> None:
+def warm_up(options, strict: bool = False) -> None:
     """Render a tetrahedron from an OBJ file with ``options`` at 16x12 pixels in this
     process: every kernel a batch with these options runs is then loaded (or compiled).
-    Whatever goes wrong is left for the real models to report."""
+    ``strict``: an option that no model could render with (a bad colour, mode, camera...)
+    raises here, once, instead of failing every model; otherwise whatever goes wrong is
+    left for the real models to report."""
     import copy
 
     from ._render_one import render_model
@@ -149,7 +151,8 @@ def warm_up(options) -> None:
         try:
             render_model(model, Path(folder) / "tiny.png", tiny)
         except Exception:
-            pass
+            if strict:
+                raise
 
 
 class LocalPool:

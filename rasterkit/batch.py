@@ -6,6 +6,7 @@ import os
 from pathlib import Path
 
 from ._many import BatchSummary
+from .options import MAX_IMAGE_SIZE
 
 __all__ = ["BatchSummary", "render_many"]
 
@@ -59,6 +60,10 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
     from ._many import run
 
     options = make_options(**render_options)
+    _check_size(options.size)
+    from ._workers import warm_up
+
+    warm_up(options, strict=True)  # a bad option fails here once, not in every model
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 0:
@@ -82,3 +87,10 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
         pairs.append((source, output))
     return run(pairs, out, options, jobs=jobs, client=client, resume=resume, progress=progress,
                contact_sheet=None if contact_sheet is None else Path(contact_sheet))
+
+
+def _check_size(size) -> None:
+    ok = isinstance(size, (tuple, list)) and len(size) == 2 and all(
+        isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= MAX_IMAGE_SIZE for v in size)
+    if not ok:
+        raise ValueError(f"size must be (width, height), whole numbers 1 to {MAX_IMAGE_SIZE}, got {size!r}")

@@ -140,6 +140,12 @@ def test_cli_bad_batch_options_are_one_line_errors(models, tmp_path, argv, words
 def test_render_many_refuses_bad_arguments(models, tmp_path):
     with pytest.raises(TypeError, match="unknown render option"):
         rasterkit.render_many(models, tmp_path / "o", colour="red")
+    with pytest.raises(ValueError, match="size"):
+        rasterkit.render_many(models, tmp_path / "o", size=(0, 10))
+    with pytest.raises(ValueError, match="colour"):
+        rasterkit.render_many(models, tmp_path / "o", color="no-such-colour")
+    with pytest.raises(ValueError, match="mode"):
+        rasterkit.render_many(models, tmp_path / "o", mode="shaded")
     with pytest.raises(ValueError, match="jobs"):
         rasterkit.render_many(models, tmp_path / "o", jobs=-1)
     with pytest.raises(ValueError, match="folder"):
