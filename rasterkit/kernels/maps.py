@@ -43,15 +43,65 @@ def _put_normal(normals, j, i, rotation, x, y, z):
     normals[j, i, 2] = cz * scale
 
 
-@kernel
-def camera_normals(world, rotation):
-    """(M, 3) float32: the world-space normals ``world`` (M, 3) float32 turned by ``rotation``
-    (3, 3) float64 into camera space and scaled to unit length (NaN for zero ones)."""
-    out = np.empty((world.shape[0], 1, 3), np.float32)
-    for f in range(world.shape[0]):
-        _put_normal(out, f, 0, rotation, np.float64(world[f, 0]), np.float64(world[f, 1]),
-                    np.float64(world[f, 2]))
-    return out.reshape(world.shape[0], 3)
+@kernel(refcounts=False)
+def camera_normals(slot, counter, world, rotation, out):
+    """``out`` (M, 1, 3) float32: the world-space normals ``world`` (M, 3) float32 turned by
+    ``rotation`` (3, 3) float64 into camera space and scaled to unit length (NaN for zero
+    ones). A worker of :func:`rasterkit._jit.run_workers`, in ``N_CHUNKS`` pieces."""
+    m = world.shape[0]
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for f in range(m * ch // N_CHUNKS, m * (ch + 1) // N_CHUNKS):
+            _put_normal(out, f, 0, rotation, np.float64(world[f, 0]), np.float64(world[f, 1]),
+                        np.float64(world[f, 2]))
+    return 0
+
+
+@kernel(inline="always")
+def _nan_row(nflat, j, width, nan):
+    """Row ``j`` of the normals (``nflat``: the (H, W, 3) array, flat) set to NaN: a plain
+    fill the compiler vectorises; the pixels that see a face are written over next."""
+    for k in range(np.uint64(3 * width * j), np.uint64(3 * width * (j + 1))):
+        nflat[k] = nan  # unsigned: no wraparound test, a vectorised fill
+
+
+@kernel(inline="always")
+def _flat_row(ids, j, width, normals, nflat, face_normals, nan):
+    """Row ``j`` of flat normals: the camera-space normal of each pixel's face, NaN for none."""
+    _nan_row(nflat, j, width, nan)
+    for i in range(np.uint64(width)):  # unsigned indices: no wraparound tests
+        f = ids[j, i]
+        if f >= 0:
+            normals[j, i, 0] = face_normals[f, 0]
+            normals[j, i, 1] = face_normals[f, 1]
+            normals[j, i, 2] = face_normals[f, 2]
+
+
+@kernel(inline="always")
+def _smooth_row(ids, j, width, normals, nflat, faces, bary, vertex_normals, rotation, nan):
+    """Row ``j`` of smooth normals: vertex normals interpolated at each pixel centre."""
+    _nan_row(nflat, j, width, nan)
+    py = j + 0.5
+    for i in range(width):
+        f = ids[j, i]
+        if f >= 0:
+            x, y, z = _smooth_normal(f, i + 0.5, py, faces, bary, vertex_normals)
+            _put_normal(normals, j, i, rotation, x, y, z)
+
+
+@kernel(inline="always")
+def _object_row(ids, j, width, object_ids, face_object, object_first):
+    """Row ``j`` of object ids, and ``ids`` made indices within their object."""
+    for i in range(width):
+        f = ids[j, i]
+        if f < 0:
+            object_ids[j, i] = -1
+        else:
+            o = face_object[f]
+            object_ids[j, i] = o
+            ids[j, i] = f - object_first[o]
 
 
 @kernel(refcounts=False)
@@ -77,31 +127,19 @@ def surface_maps(slot, counter, ids, maps):
     normals, faces, bary = maps.normals, maps.faces, maps.bary
     vertex_normals, face_normals, rotation = maps.vertex_normals, maps.face_normals, maps.rotation
     object_ids, face_object, object_first = maps.object_ids, maps.face_object, maps.object_first
+    nflat = normals.reshape(normals.size)
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
         for j in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
-            py = j + 0.5
-            for i in range(width):
-                f = ids[j, i]
-                if want_normals:
-                    if f < 0:
-                        normals[j, i, 0] = normals[j, i, 1] = normals[j, i, 2] = nan
-                    elif smooth:
-                        x, y, z = _smooth_normal(f, i + 0.5, py, faces, bary, vertex_normals)
-                        _put_normal(normals, j, i, rotation, x, y, z)
-                    else:  # already in camera space (camera_normals)
-                        normals[j, i, 0] = face_normals[f, 0]
-                        normals[j, i, 1] = face_normals[f, 1]
-                        normals[j, i, 2] = face_normals[f, 2]
-                if want_objects:
-                    if f < 0:
-                        object_ids[j, i] = -1
-                    else:
-                        o = face_object[f]
-                        object_ids[j, i] = o
-                        ids[j, i] = f - object_first[o]
+            # one loop per case: no test of the choices per pixel
+            if want_normals and not smooth:
+                _flat_row(ids, j, width, normals, nflat, face_normals, nan)
+            elif want_normals:
+                _smooth_row(ids, j, width, normals, nflat, faces, bary, vertex_normals, rotation, nan)
+            if want_objects:
+                _object_row(ids, j, width, object_ids, face_object, object_first)
     return 0
 
 
@@ -114,16 +152,18 @@ def metric_depth(slot, counter, depth, out, near, far, perspective):
     height, width = depth.shape
     span = far - near
     product = far * near
+    dflat, oflat = depth.reshape(depth.size), out.reshape(out.size)
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        for j in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
-            for i in range(width):
-                d = np.float64(depth[j, i])
-                if perspective:
-                    value = product / (far - d * span)
-                else:
-                    value = near + d * span
-                out[j, i] = value if d < np.inf else 0.0
+        lo = np.uint64(width * (height * ch // N_CHUNKS))
+        hi = np.uint64(width * (height * (ch + 1) // N_CHUNKS))
+        for k in range(lo, hi):  # unsigned: no wraparound tests, vectorised
+            d = np.float64(dflat[k])
+            if perspective:
+                value = product / (far - d * span)
+            else:
+                value = near + d * span
+            oflat[k] = value if d < np.inf else 0.0
     return 0
