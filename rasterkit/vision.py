@@ -65,10 +65,8 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
         vertex = np.ascontiguousarray(world, np.float64)
         bary = bary_matrices(transform_points(mesh.vertices, matrix), mesh.faces)
     elif normals:
-        world = mesh.face_normals
-        face_normals = np.empty((len(world), 1, 3), np.float32)
-        run_workers(camera_normals, world, rotation, face_normals)
-        face_normals = face_normals.reshape(len(world), 3)
+        face_normals = np.empty((len(mesh.faces), 3), np.float32)
+        run_workers(camera_normals, mesh.face_normals, rotation, face_normals)
     out_normals = _memory.take((height, width, 3), np.float32) if normals else np.empty((0, 0, 3), np.float32)
     objects = object_faces is not None
     if objects:

@@ -45,17 +45,28 @@ def _put_normal(normals, j, i, rotation, x, y, z):
 
 @kernel(refcounts=False)
 def camera_normals(slot, counter, world, rotation, out):
-    """``out`` (M, 1, 3) float32: the world-space normals ``world`` (M, 3) float32 turned by
-    ``rotation`` (3, 3) float64 into camera space and scaled to unit length (NaN for zero
-    ones). A worker of :func:`rasterkit._jit.run_workers`, in ``N_CHUNKS`` pieces."""
+    """``out`` (M, 3) float32: the unit world-space normals ``world`` (M, 3) float32 (a
+    Mesh's ``face_normals``: unit, zero for a degenerate face, NaN for a non-finite one)
+    turned by ``rotation`` (3, 3) float64 into camera space: a rotation keeps their length,
+    so no square root is needed; zero ones become NaN. A worker of
+    :func:`rasterkit._jit.run_workers`, in ``N_CHUNKS`` pieces."""
     m = world.shape[0]
+    r00, r01, r02 = rotation[0, 0], rotation[0, 1], rotation[0, 2]
+    r10, r11, r12 = rotation[1, 0], rotation[1, 1], rotation[1, 2]
+    r20, r21, r22 = rotation[2, 0], rotation[2, 1], rotation[2, 2]
+    nan = np.float32(np.nan)
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        for f in range(m * ch // N_CHUNKS, m * (ch + 1) // N_CHUNKS):
-            _put_normal(out, f, 0, rotation, np.float64(world[f, 0]), np.float64(world[f, 1]),
-                        np.float64(world[f, 2]))
+        for f in range(np.uint64(m * ch // N_CHUNKS), np.uint64(m * (ch + 1) // N_CHUNKS)):
+            x, y, z = np.float64(world[f, 0]), np.float64(world[f, 1]), np.float64(world[f, 2])
+            if x == 0.0 and y == 0.0 and z == 0.0:
+                out[f, 0] = out[f, 1] = out[f, 2] = nan
+            else:
+                out[f, 0] = r00 * x + r01 * y + r02 * z
+                out[f, 1] = r10 * x + r11 * y + r12 * z
+                out[f, 2] = r20 * x + r21 * y + r22 * z
     return 0
 
 
