@@ -72,14 +72,20 @@ def jobs(args) -> tuple[list[Job], bool]:
         check_sheet_path(Path(args.contact_sheet))
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: not a folder")
-    suffix = ".gif" if args.turntable else ".png"
+    return batch_jobs(sources, out, bool(args.turntable)), True
+
+
+def batch_jobs(sources: list[Path], out: Path, animated: bool) -> list[Job]:
+    """A batch's jobs: ``NAME.obj`` into ``out/NAME.png`` (``.gif`` for turntables); two
+    models of one name are a usage error."""
+    suffix = ".gif" if animated else ".png"
     batch = [Job(s, out / (s.stem + suffix)) for s in sources]
     seen: dict[Path, Path] = {}
     for job in batch:
         if job.output in seen:
             raise UsageError(f"{seen[job.output]} and {job.source} would both be written to {job.output}")
         seen[job.output] = job.source
-    return batch, True
+    return batch
 
 
 def check_sheet_path(path: Path) -> None:

@@ -16,9 +16,9 @@ Needs ``distributed`` (``pip install 'rasterkit[dask]'``), imported only here.
 
 from __future__ import annotations
 
-import os
 import uuid
 
+from . import _workers
 from ._report import UsageError
 
 __all__ = ["client_for", "run"]
@@ -41,13 +41,6 @@ def client_for(address: str):
         raise UsageError(f"cannot reach the Dask scheduler at {address}: {e}") from None
 
 
-def _cores() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:
-        return os.cpu_count() or 1
-
-
 def _host(address: str) -> str:
     return address.split("://")[-1].rsplit(":", 1)[0]
 
@@ -55,7 +48,7 @@ def _host(address: str) -> str:
 def _threads_by_host(client) -> dict[str, int]:
     """Kernel threads per task on each host of the cluster."""
     workers = client.scheduler_info().get("workers", {})
-    cores = client.run(_cores)  # {worker address: cores of its machine}
+    cores = client.run(_workers.cores)  # {worker address: cores of its machine}
     slots: dict[str, int] = {}
     host_cores: dict[str, int] = {}
     for address, info in workers.items():
@@ -69,13 +62,11 @@ def _task(source: str, output: str, options, threads_by_host: dict[str, int]) ->
     """Runs on a worker: :func:`run_task` with this host's thread share."""
     from distributed import get_worker
 
-    from ._workers import run_task
-
     try:
         threads = threads_by_host.get(_host(get_worker().address), 1)
     except ValueError:  # not in a worker (a synchronous client)
         threads = 1
-    return run_task(source, output, options, threads)
+    return _workers.run_task(source, output, options, threads)
 
 
 def run(client, tasks, options, on_result) -> None:

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .options import EDGES
+from .options import EDGES, check_choice
 
 __all__ = ["EDGE_CLASSES", "EDGES", "feature_edges", "select_edges"]
 
@@ -43,9 +43,7 @@ def check_crease_angle(crease_angle) -> float:
 
 
 def check_edges(edges: str) -> str:
-    if edges not in EDGES:
-        raise ValueError(f"edges must be one of {', '.join(map(repr, EDGES))}, got {edges!r}")
-    return edges
+    return check_choice("edges", edges, EDGES)
 
 
 def face_facing(clip: np.ndarray, faces: np.ndarray) -> np.ndarray:

@@ -23,8 +23,9 @@ from pathlib import Path
 
 from ._manifest import Manifest, up_to_date
 from ._progress import Progress
+from ._workers import LocalPool, cores, run_task, warm_up
 
-__all__ = ["BatchSummary", "cores", "run"]
+__all__ = ["BatchSummary", "run"]
 
 
 @dataclass
@@ -50,33 +51,30 @@ class BatchSummary:
                 f"in {self.seconds:.1f} s ({self.models_per_second:.2f} models/s)")
 
 
-def cores() -> int:
-    """The cores this process may run on."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:
-        return os.cpu_count() or 1
-
-
-def run(pairs: list[tuple[Path | None, Path]], out_dir: Path, options, *, jobs: int = 1, client=None,
+def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1, client=None,
         resume: bool = False, progress: bool = True, contact_sheet: Path | None = None,
-        say=None) -> BatchSummary:
+        strict: bool = False) -> BatchSummary:
     """Render ``pairs`` of (model, image) into ``out_dir`` (see the module's documentation).
-    ``jobs`` 0: one worker per core. ``say(line)``: where one-line messages go (default:
-    the progress stream)."""
-    out_dir.mkdir(parents=True, exist_ok=True)
+    ``jobs`` 0: one worker per core. Without a ``client``, ``options`` are tried first on a
+    tetrahedron in this process (:func:`rasterkit._workers.warm_up`), so the kernels are
+    loaded (or compiled) once for every local worker; ``strict``: an option that fails
+    there raises, before any model or the manifest is touched (otherwise every model
+    reports it, naming itself, as the command line does)."""
     jobs = cores() if jobs == 0 else jobs
     summary = BatchSummary()
     report = Progress(len(pairs), enabled=progress)
-    say = say or report.say
+    say = report.say
     started = time.monotonic()
     todo = []
     for source, output in pairs:
-        if resume and source is not None and up_to_date(source, output):
+        if resume and up_to_date(source, output):
             summary.skipped += 1
             report.advance(source.name, "skipped")
         else:
             todo.append((os.fspath(source), os.fspath(output)))
+    if todo and client is None:
+        warm_up(options, strict=strict)
+    out_dir.mkdir(parents=True, exist_ok=True)
     codes = []
     with Manifest(out_dir, append=resume) as manifest:
         summary.manifest = manifest.path
@@ -116,12 +114,7 @@ def _engine(todo, options, jobs, client, on_result) -> None:
 
         _dask.run(client, todo, options, on_result)
     elif jobs > 1 and len(todo) > 1:
-        from ._workers import LocalPool, warm_up
-
-        warm_up(options)  # compiled once, here; forked workers inherit the kernels
         LocalPool(min(jobs, len(todo)), max(1, cores() // jobs), options).run(todo, on_result)
     else:
-        from ._workers import run_task
-
         for source, output in todo:
             on_result(run_task(source, output, options))

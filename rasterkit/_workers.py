@@ -5,9 +5,9 @@ here, and Dask's workers (:mod:`rasterkit._dask`): it renders with
 :func:`rasterkit._render_one.render_model` and returns the model's manifest record instead
 of raising, so a failing model never stops a batch.
 
-The local pool first renders a tiny model with the batch's options in this process
-(:func:`warm_up`: the kernels are loaded from Numba's cache, or compiled once), then starts
-``jobs`` processes. On Linux, when no thread but rasterkit's own kernel helpers runs here,
+Before the pool starts, :func:`rasterkit._many.run` has rendered a tiny model with the
+batch's options in this process (:func:`warm_up`: the kernels are loaded from Numba's cache,
+or compiled once); the pool then starts ``jobs`` processes. On Linux, when no thread but rasterkit's own kernel helpers runs here,
 it forks them: they start at once and inherit the loaded kernels (rasterkit's thread pool
 is not inherited: a child starts its own, :func:`rasterkit._jit._forget_pool`; no OpenMP
 runtime is involved). Otherwise (another platform, or a program with threads of its own,
@@ -36,9 +36,17 @@ from pathlib import Path
 
 from . import _report
 
-__all__ = ["LocalPool", "compile_lock", "run_task"]
+__all__ = ["LocalPool", "compile_lock", "cores", "run_task", "warm_up"]
 
 _first_done = False  # in a worker: its first model has been rendered
+
+
+def cores() -> int:
+    """The cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
 
 
 @contextlib.contextmanager
@@ -134,10 +142,10 @@ _TINY_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 
 
 def warm_up(options, strict: bool = False) -> None:
     """Render a tetrahedron from an OBJ file with ``options`` at 16x12 pixels in this
-    process: every kernel a batch with these options runs is then loaded (or compiled).
-    ``strict``: an option that no model could render with (a bad colour, mode, camera...)
-    raises here, once, instead of failing every model; otherwise whatever goes wrong is
-    left for the real models to report."""
+    process: every kernel a batch with these options runs is then loaded (or compiled), and
+    an option that no model could render with (a bad colour, mode, camera...) raises here,
+    once, instead of failing every model (``strict``; otherwise it is left for the real
+    models to report)."""
     import copy
 
     from ._render_one import render_model

@@ -54,16 +54,13 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
 
     Images are byte-identical whatever ``jobs`` or the engine.
     """
-    from ._batch import IMAGE_SUFFIXES, _inputs, check_sheet_path
+    from ._batch import IMAGE_SUFFIXES, _inputs, batch_jobs, check_sheet_path
     from ._report import UsageError
     from .cli import render_options as make_options
     from ._many import run
 
     options = make_options(**render_options)
     _check_size(options.size)
-    from ._workers import warm_up
-
-    warm_up(options, strict=True)  # a bad option fails here once, not in every model
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 0:
@@ -72,21 +69,14 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
     if out.suffix.lower() in IMAGE_SUFFIXES or (out.exists() and not out.is_dir()):
         raise ValueError(f"{out}: out_dir must be a folder")
     try:
-        sources = _inputs([os.fspath(p) for p in paths])
+        planned = batch_jobs(_inputs([os.fspath(p) for p in paths]), out, bool(options.turntable))
         if contact_sheet is not None:
             check_sheet_path(Path(contact_sheet))
     except UsageError as e:
         raise ValueError(str(e)) from None
-    suffix = ".gif" if options.turntable else ".png"
-    pairs, seen = [], {}
-    for source in sources:
-        output = out / (source.stem + suffix)
-        if output in seen:
-            raise ValueError(f"{seen[output]} and {source} would both be written to {output}")
-        seen[output] = source
-        pairs.append((source, output))
+    pairs = [(job.source, job.output) for job in planned]
     return run(pairs, out, options, jobs=jobs, client=client, resume=resume, progress=progress,
-               contact_sheet=None if contact_sheet is None else Path(contact_sheet))
+               contact_sheet=None if contact_sheet is None else Path(contact_sheet), strict=True)
 
 
 def _check_size(size) -> None:

@@ -6,7 +6,7 @@ builds its parser, answers ``--help`` and rejects bad arguments without loading 
 
 from .kernels.limits import MAX_IMAGE_SIZE
 
-__all__ = ["CULL", "EDGES", "HIDDEN", "MAX_IMAGE_SIZE", "MODES", "PROJECTIONS", "SHADING", "SVG_MODES"]
+__all__ = ["CULL", "EDGES", "HIDDEN", "MAX_IMAGE_SIZE", "MODES", "PROJECTIONS", "SHADING", "SVG_MODES", "check_choice"]
 
 #: What :func:`rasterkit.render` draws: every edge; only the visible parts of the edges;
 #: shaded triangles; shaded triangles with their visible edges on top.
@@ -33,3 +33,10 @@ SHADING = ("flat", "smooth")
 PROJECTIONS = ("perspective", "orthographic", "isometric", "dimetric", "trimetric", "cavalier",
                "cabinet", "1-point", "2-point", "3-point")
 """Names accepted by :meth:`Camera.preset` (and the command line's ``--projection``)."""
+
+
+def check_choice(name: str, value, allowed: tuple):
+    """``value`` when it is one of ``allowed``, else ``ValueError`` naming ``name`` and the choices."""
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
+    return value

@@ -24,7 +24,7 @@ from .limits import check_memory
 from .kernels import shade as shade_kernels
 from ._vertex import transform_points
 from .mesh import Mesh, as_mesh
-from .options import CULL, MODES, SHADING
+from .options import CULL, MODES, SHADING, check_choice
 from .scene import Scene
 from .triangles import FlatLambert, rasterize_triangles
 
@@ -56,12 +56,6 @@ class _Options:
     light: np.ndarray  # (3,) unit world-space direction towards the light
     keep_depth: bool = False  # solid: draw the depth buffer in the colour pass, not when read
     points: object = None  # rasterkit.points.Points, drawn last as depth-tested splats
-
-
-def _choice(name: str, value: str, allowed: tuple) -> str:
-    if value not in allowed:
-        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
-    return value
 
 
 def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str = "back",
@@ -184,8 +178,8 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     mesh = _with_edges(mesh, camera, edges, crease_angle, mode)
     light = _light_direction(light, camera)
     background = "white" if background is None else background
-    options = _Options(_choice("mode", mode, MODES), _choice("cull", cull, CULL),
-                       _choice("shading", shading, SHADING), parse_color(color),
+    options = _Options(check_choice("mode", mode, MODES), check_choice("cull", cull, CULL),
+                       check_choice("shading", shading, SHADING), parse_color(color),
                        parse_color(line_color), bool(aa), light)
     samples, vignette = _accumulate.check(samples, vignette)
     normals = bool(normals)

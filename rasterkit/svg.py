@@ -21,7 +21,7 @@ from .camera import Camera
 from .colors import parse_color
 from .limits import check_memory
 from .mesh import as_mesh
-from .options import HIDDEN, SVG_MODES
+from .options import HIDDEN, SVG_MODES, check_choice
 from .scene import Scene
 from ._vertex import transform_points
 
@@ -56,12 +56,6 @@ class Drawing:
     lines: object
 
 
-def _check_choice(name, value, allowed):
-    if value not in allowed:
-        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
-    return value
-
-
 def _check_width(stroke_width) -> float:
     if isinstance(stroke_width, bool) or not isinstance(stroke_width, (int, float, np.integer, np.floating)):
         raise TypeError(f"stroke_width must be a number, got {type(stroke_width).__name__}")
@@ -89,8 +83,8 @@ def svg_drawing(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden
         camera = mesh_or_scene.camera
     if not isinstance(camera, Camera):
         raise TypeError(f"camera must be a rasterkit.Camera, got {type(camera).__name__}")
-    mode = _check_choice("mode", mode, SVG_MODES)
-    hidden = _check_choice("hidden", hidden, HIDDEN)
+    mode = check_choice("mode", mode, SVG_MODES)
+    hidden = check_choice("hidden", hidden, HIDDEN)
     check_edges(edges)
     crease_angle = check_crease_angle(crease_angle)
     rgb = parse_color(stroke)
