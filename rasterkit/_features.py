@@ -16,7 +16,8 @@ Feature edges (``edges="feature"``), found from the triangles' edge adjacency:
   materials, or a scene's objects) or groups.
 
 An edge that is several of these gets the first class in the order above. Pure NumPy, no
-kernels: one sort of the 3M face sides.
+kernels: one sort of the 3M face sides, done once per mesh (:func:`sides`, kept by the mesh
+like its face normals); each camera then only tests which faces turn towards it.
 """
 
 from __future__ import annotations
@@ -77,6 +78,28 @@ def _adjacency(faces: np.ndarray, n_vertices: int):
     return np.stack([ukeys // n, ukeys % n], axis=1), first, second, count
 
 
+def sides(mesh):
+    """What the feature edges of ``mesh`` need that no camera changes, kept by the mesh
+    (``Mesh._feature_sides``): ``(pairs (E, 2) int64, f1 (E,), g2 (E,) its other face or f1
+    again, two (E,) bool: exactly two faces, angle (E,) float64 degrees between the faces'
+    normals (NaN for a degenerate face), material (E,) bool)``."""
+    pairs, f1, f2, count = _adjacency(mesh.faces, len(mesh.vertices))
+    two = count == 2
+    g2 = np.where(two, f2, f1)
+    normals = mesh.face_normals.astype(np.float64)
+    valid = (np.einsum("ij,ij->i", normals, normals) > 0.5)  # unit normals; zero or NaN: degenerate
+    cos = np.clip(np.einsum("ij,ij->i", normals[f1], normals[g2]), -1.0, 1.0)
+    angle = np.where(valid[f1] & valid[g2], np.degrees(np.arccos(cos)), np.nan)
+    material = np.zeros(len(pairs), bool)
+    if mesh.face_colors is not None:
+        material |= two & np.any(mesh.face_colors[f1] != mesh.face_colors[g2], axis=1)
+    if mesh.face_groups is not None:
+        material |= two & (mesh.face_groups[f1] != mesh.face_groups[g2])
+    for a in (pairs, f1, g2, two, angle, material):
+        a.flags.writeable = False
+    return pairs, f1, g2, two, angle, material
+
+
 def feature_edges(mesh, clip: np.ndarray, crease_angle: float = 30.0) -> tuple[np.ndarray, np.ndarray]:
     """The feature edges of ``mesh`` seen through a camera.
 
@@ -96,21 +119,11 @@ def feature_edges(mesh, clip: np.ndarray, crease_angle: float = 30.0) -> tuple[n
     classes : (E,) int8
         Codes into :data:`EDGE_CLASSES`.
     """
-    pairs, f1, f2, count = _adjacency(mesh.faces, len(mesh.vertices))
-    two = count == 2
-    g2 = np.where(two, f2, f1)
+    pairs, f1, g2, two, angle, material = mesh._feature_sides  # sorted once per mesh: :func:`sides`
     facing = face_facing(clip, mesh.faces)
     silhouette = two & (facing[f1] != facing[g2])
-    normals = mesh.face_normals.astype(np.float64)
-    valid = (np.einsum("ij,ij->i", normals, normals) > 0.5)  # unit normals; zero or NaN: degenerate
-    cos = np.clip(np.einsum("ij,ij->i", normals[f1], normals[g2]), -1.0, 1.0)
-    angle = np.degrees(np.arccos(cos))
-    crease = two & valid[f1] & valid[g2] & (angle >= crease_angle - 1e-9)
-    material = np.zeros(len(pairs), bool)
-    if mesh.face_colors is not None:
-        material |= two & np.any(mesh.face_colors[f1] != mesh.face_colors[g2], axis=1)
-    if mesh.face_groups is not None:
-        material |= two & (mesh.face_groups[f1] != mesh.face_groups[g2])
+    with np.errstate(invalid="ignore"):
+        crease = two & (angle >= crease_angle - 1e-9)  # NaN (a degenerate face): never
     classes = np.full(len(pairs), -1, np.int8)
     for code, mask in ((MATERIAL, material), (CREASE, crease), (BOUNDARY, ~two), (SILHOUETTE, silhouette)):
         classes[mask] = code  # later masks win: the order of the module docstring
