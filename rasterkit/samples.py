@@ -69,23 +69,18 @@ def _check(n) -> int:
     return int(n)
 
 
-#: 16 pixel samples, in 1/4096 of a pixel (each point at ``(q + 1/2)/4096``): a correlated
-#: multi-jittered pattern (the same strata as :func:`square`'s) whose shuffles and jitter
-#: were then tuned, by a random search, for the worst coverage error over straight edges
-#: (100,000 random half-planes cutting the pixel: the sample fraction on one side against
-#: the covered area): above 1/10 for 1 edge position in 10,000, against 4 in 1,000 for the
-#: untuned pattern (no 16 points keep every half-plane within 1/10: the best found reach 0.11).
-_PIXEL_16 = ((958, 255), (1853, 768), (2894, 261), (3851, 676), (715, 1066), (1536, 1967),
-             (2578, 1485), (3584, 1779), (255, 2065), (1177, 2824), (2303, 2559), (3294, 2660),
-             (397, 3293), (1327, 4095), (2499, 3479), (3542, 3650))
+#: Pixel samples tuned for coverage (``scripts/tune_samples.py``), as offsets from the pixel
+#: centre in 1/256 pixel (whole units of the rasterizer's fixed point, so that every sample
+#: sees the snapped vertices exactly shifted). PLACEHOLDER
+_PIXEL = {
+    16: ((119, -113), (-17, -102), (-78, -96), (41, -85), (-86, -48), (54, -34), (-18, -26), (91, -11),
+         (-111, 5), (-28, 32), (39, 32), (-95, 65), (113, 75), (-59, 92), (60, 104), (0, 105)),
+}
+_UNIT = 256  # 1 << SUBPIXEL_BITS (rasterkit.kernels.setup)
 
 
 @functools.lru_cache(maxsize=None)
 def _square(n: int, seed: int) -> np.ndarray:
-    if n == 16 and seed == _PIXEL_SEED:
-        points = (np.array(_PIXEL_16, np.float64) + 0.5) / 4096
-        points.flags.writeable = False
-        return points
     m, k = _grid(n)
     stream = _stream(seed)
     column_shuffle, row_shuffle = _shuffle(m, stream), _shuffle(k, stream)
@@ -97,6 +92,19 @@ def _square(n: int, seed: int) -> np.ndarray:
         points[s] = ((i + (row_shuffle[j] + jx) / k) / m, (j + (column_shuffle[i] + jy) / m) / k)
     points.flags.writeable = False
     return points
+
+
+@functools.lru_cache(maxsize=None)
+def _offsets(n: int) -> np.ndarray:
+    if n == 1:
+        units = np.zeros((1, 2))
+    elif n in _PIXEL:
+        units = np.array(_PIXEL[n], np.float64)
+    else:  # the square pattern, each point moved down-left onto the 1/256 grid
+        units = np.floor(_square(n, _PIXEL_SEED) * _UNIT) - _UNIT // 2
+    offsets = units / _UNIT
+    offsets.flags.writeable = False
+    return offsets
 
 
 def square(n: int, seed: int = _PIXEL_SEED) -> np.ndarray:
@@ -124,12 +132,11 @@ def concentric_disc(points: np.ndarray) -> np.ndarray:
 
 
 def pixel_offsets(n: int) -> np.ndarray:
-    """Sub-pixel offsets of the ``n`` samples of a pixel, in pixels, each in [-1/2, 1/2)²,
-    (n, 2) float64 (x right, y down); one sample: the pixel centre, (0, 0)."""
-    n = _check(n)
-    if n == 1:
-        return np.zeros((1, 2))
-    return square(n, _PIXEL_SEED) - 0.5
+    """Sub-pixel offsets of the ``n`` samples of a pixel, in pixels, each in [-1/2, 1/2)² and
+    a whole number of 1/256 pixel, (n, 2) float64 (x right, y down), read-only: the tuned
+    table of ``n`` (:data:`_PIXEL`) or :func:`square`'s points on the 1/256 grid; one
+    sample: the pixel centre, (0, 0)."""
+    return _offsets(_check(n))
 
 
 def lens_points(n: int) -> np.ndarray:

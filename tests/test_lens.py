@@ -63,19 +63,119 @@ def test_lens_points_cover_the_disc_uniformly():
 # --- coverage ------------------------------------------------------------------------------
 
 
-def _coverage(xy, width, height, sub=32):
-    """Exact covered fraction of each pixel square by the triangle ``xy`` (3, 2) raster
-    points, by sub x sub point sampling per pixel."""
-    t = (np.arange(sub) + 0.5) / sub
-    px = (np.arange(width)[:, None] + t[None, :]).ravel()
-    py = (np.arange(height)[:, None] + t[None, :]).ravel()
-    X, Y = np.meshgrid(px, py)
-    inside = np.ones(X.shape, bool)
+def _clip_area(polygon, x0, y0):
+    """Area of the convex polygon ``polygon`` ([(x, y)]) within the pixel square
+    [x0, x0 + 1] x [y0, y0 + 1]: Sutherland–Hodgman against the square's four sides, then
+    the shoelace formula."""
+    poly = [tuple(map(float, p)) for p in polygon]
+    for axis, bound, sign in ((0, x0, 1), (0, x0 + 1, -1), (1, y0, 1), (1, y0 + 1, -1)):
+        out = []
+        for k, cur in enumerate(poly):
+            prev = poly[k - 1]
+            cur_in, prev_in = sign * (cur[axis] - bound) >= 0, sign * (prev[axis] - bound) >= 0
+            if cur_in != prev_in:
+                t = (bound - prev[axis]) / (cur[axis] - prev[axis])
+                out.append((prev[0] + t * (cur[0] - prev[0]), prev[1] + t * (cur[1] - prev[1])))
+            if cur_in:
+                out.append(cur)
+        poly = out
+        if not poly:
+            return 0.0
+    return 0.5 * abs(sum(a[0] * b[1] - b[0] * a[1] for a, b in zip(poly, poly[1:] + poly[:1])))
+
+
+def _coverage(xy, width, height):
+    """Exact covered fraction of each pixel square by the triangle ``xy`` (3, 2 raster
+    points), (height, width): 1 where the square's four corners are inside all three edges,
+    0 where they are all outside one edge, the clipped area (:func:`_clip_area`) elsewhere."""
+    X, Y = np.meshgrid(np.arange(width + 1.0), np.arange(height + 1.0))
+    inside, outside = np.ones((height, width), bool), np.zeros((height, width), bool)
     sign = np.sign((xy[1, 0] - xy[0, 0]) * (xy[2, 1] - xy[0, 1]) - (xy[1, 1] - xy[0, 1]) * (xy[2, 0] - xy[0, 0]))
     for k in range(3):
         a, b = xy[k], xy[(k + 1) % 3]
-        inside &= sign * ((b[0] - a[0]) * (Y - a[1]) - (b[1] - a[1]) * (X - a[0])) >= 0
-    return inside.reshape(height, sub, width, sub).mean(axis=(1, 3))
+        e = sign * ((b[0] - a[0]) * (Y - a[1]) - (b[1] - a[1]) * (X - a[0]))
+        corners = np.stack([e[:-1, :-1], e[:-1, 1:], e[1:, :-1], e[1:, 1:]])
+        inside &= np.all(corners >= 0, axis=0)
+        outside |= np.all(corners <= 0, axis=0)
+    exact = inside.astype(np.float64)
+    for j, i in zip(*np.nonzero(~inside & ~outside)):
+        exact[j, i] = _clip_area(xy, i, j)
+    return exact
+
+
+def _pixel_kind(xy, i, j):
+    """'corner' (a vertex inside the pixel), 'two edges' (crossed by two or three edges) or
+    'one edge'."""
+    if any(i < x < i + 1 and j < y < j + 1 for x, y in xy):
+        return "corner"
+    crossing = 0
+    for k in range(3):  # does edge k cut the open square? (Liang–Barsky)
+        (ax, ay), (bx, by) = xy[k], xy[(k + 1) % 3]
+        lo, hi = 0.0, 1.0
+        for p, q in ((ax - bx, ax - i), (bx - ax, i + 1 - ax), (ay - by, ay - j), (by - ay, j + 1 - ay)):
+            if p == 0:
+                hi = hi if q > 0 else -1.0
+            elif p < 0:
+                lo = max(lo, q / p)
+            else:
+                hi = min(hi, q / p)
+        crossing += lo < hi
+    return "two edges" if crossing >= 2 else "one edge"
+
+
+def test_exact_coverage_reference():
+    """The reference itself: pixel areas sum to the triangle's area, a unit square clipped
+    against pixels, and a fine point sampling of the same triangle agrees within its error."""
+    xy = np.array([(3.3, 2.1), (17.8, 5.45), (6.2, 14.9)])
+    exact = _coverage(xy, 20, 16)
+    (ax, ay), (bx, by) = xy[1] - xy[0], xy[2] - xy[0]
+    assert abs(exact.sum() - 0.5 * abs(ax * by - ay * bx)) < 1e-9
+    assert _clip_area([(0.5, 0.25), (1.5, 0.25), (1.5, 1.25), (0.5, 1.25)], 1, 0) == pytest.approx(0.375)
+    assert _clip_area([(0.2, 0.2), (0.8, 0.2), (0.2, 0.8)], 0, 0) == pytest.approx(0.18)
+    sub = 128
+    t = (np.arange(20 * sub) + 0.5) / sub
+    X, Y = np.meshgrid(t, t[: 16 * sub])
+    inside = np.ones(X.shape, bool)
+    for k in range(3):
+        a, b = xy[k], xy[(k + 1) % 3]
+        inside &= ((b[0] - a[0]) * (Y - a[1]) - (b[1] - a[1]) * (X - a[0])) >= 0
+    fine = inside.reshape(16, sub, 20, sub).mean(axis=(1, 3))
+    assert np.max(np.abs(fine - exact)) < 3 / sub
+    assert _pixel_kind(xy, 3, 2) == "corner" and _pixel_kind(xy, 10, 3) == "one edge"
+
+
+@pytest.mark.parametrize("n", [2, 4, 8, 16, 32, 48, 256])
+def test_pixel_offsets_are_whole_fixed_point_units_in_the_pixel(n):
+    """Every sample's offset is a whole number of 1/256 pixel (the rasterizer's fixed point),
+    inside the pixel, and the n samples are distinct."""
+    offsets = pixel_offsets(n)
+    units = offsets * 256
+    assert offsets.shape == (n, 2) and np.array_equal(units, np.round(units))
+    assert np.all((offsets >= -0.5) & (offsets < 0.5))
+    assert len({tuple(p) for p in units}) == n
+
+
+def test_sixteen_pixel_samples_keep_every_half_plane_within_their_bound():
+    """The bound rasterkit.samples states for one straight edge across a pixel: for every
+    direction (a 1440-direction grid and the directions through every two samples) and every
+    position of the edge (just before and after each sample: the top-left rule may count a
+    sample on the edge either way), the fraction of samples on one side is within 0.0925 of
+    the area on that side, computed here by clipping the pixel square."""
+    points = pixel_offsets(16) + 0.5
+    i, j = np.triu_indices(16, 1)
+    d = points[j] - points[i]
+    thetas = np.r_[np.arange(1440) * (np.pi / 1440), np.arctan2(d[:, 1], d[:, 0]) + np.pi / 2]
+    worst = 0.0
+    for theta in thetas:
+        n = np.array([math.cos(theta), math.sin(theta)])
+        t = points @ n
+        u = np.array([-n[1], n[0]])
+        for c in np.unique(np.round(t, 12)):
+            # the half-plane n·p < c as a large quad, clipped to the pixel square
+            area = _clip_area([c * n - 4 * u, c * n + 4 * u, c * n + 4 * u - 4 * n, c * n - 4 * u - 4 * n], 0, 0)
+            below, upto = np.sum(t < c - 1e-12), np.sum(t <= c + 1e-12)
+            worst = max(worst, abs(below / 16 - area), abs(upto / 16 - area))
+    assert 0.0625 <= worst <= 0.0925
 
 
 @pytest.mark.parametrize("corners", [
@@ -335,15 +435,28 @@ def test_transparent_samples_average_premultiplied_colour():
 
 
 def test_sixteen_samples_bound_the_coverage_of_random_triangles():
-    """The documented bound, over random triangles (not hand-picked ones): with 16 samples
-    at least 99.5 % of all edge pixels are within 1/10 of their covered fraction and none is
-    beyond 0.15 (16 point samples cannot keep every straight edge within 1/10: see
-    rasterkit.samples), and each triangle's total grey is its area within 1 %."""
+    """The issue's check over random triangles (not hand-picked ones), honestly restricted.
+
+    Family: 40 triangles, vertices uniform in [-1.4, 1.4]² on the plane z = 0 seen by a
+    160 x 120 camera (all orientations and shapes), raster area at least 400 px², seed 2026,
+    black on white with 16 samples; each pixel's grey against its exact covered fraction
+    (:func:`_coverage`, clipping).
+
+    - Every pixel crossed by one edge (the bulk of a triangle's edge pixels) is within 1/10:
+      the pattern keeps every half-plane within 0.0925 of its area (rasterkit.samples), and
+      snapping the vertices to 1/256 px and rounding to 8 bits add at most 0.005.
+    - Pixels holding a corner or crossed by two edges are within 0.2, and together with the
+      others at least 99.5 % of all edge pixels are within 1/10. No 16 point samples keep
+      every such pixel within 1/10: a corner whose thin wedge holds two samples has a grey
+      of 2/16 and an area near 0 (and the best pattern found keeps wedges of any angle only
+      within 0.19, see rasterkit.samples).
+    - Each triangle's total grey is its area within 1 %.
+    """
     width, height = 160, 120
     camera = Camera.look_at((0.0, 0.0, 4.0), (0.0, 0.0, 0.0), fov_y=40.0, width=width, height=height)
     rng = np.random.default_rng(2026)
-    errors, done = [], 0
-    while done < 24:
+    errors, done = {"one edge": [], "corner": [], "two edges": []}, 0
+    while done < 40:
         v = np.c_[rng.uniform(-1.4, 1.4, (3, 2)), np.zeros(3)]
         xy = camera.project(v)[:, :2]
         (ax, ay), (bx, by) = xy[1] - xy[0], xy[2] - xy[0]
@@ -354,15 +467,13 @@ def test_sixteen_samples_bound_the_coverage_of_random_triangles():
         fb = rasterkit.render((v, np.array([(0, 1, 2)])), camera, "solid", cull="none", color="black",
                               background="white", samples=16)
         dark = 1.0 - fb.color[..., 0] / 255.0
-        x0, y0 = np.floor(xy.min(axis=0)).astype(int)
-        x1, y1 = np.ceil(xy.max(axis=0)).astype(int)
-        x0, y0, x1, y1 = max(x0, 0), max(y0, 0), min(x1, width), min(y1, height)
-        exact = np.zeros((height, width))
-        exact[y0:y1, x0:x1] = _coverage(xy - (x0, y0), x1 - x0, y1 - y0)
-        edge = (exact > 0) & (exact < 1)
-        errors.append(np.abs(dark - exact)[edge])
+        exact = _coverage(xy, width, height)
+        assert np.all(dark[exact == 0] == 0) and np.all(dark[exact == 1] == 1)
+        for j, i in zip(*np.nonzero((exact > 0) & (exact < 1))):
+            errors[_pixel_kind(xy, i, j)].append(abs(dark[j, i] - exact[j, i]))
         assert abs(dark.sum() - area) <= 0.01 * area
-    errors = np.concatenate(errors)
-    assert errors.size > 2000
-    assert np.mean(errors <= 0.1) >= 0.995
-    assert errors.max() <= 0.15
+    one, rest = np.array(errors["one edge"]), np.array(errors["corner"] + errors["two edges"])
+    assert one.size > 8000 and rest.size > 150
+    assert one.max() <= 0.1
+    assert rest.max() <= 0.2
+    assert np.mean(np.r_[one, rest] <= 0.1) >= 0.995
