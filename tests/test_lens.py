@@ -157,27 +157,29 @@ def test_pixel_offsets_are_whole_fixed_point_units_in_the_pixel(n):
     assert len({tuple(p) for p in units}) == n
 
 
-def test_sixteen_pixel_samples_keep_every_half_plane_within_their_bound():
-    """The bound rasterkit.samples states for one straight edge across a pixel: for every
-    direction (a 1440-direction grid and the directions through every two samples) and every
+@pytest.mark.parametrize("n, bound", [(4, 0.2501), (8, 0.161), (16, 0.0958), (32, 0.074)])
+def test_tuned_pixel_samples_keep_every_half_plane_within_their_bound(n, bound):
+    """The bounds rasterkit.samples states for one straight edge across a pixel: for every
+    direction (a 720-direction grid and the directions through every two samples) and every
     position of the edge (just before and after each sample: the top-left rule may count a
-    sample on the edge either way), the fraction of samples on one side is within 0.096 of
-    the area on that side, computed here by clipping the pixel square (measured: 0.0957)."""
-    points = pixel_offsets(16) + 0.5
-    i, j = np.triu_indices(16, 1)
+    sample on the edge either way), the fraction of samples on one side is within the bound
+    of the area on that side, computed here by clipping the pixel square. No pattern can beat
+    1/n (the edge through two samples), which the measure must find."""
+    points = pixel_offsets(n) + 0.5
+    i, j = np.triu_indices(n, 1)
     d = points[j] - points[i]
-    thetas = np.r_[np.arange(1440) * (np.pi / 1440), np.arctan2(d[:, 1], d[:, 0]) + np.pi / 2]
+    thetas = np.r_[np.arange(720) * (np.pi / 720), np.arctan2(d[:, 1], d[:, 0]) + np.pi / 2]
     worst = 0.0
     for theta in thetas:
-        n = np.array([math.cos(theta), math.sin(theta)])
-        t = points @ n
-        u = np.array([-n[1], n[0]])
+        w = np.array([math.cos(theta), math.sin(theta)])
+        t = points @ w
+        u = np.array([-w[1], w[0]])
         for c in np.unique(np.round(t, 12)):
-            # the half-plane n·p < c as a large quad, clipped to the pixel square
-            area = _clip_area([c * n - 4 * u, c * n + 4 * u, c * n + 4 * u - 4 * n, c * n - 4 * u - 4 * n], 0, 0)
+            # the half-plane w·p < c as a large quad, clipped to the pixel square
+            area = _clip_area([c * w - 4 * u, c * w + 4 * u, c * w + 4 * u - 4 * w, c * w - 4 * u - 4 * w], 0, 0)
             below, upto = np.sum(t < c - 1e-12), np.sum(t <= c + 1e-12)
-            worst = max(worst, abs(below / 16 - area), abs(upto / 16 - area))
-    assert 0.0625 <= worst <= 0.096
+            worst = max(worst, abs(below / n - area), abs(upto / n - area))
+    assert 1 / n - 1e-9 <= worst <= bound
 
 
 @pytest.mark.parametrize("corners", [
