@@ -20,8 +20,11 @@ sup below takes both limits: a sample on the boundary counted in and counted out
   the square is a pixel holding a corner; outside, a pixel near a corner that both of its
   edges cross (thin slivers included: a far apex is a strip).
 
+- Wedges of a least opening (:func:`wedge_errors`): the same, the two sides at least
+  ``min_angle`` apart (a triangle's corner of at least that angle).
+
 The sups over θ and over the apex are taken on grids (:func:`measure`), those over the
-position of the lines exactly.
+position of the lines exactly. ``tests/test_coverage.py`` checks these against clipping.
 """
 
 from __future__ import annotations
