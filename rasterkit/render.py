@@ -102,7 +102,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         the object (both -1 where none).
     samples : int
         Samples per pixel, 1 to 256, averaged (rounded to the nearest level). Each sample
-        draws the whole scene once at a fixed, stratified sub-pixel offset
+        draws the whole scene once at a fixed sub-pixel offset, tuned for coverage
         (:mod:`rasterkit.samples`): anti-aliasing of faces, edges and lines. A camera with
         an ``aperture`` also moves each sample's eye across its lens, keeping the focus
         plane in place: depth of field (:mod:`rasterkit.camera.lens`). 1 is one sample at
