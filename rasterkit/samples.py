@@ -73,13 +73,14 @@ def _check(n) -> int:
 
 #: Pixel samples tuned for coverage, as offsets from the pixel centre in 1/256 pixel (whole
 #: units of the rasterizer's fixed point: each sample sees the snapped vertices exactly
-#: shifted). Found by ``python scripts/tune_samples.py tune N`` (simulated annealing of the
-#: positions on the 1/256 grid; 16: ``--seed 2 --steps 40000 --restarts 3``, 4 and 8:
-#: ``--steps 20000 --restarts 3``, 32: ``--steps 20000 --restarts 1 --wedge-weight 0``):
-#: first the worst error over every half-plane (a pixel one straight edge crosses: the
-#: fraction of samples on one side against the exact area, the top-left rule free to count
-#: a sample on the edge either way), then the mean error over wedges (the pixels a corner is
-#: in or near). Worst errors (``python scripts/tune_samples.py measure``):
+#: shifted). Found by simulated annealing of the positions on that grid,
+#: ``python scripts/tune_samples.py tune N --seed 2`` with ``--steps 20000 --restarts 3``
+#: (4, 8), ``--steps 40000 --restarts 3`` (16), ``--steps 20000 --restarts 1
+#: --wedge-weight 0`` (32): first the worst error over every half-plane (a pixel one
+#: straight edge crosses: the fraction of samples on one side against the exact area, the
+#: top-left rule free to count a sample on the edge either way), then the mean error over
+#: wedges (the pixels a corner is in or near). Worst errors
+#: (``python scripts/tune_samples.py measure``):
 #:
 #: ====  ==========  ==========================  ==================================
 #: n     one edge    two parallel edges (strip)  two edges at any angle (wedge)
@@ -90,15 +91,15 @@ def _check(n) -> int:
 #: 32    0.0739      0.143                       0.145
 #: ====  ==========  ==========================  ==================================
 #:
-#: (the correlated multi-jittered points of :func:`square` give 0.35, 0.23, 0.137 and
-#: 0.098 for one edge; the 16 hand-tuned ones used before, 0.120). No ``n`` points do better than ``1/n`` for one edge or ``2/n`` for
-#: two: a line through two samples jumps the count by 2, and a thin wedge along it holds two
-#: samples and almost no area; for 4 samples 0.250 is that least possible. In a rendered
-#: pixel, snapping the vertices to 1/256 pixel moves an edge by at most 0.004 of the area
-#: and the 8-bit average rounds by at most 0.002. Measured with 16 samples on 400 random
-#: triangles (``python scripts/coverage_triangles.py``): none of the 97,460 pixels one edge
-#: crosses is beyond 1/10 (worst 0.0965); of the 2,331 pixels holding or near a corner, 32
-#: are (worst 0.147).
+#: (for one edge, the correlated multi-jittered points of :func:`square` give 0.35, 0.23,
+#: 0.137 and 0.098; the 16 hand-tuned ones used before, 0.120). No ``n`` points do better
+#: than ``1/n`` for one edge or ``2/n`` for two: a line through two samples moves the count
+#: by 2, and a thin wedge along it holds two samples and almost no area; for 4 samples 0.250
+#: is that least possible. In a rendered pixel, snapping the vertices to 1/256 pixel moves an
+#: edge by at most 0.004 of the area and the 8-bit average rounds by at most 0.002. Measured
+#: with 16 samples on 400 random triangles (``python scripts/coverage_triangles.py``): none
+#: of the 97,460 pixels one edge crosses is beyond 1/10 (worst 0.0965); of the 2,331 pixels
+#: holding or near a corner, 32 are (worst 0.147).
 _PIXEL = {
     4: ((-94, -111), (54, -37), (-54, 37), (94, 111)),
     8: ((64, -90), (-105, -83), (-15, -68), (98, -2), (-65, 16), (18, 25), (-73, 98), (84, 110)),

@@ -266,7 +266,8 @@ def test_the_tuning_scripts_measure_exact_errors():
             for b in sides:
                 span = (b - a) % (2 * np.pi)
                 if 0 < span < np.pi:  # the convex wedge from angle a to b, as a large triangle
-                    far = [apex + 9 * np.array([math.cos(a + k * span / 2), math.sin(a + k * span / 2)]) for k in (0, 1, 2)]
+                    rays = a + np.array([0, 0.5, 1]) * span
+                    far = apex + 9 * np.c_[np.cos(rays), np.sin(rays)]
                     area = _clip_area([apex, far[0], far[1], far[2]], 0, 0)
                     count = np.sum((angles - a) % (2 * np.pi) < span)
                     worst = max(worst, abs(count / 16 - area))
