@@ -25,7 +25,7 @@ import numpy as np
 
 from . import _memory, _png
 from ._atomic import atomic_write
-from ._jit import run_workers
+from ._jit import readonly, run_workers
 
 __all__ = ["camera_depth", "fill_maps", "save_depth", "save_ids", "save_normals", "visible_faces"]
 
@@ -50,7 +50,7 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     and, for a scene (``object_faces``: the number of faces of each object, in order),
     ``fb.object_ids``, turning ``fb.ids`` into indices within each object; from ``fb.ids``,
     the faces of ``mesh`` (world space) seen through ``matrix``."""
-    from .kernels.maps import camera_normals, surface_maps
+    from .kernels.maps import surface_maps
     from .kernels.records import Maps
     from .kernels.shade import bary_matrices, vertex_normals
     from ._vertex import transform_points
@@ -58,15 +58,15 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     height, width = fb.ids.shape
     rotation = np.stack(camera.basis())  # rows u, v, w: world -> camera
     smooth = normals == "smooth"
-    face_normals, vertex = np.zeros((0, 3), np.float32), np.zeros((0, 3))
-    bary = np.zeros((0, 9))
+    no_rows = np.zeros((0, 3), np.float32)
+    world_normals, face_normals, vertex, bary = readonly(no_rows), no_rows, np.zeros((0, 3)), np.zeros((0, 9))
     if smooth:
         world = mesh.normals if mesh.normals is not None else vertex_normals(mesh.vertices, mesh.faces)
         vertex = np.ascontiguousarray(world, np.float64)
         bary = bary_matrices(transform_points(mesh.vertices, matrix), mesh.faces)
-    elif normals:
-        face_normals = np.empty((len(mesh.faces), 3), np.float32)
-        run_workers(camera_normals, mesh.face_normals, rotation, face_normals)
+    elif normals:  # turned into camera space by the kernel, first
+        world_normals = readonly(mesh.face_normals)  # one compiled kernel: read-only either way
+        face_normals = _memory.take((len(mesh.faces), 3), np.float32)
     out_normals = _memory.take((height, width, 3), np.float32) if normals else np.empty((0, 0, 3), np.float32)
     objects = object_faces is not None
     if objects:
@@ -76,8 +76,9 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     else:
         first, face_object = np.zeros(0, np.int64), np.zeros(0, np.int32)
     object_ids = _memory.take((height, width), np.int32) if objects else np.empty((0, 0), np.int32)
-    run_workers(surface_maps, fb.ids, Maps(normals is not None, out_normals, smooth, face_normals, vertex, bary,
-                                           mesh.faces, rotation, objects, object_ids, face_object, first))
+    run_workers(surface_maps, fb.ids, Maps(normals is not None, out_normals, smooth, world_normals, face_normals,
+                                           np.zeros(1, np.int64), vertex, bary, mesh.faces, rotation, objects,
+                                           object_ids, face_object, first))
     fb.normals = out_normals if normals else None
     if objects:
         fb.object_ids, fb.object_first = object_ids, first
