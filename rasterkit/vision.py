@@ -56,7 +56,7 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     from ._vertex import transform_points
 
     height, width = fb.ids.shape
-    rotation = np.stack(camera.basis())  # rows u, v, w: world -> camera
+    rotation = camera.rotation()  # rows u, v, w: world -> camera
     smooth = normals == "smooth"
     no_rows = np.zeros((0, 3), np.float32)
     world_normals, face_normals, vertex, bary = readonly(no_rows), no_rows, np.zeros((0, 3)), np.zeros((0, 9))
