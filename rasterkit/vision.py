@@ -50,7 +50,7 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     and, for a scene (``object_faces``: the number of faces of each object, in order),
     ``fb.object_ids``, turning ``fb.ids`` into indices within each object; from ``fb.ids``,
     the faces of ``mesh`` (world space) seen through ``matrix``."""
-    from .kernels.maps import surface_maps
+    from .kernels.maps import N_FACE_CHUNKS, surface_maps
     from .kernels.records import Maps
     from .kernels.shade import bary_matrices, vertex_normals
     from ._vertex import transform_points
@@ -77,7 +77,7 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
         first, face_object = np.zeros(0, np.int64), np.zeros(0, np.int32)
     object_ids = _memory.take((height, width), np.int32) if objects else np.empty((0, 0), np.int32)
     run_workers(surface_maps, fb.ids, Maps(normals is not None, out_normals, smooth, world_normals, face_normals,
-                                           np.zeros(1, np.int64), vertex, bary, mesh.faces, rotation, objects,
+                                           np.zeros(N_FACE_CHUNKS, np.int64), vertex, bary, mesh.faces, rotation, objects,
                                            object_ids, face_object, first))
     fb.normals = out_normals if normals else None
     if objects:

@@ -15,6 +15,10 @@ N_CHUNKS = 64
 #: The faces' camera-space normals (flat normals) are made in this many pieces first.
 N_FACE_CHUNKS = 16
 
+#: Steps (``pause`` instructions, about 10-40 ns each) a thread waits for another's piece
+#: of the faces' normals before it makes that piece itself.
+FACE_WAIT = 1000
+
 #: Pixels tested at once for a face: a block that sees none (the background, most of many
 #: frames) is written with vector stores, without a test per pixel.
 BLOCK = 16
@@ -66,6 +70,32 @@ def _camera_normals(world, rotation, out, lo, hi):
             out[f, 0] = r00 * x + r01 * y + r02 * z
             out[f, 1] = r10 * x + r11 * y + r12 * z
             out[f, 2] = r20 * x + r21 * y + r22 * z
+
+
+@kernel(inline="always")
+def _face_piece(world, rotation, out, done, piece):
+    """Piece ``piece`` of ``N_FACE_CHUNKS`` of the faces' camera-space normals, then
+    ``done[piece] = 1``."""
+    m = out.shape[0]
+    _camera_normals(world, rotation, out, np.uint64(m * piece // N_FACE_CHUNKS),
+                    np.uint64(m * (piece + 1) // N_FACE_CHUNKS))
+    fetch_add(done, piece, 1)  # sequentially consistent: publishes the normals
+
+
+@kernel(inline="always")
+def _wait_for_faces(world, rotation, out, done):
+    """Return once every piece of the faces' normals is done (``done``: (N_FACE_CHUNKS,)
+    int64, 1 for a piece done). A piece another thread still works on is waited for a
+    moment (``FACE_WAIT`` steps), then made here too: that thread may have lost its core for
+    a while (a busy machine), and both write the same values."""
+    for piece in range(N_FACE_CHUNKS):
+        steps = 0
+        while load_acquire(done, piece) == 0:
+            if steps == FACE_WAIT:
+                _face_piece(world, rotation, out, done, piece)
+                break
+            pause()
+            steps += 1
 
 
 @kernel(inline="always")
@@ -187,11 +217,11 @@ def surface_maps(slot, counter, ids, maps):
     (-1 where none), and ``ids`` becomes the index within that object (minus
     ``maps.object_first[o]``, its first face).
 
-    A worker of :func:`rasterkit._jit.run_workers`: for flat normals the first
-    ``N_FACE_CHUNKS`` pieces are the faces, counted in ``maps.faces_done`` ((1,) int64, 0),
-    and a thread waits for all of them before its first rows (one pass handed to the threads
-    instead of two); then ``N_CHUNKS`` pieces of rows. Face indices in ``ids`` must lie in
-    0..M-1 (a render's ids do).
+    A worker of :func:`rasterkit._jit.run_workers`, one pass handed to the threads instead
+    of two: for flat normals the first ``N_FACE_CHUNKS`` pieces are the faces, marked done
+    in ``maps.faces_done`` ((N_FACE_CHUNKS,) int64, zeros), and a thread has all of them
+    done before its first rows (:func:`_wait_for_faces`); then ``N_CHUNKS`` pieces of rows.
+    Face indices in ``ids`` must lie in 0..M-1 (a render's ids do).
     """
     height, width = ids.shape
     nan = np.float32(np.nan)
@@ -205,7 +235,6 @@ def surface_maps(slot, counter, ids, maps):
     iflat, nflat, oflat = ids.reshape(ids.size), normals.reshape(normals.size), object_ids.reshape(object_ids.size)
     flat = want_normals and not smooth
     face_chunks = N_FACE_CHUNKS if flat else 0
-    m = face_normals.shape[0]
     ready = not flat
     w = np.uint64(width)
     while True:
@@ -213,14 +242,11 @@ def surface_maps(slot, counter, ids, maps):
         if ch >= face_chunks + N_CHUNKS:
             break
         if ch < face_chunks:
-            _camera_normals(world_normals, rotation, face_normals,
-                            np.uint64(m * ch // face_chunks), np.uint64(m * (ch + 1) // face_chunks))
-            fetch_add(faces_done, 0, 1)  # sequentially consistent: publishes the normals
+            _face_piece(world_normals, rotation, face_normals, faces_done, ch)
             continue
-        while not ready:  # the rows read every face's normal: wait for the faces' pieces
-            ready = load_acquire(faces_done, 0) >= face_chunks
-            if not ready:
-                pause()
+        if not ready:  # the rows read every face's normal: all the faces' pieces first
+            _wait_for_faces(world_normals, rotation, face_normals, faces_done)
+            ready = True
         ch -= face_chunks
         for j in range(np.uint64(height * ch // N_CHUNKS), np.uint64(height * (ch + 1) // N_CHUNKS)):
             lo = w * j

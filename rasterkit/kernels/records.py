@@ -44,8 +44,8 @@ Clear = namedtuple("Clear", "on color_bytes pattern")
 
 #: What :func:`rasterkit.kernels.maps.surface_maps` makes from a render's face ids: when
 #: ``want_normals``, ``normals`` (H, W, 3) float32 from ``world_normals`` (M, 3) float32 (turned
-#: into camera space in ``face_normals`` (M, 3) float32, its scratch, ``faces_done`` (1,)
-#: int64 counting the pieces done), or (``smooth``) from ``vertex_normals`` (N, 3) float64
+#: into camera space in ``face_normals`` (M, 3) float32, its scratch, ``faces_done``
+#: (N_FACE_CHUNKS,) int64 marking the pieces done), or (``smooth``) from ``vertex_normals`` (N, 3) float64
 #: interpolated with ``bary`` (M, 9) float64 and ``faces`` (M, 3) int64, all in world space,
 #: turned into camera space by ``rotation`` (3, 3) float64; when ``want_objects``,
 #: ``object_ids`` (H, W) int32 from ``face_object`` (M,) int32 and ``object_first`` (K,)
