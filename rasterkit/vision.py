@@ -33,6 +33,16 @@ __all__ = ["camera_depth", "fill_maps", "save_depth", "save_ids", "save_normals"
 #: when the world unit is the metre); 0 where nothing was drawn, 65535 at 65.535 m and beyond.
 DEPTH_PNG_SCALE = 1000.0
 
+#: Passes over fewer pixels (and faces) than this make the maps and the camera depth on the
+#: calling thread alone: handing a pass to another thread costs about 15 microseconds (much
+#: more on a busy machine), as much as this many pixels.
+_PARALLEL_PIXELS = 32_768
+
+
+def _threads(items: int):
+    """The ``threads`` of a pass over ``items`` pixels and faces: 1 for a small one, else all."""
+    return 1 if items < _PARALLEL_PIXELS else None
+
 
 def camera_depth(depth: np.ndarray, camera) -> np.ndarray:
     """(H, W) float32 distance along the optical axis, world units, 0 where nothing was drawn
@@ -41,7 +51,7 @@ def camera_depth(depth: np.ndarray, camera) -> np.ndarray:
 
     out = _memory.take(depth.shape, np.float32)
     run_workers(metric_depth, np.ascontiguousarray(depth), out, float(camera.near), float(camera.far),
-                camera.kind == "perspective")
+                camera.kind == "perspective", threads=_threads(depth.size))
     return out
 
 
@@ -76,9 +86,10 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     else:
         first, face_object = np.zeros(0, np.int64), np.zeros(0, np.int32)
     object_ids = _memory.take((height, width), np.int32) if objects else np.empty((0, 0), np.int32)
-    run_workers(surface_maps, fb.ids, Maps(normals is not None, out_normals, smooth, world_normals, face_normals,
-                                           np.zeros(N_FACE_CHUNKS, np.int64), vertex, bary, mesh.faces, rotation, objects,
-                                           object_ids, face_object, first))
+    faces_done = np.zeros(N_FACE_CHUNKS, np.int64)
+    maps = Maps(normals is not None, out_normals, smooth, world_normals, face_normals, faces_done, vertex, bary,
+                mesh.faces, rotation, objects, object_ids, face_object, first)
+    run_workers(surface_maps, fb.ids, maps, threads=_threads(height * width + len(world_normals)))
     fb.normals = out_normals if normals else None
     if objects:
         fb.object_ids, fb.object_first = object_ids, first
