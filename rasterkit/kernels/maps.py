@@ -74,8 +74,8 @@ def _camera_normals(world, rotation, out, lo, hi):
 
 @kernel(inline="always")
 def _face_piece(world, rotation, out, done, piece):
-    """Piece ``piece`` of ``N_FACE_CHUNKS`` of the faces' camera-space normals, then
-    ``done[piece] = 1``."""
+    """Piece ``piece`` of ``N_FACE_CHUNKS`` of the faces' camera-space normals, then marked
+    done: ``done[piece]`` counted up from 0."""
     m = out.shape[0]
     _camera_normals(world, rotation, out, np.uint64(m * piece // N_FACE_CHUNKS),
                     np.uint64(m * (piece + 1) // N_FACE_CHUNKS))
@@ -85,7 +85,7 @@ def _face_piece(world, rotation, out, done, piece):
 @kernel(inline="always")
 def _wait_for_faces(world, rotation, out, done):
     """Return once every piece of the faces' normals is done (``done``: (N_FACE_CHUNKS,)
-    int64, 1 for a piece done). A piece another thread still works on is waited for a
+    int64, not 0 for a piece done). A piece another thread still works on is waited for a
     moment (``FACE_WAIT`` steps), then made here too: that thread may have lost its core for
     a while (a busy machine), and both write the same values."""
     for piece in range(N_FACE_CHUNKS):
