@@ -15,9 +15,12 @@ N_CHUNKS = 64
 #: The faces' camera-space normals (flat normals) are made in this many pieces first.
 N_FACE_CHUNKS = 16
 
-#: Steps (``pause`` instructions, about 10-40 ns each) a thread waits for another's piece
-#: of the faces' normals before it makes that piece itself.
+#: Steps (``pause`` instructions, about 25 ns each) a thread waits for another's piece of
+#: the faces' normals before it makes that piece itself: this many, plus one per
+#: ``FACES_PER_STEP`` faces of the piece (a face takes about 2 ns: about three times as long
+#: as the piece takes).
 FACE_WAIT = 1000
+FACES_PER_STEP = 4
 
 #: Pixels tested at once for a face: a block that sees none (the background, most of many
 #: frames) is written with vector stores, without a test per pixel.
@@ -86,12 +89,13 @@ def _face_piece(world, rotation, out, done, piece):
 def _wait_for_faces(world, rotation, out, done):
     """Return once every piece of the faces' normals is done (``done``: (N_FACE_CHUNKS,)
     int64, not 0 for a piece done). A piece another thread still works on is waited for a
-    moment (``FACE_WAIT`` steps), then made here too: that thread may have lost its core for
-    a while (a busy machine), and both write the same values."""
+    moment (``FACE_WAIT`` steps, more for a large piece), then made here too: that thread
+    may have lost its core for a while (a busy machine), and both write the same values."""
+    wait = FACE_WAIT + out.shape[0] // (N_FACE_CHUNKS * FACES_PER_STEP)
     for piece in range(N_FACE_CHUNKS):
         steps = 0
         while load_acquire(done, piece) == 0:
-            if steps == FACE_WAIT:
+            if steps >= wait:
                 _face_piece(world, rotation, out, done, piece)
                 break
             pause()
