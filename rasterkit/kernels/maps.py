@@ -60,19 +60,22 @@ def _camera_normals(world, rotation, out, lo, hi):
     """``out[lo:hi]`` (float32): the unit world-space normals ``world[lo:hi]`` (float32: a
     Mesh's ``face_normals``, unit, zero for a degenerate face, NaN for a non-finite one)
     turned by ``rotation`` (3, 3) float64 into camera space: a rotation keeps their length,
-    so no square root is needed; zero ones become NaN."""
+    so no square root is needed; zero ones become NaN (a select, not a branch: the loop
+    is vectorised)."""
     r00, r01, r02 = rotation[0, 0], rotation[0, 1], rotation[0, 2]
     r10, r11, r12 = rotation[1, 0], rotation[1, 1], rotation[1, 2]
     r20, r21, r22 = rotation[2, 0], rotation[2, 1], rotation[2, 2]
-    nan = np.float32(np.nan)
+    wflat, oflat = world.reshape(world.size), out.reshape(out.size)
     for f in range(lo, hi):
-        x, y, z = np.float64(world[f, 0]), np.float64(world[f, 1]), np.float64(world[f, 2])
-        if x == 0.0 and y == 0.0 and z == 0.0:
-            out[f, 0] = out[f, 1] = out[f, 2] = nan
-        else:
-            out[f, 0] = r00 * x + r01 * y + r02 * z
-            out[f, 1] = r10 * x + r11 * y + r12 * z
-            out[f, 2] = r20 * x + r21 * y + r22 * z
+        k = np.uint64(3) * f
+        x, y, z = np.float64(wflat[k]), np.float64(wflat[k + np.uint64(1)]), np.float64(wflat[k + np.uint64(2)])
+        zero = (x == 0.0) & (y == 0.0) & (z == 0.0)
+        cx = r00 * x + r01 * y + r02 * z
+        cy = r10 * x + r11 * y + r12 * z
+        cz = r20 * x + r21 * y + r22 * z
+        oflat[k] = np.nan if zero else cx
+        oflat[k + np.uint64(1)] = np.nan if zero else cy
+        oflat[k + np.uint64(2)] = np.nan if zero else cz
 
 
 @kernel(inline="always")
