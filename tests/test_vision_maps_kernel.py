@@ -135,3 +135,13 @@ def test_object_ids_match_the_numpy_reference(normals):
     assert np.array_equal(ids, np.where(original >= 0, original - first[np.maximum(owner, 0)], -1))
     if normals:
         np.testing.assert_allclose(maps.normals, _flat_reference(original, mesh), rtol=0, atol=1e-6)
+
+
+def test_camera_rotation_turns_the_view_direction_to_minus_z_and_is_made_once():
+    camera = rasterkit.Camera.look_at((1.0, 2.0, 5.0), (0.2, -0.1, 0.0), up=(0, 1, 0), width=8, height=8)
+    r = camera.rotation()
+    assert r is camera.rotation() and not r.flags.writeable
+    np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-12)
+    view = np.subtract((0.2, -0.1, 0.0), (1.0, 2.0, 5.0))
+    np.testing.assert_allclose(r @ (view / np.linalg.norm(view)), [0, 0, -1], atol=1e-12)
+    np.testing.assert_allclose(r @ (0, 1, 0), [0, np.sqrt(1 - (r[2] @ (0, 1, 0)) ** 2), r[2] @ (0, 1, 0)], atol=1e-12)
