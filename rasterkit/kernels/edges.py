@@ -16,13 +16,15 @@ closed form the image does not depend on the number of bands or threads.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
 from rasterkit._jit import kernel
 from rasterkit.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
 from rasterkit.kernels.clip import project_segment
-from rasterkit.kernels.edge_setup import REC_PIX, REC_ROWS, REC_STEPS
+from rasterkit.kernels.edge_setup import (BLOCK, BLOCK_GENERAL, BLOCK_HI, BLOCK_LO, REC_PIX, REC_ROWS,
+                                          REC_STEPS)
 from rasterkit.kernels.intrinsics import fetch_add
 from rasterkit.kernels.line import blend_pixel, minor_steps, put_pixel, step_line, step_mask, step_range, tie_offset
 from rasterkit.kernels.paint import paint_marked, paint_tables
@@ -30,6 +32,13 @@ from rasterkit.kernels.paint import paint_marked, paint_tables
 MODE_PLAIN = 0
 MODE_DEPTH_TEST = 1
 MODE_ANTIALIAS = 2
+
+#: The scratch arrays of a draw (:func:`rasterkit._edges.scratch`): ``proj`` (N, 4) float64
+#: from :func:`rasterkit.kernels.edge_setup.project_vertices`; for plain edges ``pixels``
+#: (N,) int64, ``recs`` (REC_FIELDS, E) int32 and ``blocks`` (BLOCK_FIELDS, B) int32 from
+#: :func:`rasterkit.kernels.edge_setup.plain_setup`, and ``mask`` (H * W,) uint8, the bands'
+#: byte masks (empty arrays in the other modes).
+EdgeScratch = namedtuple("EdgeScratch", "proj pixels recs blocks mask")
 
 
 @kernel(inline="always")
@@ -200,29 +209,48 @@ def _band_segment(clip, proj, edges, e, ylo, yhi):
     return status, seg
 
 
+@kernel(inline="always")
+def _step_record(cflat, channels, rgba, width, recs, e):
+    """Step plain record ``e`` into ``cflat`` (``channels`` 1: a band's mask)."""
+    pix, count, r, two_a, two_n, ustride, vstride = _record_steps(width, recs, e)
+    if channels == 1:
+        step_mask(cflat, rgba[0], pix, count, r, two_a, two_n, ustride, vstride)
+    else:
+        step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride)
+
+
 @kernel(refcounts=False)
-def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, ylo, yhi):
+def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi):
     """Plain edges' parts in rows ``ylo .. yhi``: an edge with a record that lies wholly in
     the band is stepped from its record, any other by the general path without a depth
-    test. ``channels`` 1 is a band's mask. Returns the number of dropped edges."""
+    test; a block of plain records wholly outside the band is skipped, one wholly inside
+    stepped without a test per edge. ``channels`` 1 is a band's mask. Returns the number of
+    dropped edges."""
     dropped = 0
-    for e in range(edges.shape[0]):
-        rows = recs[REC_ROWS, e]
-        if rows >= 0:
-            jlo, jhi = rows & 0xFFFF, rows >> 16
-            if jhi < ylo or jlo > yhi:
+    m = edges.shape[0]
+    for b in range(blocks.shape[1]):
+        start, stop = b * BLOCK, min((b + 1) * BLOCK, m)
+        if blocks[BLOCK_GENERAL, b] == 0:
+            lo, hi = blocks[BLOCK_LO, b], blocks[BLOCK_HI, b]
+            if hi < ylo or lo > yhi:
                 continue
-            if jlo >= ylo and jhi <= yhi:
-                pix, count, r, two_a, two_n, ustride, vstride = _record_steps(width, recs, e)
-                if channels == 1:  # a band's mask
-                    step_mask(cflat, rgba[0], pix, count, r, two_a, two_n, ustride, vstride)
-                else:
-                    step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride)
+            if lo >= ylo and hi <= yhi:
+                for e in range(start, stop):
+                    _step_record(cflat, channels, rgba, width, recs, e)
                 continue
-        status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
-        dropped += status < 0
-        if status > 0:
-            _draw_bresenham(cflat, no_depth, width, channels, rgba, seg, ylo, yhi, False, 0.0)
+        for e in range(start, stop):
+            rows = recs[REC_ROWS, e]
+            if rows >= 0:
+                jlo, jhi = rows & 0xFFFF, rows >> 16
+                if jhi < ylo or jlo > yhi:
+                    continue
+                if jlo >= ylo and jhi <= yhi:
+                    _step_record(cflat, channels, rgba, width, recs, e)
+                    continue
+            status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
+            dropped += status < 0
+            if status > 0:
+                _draw_bresenham(cflat, no_depth, width, channels, rgba, seg, ylo, yhi, False, 0.0)
     return dropped
 
 
@@ -286,7 +314,7 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
     first marks its edges' pixels in the mask (one byte store per pixel, in a buffer a third
     the size of an RGB image that stays in the thread's cache), then clears its colour rows
     and paints the marked pixels 8 at a time."""
-    proj, _, recs, mask = scratch
+    proj, recs, blocks, mask = scratch.proj, scratch.recs, scratch.blocks, scratch.mask
     height, width, channels = color.shape
     cflat = color.reshape(color.size)
     no_depth = np.empty(0, np.float32)
@@ -308,8 +336,8 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
             fill_bytes(mask, lo, hi, zeros)
         elif clear:
             fill_bytes(cflat, lo * channels, hi * channels, pattern)
-        lost = _band_wire(target, no_depth, width, target_channels, ink, clip, proj, edges, recs, bounds[band],
-                          bounds[band + 1] - 1)
+        lost = _band_wire(target, no_depth, width, target_channels, ink, clip, proj, edges, recs, blocks,
+                          bounds[band], bounds[band + 1] - 1)
         if band == DROPPED_BAND:
             dropped = lost
         if marked:
@@ -361,10 +389,9 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
     background : (C,) uint8 or (0,)
         Written to every pixel of a band by the worker that draws the band, right before
         its edges (nothing is cleared when it is empty).
-    scratch : tuple
-        ``(proj, pixels, recs, mask)`` (:func:`rasterkit._edges.scratch`): ``proj`` (N, 4)
-        float64 from :func:`project_vertices`; the others are read by
-        :func:`draw_wire_bands` only.
+    scratch : EdgeScratch
+        :func:`rasterkit._edges.scratch`'s arrays: ``proj`` (N, 4) float64 from
+        :func:`project_vertices`; the others are read by :func:`draw_wire_bands` only.
 
     Notes
     -----
@@ -379,7 +406,7 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
     coordinate beyond ``MAX_COORDINATE`` (or NaN, inf) are dropped and counted. The image
     must be smaller than ``SEGMENT_GUARD_BAND`` on each side.
     """
-    proj = scratch[0]
+    proj = scratch.proj
     cflat, dflat, width, row_bytes, clear, pattern = _buffers(color, depth, background)
     dropped = 0
     while True:  # claim the next band until none is left
@@ -398,7 +425,7 @@ def draw_antialiased_bands(slot, counter, color, depth, clip, edges, rgba, mode,
     """:func:`draw_edge_bands` for anti-aliased edges (``MODE_ANTIALIAS``, depth-tested
     with ``MODE_DEPTH_TEST``): Xiaolin Wu's lines, compiled apart so that the other modes
     compile none of them."""
-    proj = scratch[0]
+    proj = scratch.proj
     cflat, dflat, width, row_bytes, clear, pattern = _buffers(color, depth, background)
     depth_test = (mode & MODE_DEPTH_TEST) != 0
     dropped = 0
