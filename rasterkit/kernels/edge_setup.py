@@ -144,7 +144,7 @@ _PACKED_LIMIT = 1 << 15
 _EDGE_WORK = 4
 #: Work of one image row in the plain path, in pixel steps: clearing its colour and mask
 #: bytes and painting the marked pixels (measured on ogre at 1920x1080: about 0.8 us a row,
-#: against 1.1 ms for its 1.2 million pixel steps; a band of rows with no edges is not free).
+#: against 1.1 ms for its 1.45 million pixel steps; a band of rows with no edges is not free).
 ROW_WORK = 800
 SETUP_CHUNKS = 16
 #: Records of each chunk that :func:`plain_setup` counts for the balance at most (about; it
