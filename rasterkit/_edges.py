@@ -85,7 +85,7 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
         counts = np.zeros((_setup.SETUP_CHUNKS, n_bins), np.int64)
         run_workers(_setup.plain_setup, pixels, edges, width, height, memory.recs, memory.blocks, counts,
                     threads=threads)
-    bounds = _setup.balanced_bands(counts, _setup.ROW_WORK if plain else 0, n_bands, height)
+    bounds = _setup.balanced_bands(_setup.band_work(counts, _setup.ROW_WORK if plain else 0, height), n_bands, height)
     if plain:  # a kernel of its own: a wireframe compiles nothing of the other modes
         dropped = run_workers(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,
                             threads=threads)

@@ -123,18 +123,18 @@ def test_rasterize_triangles_takes_packed_face_colours():
 def test_balanced_bands_cover_every_row_once_and_follow_the_work():
     counts = np.zeros((3, 100), np.int64)
     counts[1, 80:90] = 1000  # all the work in rows 640..719
-    bounds = line_kernels.balanced_bands(counts, 0, 4, 800)
+    bounds = line_kernels.balanced_bands(line_kernels.band_work(counts, 0, 800), 4, 800)
     assert bounds[0] == 0 and bounds[-1] == 800 and np.all(np.diff(bounds) >= 0)
     assert 640 <= bounds[1] <= bounds[2] <= bounds[3] <= 720
-    even = line_kernels.balanced_bands(np.zeros((2, 10), np.int64), 0, 3, 75)
+    even = line_kernels.balanced_bands(np.zeros(10, np.int64), 3, 75)
     assert even.tolist() == [0, 25, 50, 75]
     # work per row alone: equal shares of the rows, in whole bins of ROWS_PER_BIN (8) rows
-    rows = line_kernels.balanced_bands(np.zeros((2, 100), np.int64), 5, 4, 800)
+    rows = line_kernels.balanced_bands(line_kernels.band_work(np.zeros((2, 100), np.int64), 5, 800), 4, 800)
     assert rows.tolist() == [0, 200, 400, 600, 800]
     # 80 in each of bins 80..89 plus 1 for each row: the split leaves half of the total
     # above it, within one bin's work
     counts[1, 80:90] = 80
-    half = line_kernels.balanced_bands(counts, 1, 2, 800)
+    half = line_kernels.balanced_bands(line_kernels.band_work(counts, 1, 800), 2, 800)
     work = counts.sum(axis=0) + 8
     assert half[1] % 8 == 0 and abs(work[: half[1] // 8].sum() - work.sum() / 2) <= work.max()
 

@@ -89,22 +89,14 @@ def project_vertices(slot, counter, clip, proj, pixels, width, height, counts, p
 
 
 @kernel
-def balanced_bands(counts, row_work, n_bands, height):
+def balanced_bands(counts, n_bands, height):
     """Row boundaries ``(n_bands + 1,)`` splitting ``height`` rows into bands holding about
-    equal shares of the work: ``counts`` (chunks, n_bins) summed over its chunks, per
-    ``ROWS_PER_BIN`` rows, plus ``row_work`` for each row (equal row counts when all is
+    equal shares of ``counts`` (per ``ROWS_PER_BIN`` rows; equal row counts when all are
     zero). Band ``b`` is rows ``[bounds[b], bounds[b + 1])``, possibly empty."""
-    n_bins = counts.shape[1]
-    work = np.zeros(n_bins, np.int64)
-    for ch in range(counts.shape[0]):
-        for k in range(n_bins):
-            work[k] += counts[ch, k]
-    for k in range(n_bins):
-        work[k] += row_work * max(min(ROWS_PER_BIN, height - k * ROWS_PER_BIN), 0)
-    total = 0
-    for c in work:
-        total += c
     bounds = np.empty(n_bands + 1, np.int64)
+    total = 0
+    for c in counts:
+        total += c
     bounds[0] = 0
     acc = 0
     bin_ = 0
@@ -113,12 +105,22 @@ def balanced_bands(counts, row_work, n_bands, height):
             bounds[b] = b * height // n_bands
             continue
         goal = total * b // n_bands
-        while bin_ < n_bins and acc + work[bin_] <= goal:
-            acc += work[bin_]
+        while bin_ < counts.size and acc + counts[bin_] <= goal:
+            acc += counts[bin_]
             bin_ += 1
         bounds[b] = min(max(bin_ * ROWS_PER_BIN, bounds[b - 1]), height)
     bounds[n_bands] = height
     return bounds
+
+
+def band_work(counts, row_work, height):
+    """The work per ``ROWS_PER_BIN`` rows for :func:`balanced_bands`: ``counts`` (chunks,
+    n_bins) summed over its chunks, plus ``row_work`` for each of the bin's rows."""
+    work = counts.sum(axis=0)
+    if row_work:
+        work += row_work * ROWS_PER_BIN
+        work[-1] -= row_work * (len(work) * ROWS_PER_BIN - height)
+    return work
 
 
 #: Rows of the per-edge records of :func:`plain_setup`, each (E,) int32: the first pixel,
@@ -236,11 +238,8 @@ def _setup_block(first, second, count, width, pix, steps, rows, offset):
         jlo = y0 + dy * np.int32(dy < 0)
         jhi = y0 + y1 - jlo
         rows[u] = ok * ((jlo | (jhi << np.int32(16))) + one) - one
-    for k in range(np.uint64(count)):  # apart: the loop above vectorises better alone
-        r = rows[np.uint64(offset) + k]
-        ok = np.int32(r >= 0)
-        lo = min(lo, (r & np.int32(0xFFFF)) + (one - ok) * np.int32(BLOCK_EMPTY))
-        hi = max(hi, r >> np.int32(16))
+        lo = min(lo, jlo + (one - ok) * np.int32(BLOCK_EMPTY))
+        hi = max(hi, ok * (jhi + one) - one)
         general += one - ok
     return lo, hi, general
 

@@ -209,44 +209,38 @@ def _band_segment(clip, proj, edges, e, ylo, yhi):
     return status, seg
 
 
-@kernel(inline="always")
-def _step_record(cflat, channels, rgba, width, recs, e):
-    """Step plain record ``e`` into ``cflat`` (``channels`` 1: a band's mask)."""
-    pix, count, r, two_a, two_n, ustride, vstride = _record_steps(width, recs, e)
-    if channels == 1:
-        step_mask(cflat, rgba[0], pix, count, r, two_a, two_n, ustride, vstride)
-    else:
-        step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride)
-
-
 @kernel(refcounts=False)
 def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi):
     """Plain edges' parts in rows ``ylo .. yhi``: an edge with a record that lies wholly in
     the band is stepped from its record, any other by the general path without a depth
     test; a block of plain records wholly outside the band is skipped, one wholly inside
-    stepped without a test per edge. ``channels`` 1 is a band's mask. Returns the number of
-    dropped edges."""
+    stepped without testing each edge. ``channels`` 1 is a band's mask. Returns the number
+    of dropped edges. (One place steps records and one draws the general path: each is
+    compiled once; two places made the wireframe's first run compile 2 s longer.)"""
     dropped = 0
     m = edges.shape[0]
     for b in range(blocks.shape[1]):
-        start, stop = b * BLOCK, min((b + 1) * BLOCK, m)
-        if blocks[BLOCK_GENERAL, b] == 0:
-            lo, hi = blocks[BLOCK_LO, b], blocks[BLOCK_HI, b]
-            if hi < ylo or lo > yhi:
+        plain = blocks[BLOCK_GENERAL, b] == 0
+        lo, hi = blocks[BLOCK_LO, b], blocks[BLOCK_HI, b]
+        if plain and (hi < ylo or lo > yhi):
+            continue
+        inside = plain and lo >= ylo and hi <= yhi
+        for e in range(b * BLOCK, min((b + 1) * BLOCK, m)):
+            record = inside
+            if not inside:
+                rows = recs[REC_ROWS, e]
+                if rows >= 0:
+                    jlo, jhi = rows & 0xFFFF, rows >> 16
+                    if jhi < ylo or jlo > yhi:
+                        continue
+                    record = jlo >= ylo and jhi <= yhi
+            if record:
+                pix, count, r, two_a, two_n, ustride, vstride = _record_steps(width, recs, e)
+                if channels == 1:  # a band's mask
+                    step_mask(cflat, rgba[0], pix, count, r, two_a, two_n, ustride, vstride)
+                else:
+                    step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride)
                 continue
-            if lo >= ylo and hi <= yhi:
-                for e in range(start, stop):
-                    _step_record(cflat, channels, rgba, width, recs, e)
-                continue
-        for e in range(start, stop):
-            rows = recs[REC_ROWS, e]
-            if rows >= 0:
-                jlo, jhi = rows & 0xFFFF, rows >> 16
-                if jhi < ylo or jlo > yhi:
-                    continue
-                if jlo >= ylo and jhi <= yhi:
-                    _step_record(cflat, channels, rgba, width, recs, e)
-                    continue
             status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
             dropped += status < 0
             if status > 0:
