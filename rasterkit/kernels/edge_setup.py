@@ -44,8 +44,8 @@ def project_vertices(slot, counter, clip, proj, pixels, width, height, counts, p
     ``counts`` (VERTEX_CHUNKS, n_bins) int64, zeros on entry, gets the number of projected
     vertices of each chunk in each ``ROWS_PER_BIN`` rows of an image ``height`` rows tall
     (``n_bins`` rows' worth), a cheap estimate of where the drawing work lies; it stays zero
-    when ``pixels`` is given (the plain path balances its bands by :func:`record_work`, and
-    the count cost a sixth of this pass).
+    when ``pixels`` is given (the plain path balances its bands by the work that
+    :func:`plain_setup` counts, and the count cost a sixth of this pass).
 
     Unless ``points`` is empty, ``clip`` is made here first, row by row, as
     :func:`rasterkit.kernels.vertex.transform_points` makes it from ``points`` (N, 3) float64
