@@ -14,6 +14,7 @@ from rasterkit import _jit, _memory
 from rasterkit._jit import readonly, run_workers
 from rasterkit.kernels import edge_setup as _setup
 from rasterkit.kernels import edges as _kernels
+from rasterkit.kernels import edges_wu as _wu
 
 #: Fewer edges than this are drawn by the calling thread alone: handing work to another
 #: thread costs about 15 microseconds a pass.
@@ -90,7 +91,7 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
         dropped = run_workers(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,
                             threads=threads)
     else:
-        worker = _kernels.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _kernels.draw_edge_bands
+        worker = _wu.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _kernels.draw_edge_bands
         dropped = run_workers(worker, color, depth if depth is not None else _NO_DEPTH, clip, edges, rgba, mode, bias,
                             bounds, background, memory, threads=threads)
     return max(dropped)

@@ -44,9 +44,9 @@ def _band_worker(style: dict):
         from .kernels import tiles
 
         return tiles.draw_bands
-    from .kernels import edges
+    from .kernels import edges, edges_wu
 
-    return edges.draw_antialiased_bands if style["aa"] else edges.draw_wire_bands
+    return edges_wu.draw_antialiased_bands if style["aa"] else edges.draw_wire_bands
 
 
 def _cached(dispatcher) -> bool:
