@@ -91,8 +91,11 @@ def depth_at(u, u0f, du, z0, gz):
 
 
 @kernel(inline="always")
-def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
-    """Draw one segment's integer line, restricted to rows ``[ylo, yhi]`` of the image."""
+def _bresenham_start(seg, width, ylo, yhi):
+    """Where one segment's integer line starts in rows ``[ylo, yhi]`` of the image:
+    ``(count, pix, r, two_a, two_n, ustride, vstride, u0, u0f, du, z0, gz)``, the loop
+    state of :func:`rasterkit.kernels.line.step_line` (``count`` 0: nothing in the band)
+    and the depth terms of its major steps (:func:`depth_at` of ``u0 + t``)."""
     xi0, yi0 = math.floor(seg[0]), math.floor(seg[1])
     xi1, yi1 = math.floor(seg[3]), math.floor(seg[4])
     steep = abs(yi1 - yi0) > abs(xi1 - xi0)
@@ -113,22 +116,32 @@ def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_te
         tlo, thi, k, r = 0, n, 0, n - c  # the whole line is in the band: the usual case
     else:
         tlo, thi = step_range(u0, v0, n, a, sv, c, ulo, uhi, vlo, vhi)
-        if tlo > thi:
-            return
-        k, r = minor_steps(tlo, n, a, c)
+        k, r = minor_steps(tlo, n, a, c) if tlo <= thi else (0, 0)
     pix = (u0 + tlo) * ustride + (v0 + sv * k) * vstride
-    if depth_test:
-        du = u1f - u0f
-        gz = (z1 - z0) / du if du > 0.0 else 0.0
-        for t in range(tlo, thi + 1):
-            if depth_at(u0 + t, u0f, du, z0, gz) - bias <= dflat[pix]:
-                put_pixel(cflat, pix, channels, rgba)
-            r += 2 * a
-            step = r >= 2 * n
-            r -= 2 * n if step else 0
-            pix += ustride + (sv * vstride if step else 0)
-    else:
-        step_line(cflat, channels, rgba, pix, thi - tlo + 1, r, 2 * a, 2 * n, ustride, sv * vstride)
+    du = u1f - u0f
+    gz = (z1 - z0) / du if du > 0.0 else 0.0
+    return (max(thi - tlo + 1, 0), pix, r, 2 * a, 2 * n, ustride, sv * vstride, u0 + tlo, u0f, du, z0, gz)
+
+
+@kernel(inline="always")
+def _draw_bresenham(cflat, width, channels, rgba, seg, ylo, yhi):
+    """Draw one segment's integer line, restricted to rows ``[ylo, yhi]`` of the image."""
+    count, pix, r, two_a, two_n, ustride, vstride, _, _, _, _, _ = _bresenham_start(seg, width, ylo, yhi)
+    step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride)
+
+
+@kernel(inline="always")
+def _draw_bresenham_tested(cflat, dflat, width, channels, rgba, seg, ylo, yhi, bias):
+    """:func:`_draw_bresenham` with the depth test: a pixel is drawn where the segment's
+    depth at its major-axis centre, less ``bias``, is at most the depth buffer's."""
+    count, pix, r, two_a, two_n, ustride, vstride, u, u0f, du, z0, gz = _bresenham_start(seg, width, ylo, yhi)
+    for t in range(count):
+        if depth_at(u + t, u0f, du, z0, gz) - bias <= dflat[pix]:
+            put_pixel(cflat, pix, channels, rgba)
+        r += two_a
+        step = r >= two_n
+        r -= two_n if step else 0
+        pix += ustride + (vstride if step else 0)
 
 
 @kernel(inline="always")
@@ -157,7 +170,7 @@ def band_segment(clip, proj, edges, e, ylo, yhi):
 
 
 @kernel(refcounts=False)
-def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi):
+def _band_wire(cflat, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi):
     """Plain edges' parts in rows ``ylo .. yhi``: an edge with a record that lies wholly in
     the band is stepped from its record, any other by the general path without a depth
     test; a block of plain records wholly outside the band is skipped, one wholly inside
@@ -191,7 +204,7 @@ def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, 
             status, seg = band_segment(clip, proj, edges, e, ylo, yhi)
             dropped += status < 0
             if status > 0:
-                _draw_bresenham(cflat, no_depth, width, channels, rgba, seg, ylo, yhi, False, 0.0)
+                _draw_bresenham(cflat, width, channels, rgba, seg, ylo, yhi)
     return dropped
 
 
@@ -204,7 +217,7 @@ def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, y
         status, seg = band_segment(clip, proj, edges, e, ylo, yhi)
         dropped += status < 0
         if status > 0:
-            _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, True, bias)
+            _draw_bresenham_tested(cflat, dflat, width, channels, rgba, seg, ylo, yhi, bias)
     return dropped
 
 
@@ -245,7 +258,6 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
     proj, recs, blocks, mask = scratch.proj, scratch.recs, scratch.blocks, scratch.mask
     height, width, channels = color.shape
     cflat = color.reshape(color.size)
-    no_depth = np.empty(0, np.float32)
     clear = background.size == channels
     pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
     marked = clear and mask.size >= height * width
@@ -264,7 +276,7 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
             fill_bytes(mask, lo, hi, zeros)
         elif clear:
             fill_bytes(cflat, lo * channels, hi * channels, pattern)
-        lost = _band_wire(target, no_depth, width, target_channels, ink, clip, proj, edges, recs, blocks,
+        lost = _band_wire(target, width, target_channels, ink, clip, proj, edges, recs, blocks,
                           bounds[band], bounds[band + 1] - 1)
         if band == DROPPED_BAND:
             dropped = lost
