@@ -18,6 +18,8 @@ sum is added in the samples' fixed order.
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from . import _memory
@@ -28,7 +30,7 @@ from .camera.lens import sample_matrices, vignette_factor
 from .framebuffer import Framebuffer, buffer_bytes
 from .samples import _check as _check_samples, lens_points, pixel_offsets
 
-__all__ = ["check", "extra_bytes", "render_samples"]
+__all__ = ["check", "extra_bytes", "grid_offsets", "pinhole", "render_samples"]
 
 
 def check(samples, vignette) -> tuple[int, float]:
@@ -52,16 +54,19 @@ def extra_bytes(width: int, height: int, alpha: bool, samples: int, vignette: fl
     return total
 
 
-def render_samples(camera, samples: int, vignette: float, background, ids: bool, draw, centre) -> Framebuffer:
+def render_samples(camera, samples: int, vignette: float, background, ids: bool, draw, share, centre) -> Framebuffer:
     """The averaged render.
 
-    ``draw(fb, matrix)`` draws one sample into ``fb`` (clearing it); ``centre(ids)`` renders
-    the centre sample into a new framebuffer (``samples=1``)."""
+    ``draw(fb, matrix, shared=None)`` draws one sample into ``fb`` (clearing it); for a
+    pinhole camera ``shared`` is ``(setup, sample)``: ``share()``'s setup (made once, before
+    the first sample; None when nothing is shared), and the sample's offset from the pixel
+    centres in 1/256 pixel, by which ``matrix`` moves the image. ``centre(ids)`` renders the
+    centre sample into a new framebuffer (``samples=1``)."""
     if samples == 1:
         fb = centre(ids)
     else:
         fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
-        _average(fb.color, camera, samples, background, draw)
+        _average(fb.color, camera, samples, background, draw, share)
         _centre_buffers(fb, ids, centre)
     factor = vignette_factor(camera, vignette)
     if factor is not None:
@@ -72,23 +77,47 @@ def render_samples(camera, samples: int, vignette: float, background, ids: bool,
     return fb
 
 
-def _average(color: np.ndarray, camera, samples: int, background, draw) -> None:
+def pinhole(camera) -> bool:
+    """Whether every sample of ``camera`` sees through one point: a parallel camera, or a
+    perspective one without an aperture (no lens)."""
+    return camera.kind != "perspective" or camera.aperture == 0.0
+
+
+def grid_offsets(samples: int) -> np.ndarray:
+    """The pixel offsets of ``samples`` samples (:func:`rasterkit.samples.pixel_offsets`)
+    rounded to the nearest 1/256 pixel, in 1/256 pixel, (n, 2) int64 in -128..128."""
+    return np.rint(pixel_offsets(samples) * 256.0).astype(np.int64)
+
+
+def _draws(camera, samples: int, draw, share):
+    """One ``draw(fb)`` per sample: through its matrix, or (pinhole) at its offset on the
+    1/256-pixel grid, the faces from the setup ``share()`` makes once."""
+    if not pinhole(camera):
+        return [partial(draw, matrix=m) for m in sample_matrices(camera, pixel_offsets(samples), lens_points(samples))]
+    offsets = grid_offsets(samples)
+    matrices = sample_matrices(camera, offsets / 256.0, np.zeros((samples, 2)))
+    setup = share()
+    return [partial(draw, matrix=m, shared=None if setup is None else (setup, (int(x), int(y))))
+            for m, (x, y) in zip(matrices, offsets.tolist())]
+
+
+def _average(color: np.ndarray, camera, samples: int, background, draw, share) -> None:
     """Draw every sample into one scratch framebuffer, sum them (the first sample is written,
     the others added: no clear) and divide once, with rounding, into ``color``."""
     scratch = Framebuffer(camera.width, camera.height, background=background, cleared=False)
-    matrices = sample_matrices(camera, pixel_offsets(samples), lens_points(samples))
+    draws = _draws(camera, samples, draw, share)
     if color.shape[2] == 4:  # transparent: premultiplied sums (kernels.accumulate)
         pixels = color.shape[0] * color.shape[1]
         premultiplied = _memory.take((pixels, 3), np.uint32)
         alpha = _memory.take((pixels,), np.uint32)
-        for k, matrix in enumerate(matrices):
-            draw(scratch, matrix)
+        for k, draw_sample in enumerate(draws):
+            draw_sample(scratch)
             run_workers(add_sample_rgba, premultiplied, alpha, scratch.color.reshape(pixels, 4), k == 0)
         run_workers(average_samples_rgba, premultiplied, alpha, color.reshape(pixels, 4), samples)
         return
     total = _memory.take((color.size,), np.uint16)
-    for k, matrix in enumerate(matrices):
-        draw(scratch, matrix)
+    for k, draw_sample in enumerate(draws):
+        draw_sample(scratch)
         run_workers(add_sample, total, scratch.color.reshape(-1), k == 0)
     run_workers(average_samples, total, color.reshape(-1), 1.0 / samples, (samples // 2 + 0.5) / samples)
 

@@ -197,6 +197,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     else:
         fb = _accumulate.render_samples(camera, samples, vignette, background, ids or normals,
                                         partial(_draw_frame, mesh, options),
+                                        partial(_shared_setup, mesh, camera, options),
                                         partial(_frame, mesh, camera, options, background))
     fb.camera = camera
     if normals or object_faces is not None:  # imported here: a plain render loads none of it
@@ -238,9 +239,11 @@ def _frame(mesh: Mesh, camera: Camera, options: _Options, background, ids: bool)
     return fb
 
 
-def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarray) -> None:
+def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarray, shared=None) -> None:
     """Draw the mesh into every buffer of ``fb`` (cleared on the way) through the world ->
-    raster ``matrix``."""
+    raster ``matrix``; ``shared``: ``(triangles, sample)``, the faces from a setup shared by
+    the samples of a pinhole render (:func:`_shared_setup`), drawn at ``sample``, the
+    offset in 1/256 pixel that ``matrix`` moves the image by (its edges and points)."""
     if options.mode == "wire":  # no depth buffer: it stays "farthest" until someone asks
         if fb.ids is not None:
             fb.ids.fill(-1)
@@ -248,14 +251,29 @@ def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarr
         _draw_edges(fb, mesh, None, options, depth_test=False, clear=True,
                     transform=(mesh.vertices, matrix))
     else:
-        clip = transform_points(mesh.vertices, matrix)
-        _draw_triangles(fb, mesh, clip, options)
+        clip = None if shared is not None and options.mode == "solid" else transform_points(mesh.vertices, matrix)
+        _draw_triangles(fb, mesh, clip, options, shared)
         if options.mode != "solid":
             _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
     if options.points is not None:
         from .points import draw_points
 
         draw_points(fb, options.points, matrix)
+
+
+def _shared_setup(mesh: Mesh, camera: Camera, options: _Options):
+    """The faces set up once for every sample of a pinhole render (through the centre
+    sample's matrix), or None when the mode draws none."""
+    if options.mode == "wire":
+        return None
+    from ._shared_triangles import SharedTriangles
+
+    clip = transform_points(mesh.vertices, camera.world_to_raster())
+    offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
+    face_colors, vertex_colors = _shade(mesh, options) if options.mode != "hidden" else (None, None)
+    return SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=options.mode != "hidden",
+                           face_colors=face_colors, vertex_colors=vertex_colors, cull=options.cull,
+                           depth_offset=offset)
 
 
 def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha: bool, ids: bool) -> int:
@@ -284,9 +302,15 @@ def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha:
     return total
 
 
-def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
-                    options: _Options) -> None:
+def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, options: _Options, shared=None) -> None:
     """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer."""
+    if shared is not None:  # a sample of a pinhole render: the faces are set up
+        triangles, sample = shared
+        hidden = options.mode == "hidden"
+        depth = None if options.mode == "solid" and not options.keep_depth else fb.uncleared_depth()
+        triangles.draw(None if hidden else fb.color, depth, sample=sample,
+                       clear=() if hidden else tuple(int(c) for c in fb.background[: fb.color.shape[2]]))
+        return
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     if options.mode == "hidden":  # the colour buffer is cleared by the edge pass
         rasterize_triangles(None, fb.uncleared_depth(), clip, mesh.faces, ids=fb.ids,

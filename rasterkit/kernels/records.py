@@ -37,6 +37,13 @@ Shading = namedtuple("Shading", "mode n_faces fan_face packed vertex_colors face
 #: C) uint8; whether to write face indices (``write_ids``) into ``ids`` (H, W) int32.
 Target = namedtuple("Target", "depth keep_depth height color write_ids ids")
 
+#: The point of each pixel that :func:`rasterkit.kernels.tiles.draw_bands` samples: ``x, y``
+#: int64, its offset from the pixel centre in fixed point (1/256 pixel, raster x right, y
+#: down; ``0, 0`` the centre), and ``padded``, whether the setup padded the records' boxes
+#: by a pixel (:func:`rasterkit.kernels.setup.setup_triangle`'s ``pad``, for records drawn
+#: at several sample points): each triangle is then bounded again for the sample point.
+Sample = namedtuple("Sample", "padded x y")
+
 #: Clearing a band before it is drawn: when ``on``, depth +inf, ids -1 and the band's part of
 #: ``color_bytes`` (the colour buffer as 1-D uint8, empty without one) to ``pattern``, the
 #: background repeated over 24 bytes (:func:`rasterkit.kernels.clear.fill_bytes`).

@@ -96,7 +96,7 @@ def _empty_box(t, tri_box):
 
 
 @kernel(inline="always")
-def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode, t, tri_xy, tri_z, tri_box):
+def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode, pad, t, tri_xy, tri_z, tri_box):
     """Cull and bound a fixed-point triangle into record ``t``.
 
     Parameters
@@ -108,6 +108,12 @@ def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode,
         Image size; the bounding box is clamped to it.
     cull_mode : int
         A :mod:`rasterkit.kernels.cull` mode.
+    pad : int
+        0, or 1 for records drawn at sample points other than the pixel centres: the box
+        grows by a pixel on every side (before it is clamped to the image), so that it
+        holds the pixels of every sample point less than a pixel from the centres
+        (:func:`rasterkit.kernels.triangle.raster_band` bounds the triangle again for its
+        sample point), and a triangle that covers no pixel centre is kept all the same.
     t : int
         Record to write.
     tri_xy, tri_z, tri_box
@@ -126,8 +132,8 @@ def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode,
         return STATUS_CULLED
     i_lo, i_hi = pixel_bounds(min(x0, x1, x2), max(x0, x1, x2))
     j_lo, j_hi = pixel_bounds(min(y0, y1, y2), max(y0, y1, y2))
-    i_lo, i_hi = max(i_lo, 0), min(i_hi, width - 1)
-    j_lo, j_hi = max(j_lo, 0), min(j_hi, height - 1)
+    i_lo, i_hi = max(i_lo - pad, 0), min(i_hi + pad, width - 1)
+    j_lo, j_hi = max(j_lo - pad, 0), min(j_hi + pad, height - 1)
     if i_lo > i_hi or j_lo > j_hi:
         return STATUS_EMPTY
     if area2 < 0:  # store clockwise on screen, so every edge function is positive inside
@@ -203,14 +209,14 @@ def count_bands(t, tri_box, band_shift, band_counts, ch):
 
 
 @kernel(inline="always")
-def _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, tri_xy, tri_z, tri_box):
+def _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, pad, tri_xy, tri_z, tri_box):
     """Set up face ``f`` (FACE_INSIDE) into record ``f`` from the vertex pass; its status."""
     a, b, c = np.uint64(faces[f, 0]), np.uint64(faces[f, 1]), np.uint64(faces[f, 2])
     return setup_triangle(
         np.int64(corners[a, _V_X]), np.int64(corners[a, _V_Y]), depths[a, _V_Z],
         np.int64(corners[b, _V_X]), np.int64(corners[b, _V_Y]), depths[b, _V_Z],
         np.int64(corners[c, _V_X]), np.int64(corners[c, _V_Y]), depths[c, _V_Z],
-        width, height, cull_mode, f, tri_xy, tri_z, tri_box,
+        width, height, cull_mode, pad, f, tri_xy, tri_z, tri_box,
     )
 
 
@@ -248,6 +254,7 @@ def _setup_chunk(
     width,
     height,
     cull_mode,
+    pad,
     records,
     cuts,
     counts,
@@ -280,7 +287,8 @@ def _setup_chunk(
         cut_mask[f] = mask
         n_fan[f] = 0
         if cls == FACE_INSIDE:
-            outcome = _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, tri_xy, tri_z, tri_box)
+            outcome = _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, pad, tri_xy, tri_z,
+                                       tri_box)
             if outcome == STATUS_DRAWN:
                 count_bands(f, tri_box, band_shift, band_counts, ch)
                 seen[start + n_seen] = f
@@ -302,8 +310,8 @@ def _setup_chunk(
 
 
 @kernel
-def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode, records, cuts, counts, lit, listed,
-                cut):
+def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode, pad, records, cuts, counts, lit,
+                listed, cut):
     """Face pass: classify every face; set up the ones that need no cutting.
 
     Record ``f`` belongs to face ``f`` (empty unless the face is drawn uncut). Faces that
@@ -317,6 +325,8 @@ def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode,
     corners, depths
         From :func:`setup_vertices`.
     width, height, cull_mode : int
+    pad : int
+        0, or 1 to pad every box by a pixel (:func:`setup_triangle`).
     records : Records
         :class:`rasterkit.kernels.records.Records` with at least M records.
     cuts : Cuts
@@ -349,5 +359,5 @@ def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode,
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        cut[ch] = _setup_chunk(ch, faces, corners, depths, width, height, cull_mode, records, cuts, counts, lit,
-                               listed)
+        cut[ch] = _setup_chunk(ch, faces, corners, depths, width, height, cull_mode, pad, records, cuts, counts,
+                               lit, listed)

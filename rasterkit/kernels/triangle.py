@@ -270,12 +270,20 @@ def offset_depths(slot, counter, tri_xy, tri_z, tri_box, n_records, factor, unit
 
 
 @kernel(inline="always")
-def raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, lid, row_lo, row_hi):
-    """Rasterize record ``t`` into image rows ``[y0, y1)`` (one band).
+def raster_band(t, tag, tri_xy, tri_z, tri_box, sample, y0, y1, depth, lid, row_lo, row_hi):
+    """Rasterize record ``t`` into image rows ``[y0, y1)`` (one band), sampled at ``sample``.
 
     Triangles at most BLOCK pixels wide test a whole block per row for coverage
     (:func:`_raster_masked`); wider ones compute each row's span (:func:`_raster_spans`).
     Both give the same pixels and ids (depths to float32 rounding).
+
+    Sampling each pixel at ``P + (sx, sy) / 256`` instead of its centre ``P`` is the same,
+    to the bit, as drawing the record whose snapped vertices are moved by ``-(sx, sy)``
+    (what the setup makes of a scene whose raster image is moved by the same exact
+    amount): every edge function, depth plane and box below is computed from those moved
+    vertices, the top-left rule (which depends on the edges' directions only) included.
+    With padded boxes the triangle's box is worked out again for the moved vertices, as
+    :func:`rasterkit.kernels.setup.setup_triangle` bounds it.
 
     Parameters
     ----------
@@ -285,6 +293,9 @@ def raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, lid, row_lo, row_
         What to write into ``lid`` where the triangle is visible (its face index).
     tri_xy, tri_z, tri_box
         Record arrays.
+    sample : Sample
+        :class:`rasterkit.kernels.records.Sample`: the sample point's offset from the
+        pixel centres (fixed point), and whether the boxes are padded.
     y0, y1 : int
         The band's rows.
     depth : (>= y1 - y0, W) float32
@@ -300,16 +311,25 @@ def raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, lid, row_lo, row_
     int
         Number of covered pixel centres (fragments) that reached the depth test.
     """
-    j_lo, j_hi = max(tri_box[t, 2], y0), min(tri_box[t, 3], y1 - 1)
+    padded, sx, sy = sample
+    x0, y0_, x1 = np.int64(tri_xy[t, 0]) - sx, np.int64(tri_xy[t, 1]) - sy, np.int64(tri_xy[t, 2]) - sx
+    y1_, x2, y2 = np.int64(tri_xy[t, 3]) - sy, np.int64(tri_xy[t, 4]) - sx, np.int64(tri_xy[t, 5]) - sy
+    if padded:  # the box of the moved vertices, clamped to the image (its rows to the band)
+        i_lo, i_hi = pixel_bounds(min(x0, x1, x2), max(x0, x1, x2))
+        j_lo, j_hi = pixel_bounds(min(y0_, y1_, y2), max(y0_, y1_, y2))
+        i_lo, i_hi = max(i_lo, 0), min(i_hi, np.int64(depth.shape[1]) - 1)
+        j_lo, j_hi = max(j_lo, np.int64(y0)), min(j_hi, np.int64(y1) - 1)
+        if i_lo > i_hi:
+            return 0
+    else:
+        i_lo, i_hi = np.int64(tri_box[t, 0]), np.int64(tri_box[t, 1])
+        j_lo, j_hi = max(np.int64(tri_box[t, 2]), np.int64(y0)), min(np.int64(tri_box[t, 3]), np.int64(y1) - 1)
     if j_lo > j_hi:
         return 0
-    x0, y0_, x1 = np.int64(tri_xy[t, 0]), np.int64(tri_xy[t, 1]), np.int64(tri_xy[t, 2])
-    y1_, x2, y2 = np.int64(tri_xy[t, 3]), np.int64(tri_xy[t, 4]), np.int64(tri_xy[t, 5])
     e0, e1, e2 = triangle_edges(x0, y0_, x1, y1_, x2, y2)
     zc, gx, gy = depth_plane(
         x0, y0_, x1, y1_, x2, y2, float(tri_z[t, 0]), float(tri_z[t, 1]), float(tri_z[t, 2])
     )
-    i_lo, i_hi = np.int64(tri_box[t, 0]), np.int64(tri_box[t, 1])
     tag = np.int32(tag)
     if i_hi - i_lo < BLOCK and depth.shape[1] >= BLOCK:
         return _raster_masked(

@@ -1,0 +1,97 @@
+"""Triangles set up once and drawn at every sample point of a pinhole multi-sample render.
+
+The samples of a render through a pinhole (:mod:`rasterkit._accumulate`) differ only by
+where each pixel is sampled: ``P + s`` for the pixel centre ``P`` and a sub-pixel offset
+``s``. When ``s`` is a multiple of 1/256 pixel (the fixed-point grid the vertices are
+snapped to, :data:`rasterkit.kernels.setup.SUBPIXEL_BITS`), sampling at ``P + s`` is the
+same, to the bit, as drawing the scene moved by ``-s`` at the pixel centres: the snapped
+vertices move by exactly ``-256 s`` fixed-point units, and nothing else of a triangle's
+record changes (its depths, its winding, whether it is culled or of zero area, its face's
+colour). So the vertex pass, the face pass (clipping, culling, snapping, flat colours),
+the cut faces' fans, the binning, the polygon offset and the smooth colours'
+perspective-correct terms are done once, with every box padded by a pixel, and each sample
+only draws the bands (:func:`rasterkit.kernels.tiles.draw_bands`): its rasterizer moves
+each record's vertices by ``-256 s`` and bounds it again (:func:`rasterkit.kernels.triangle.raster_band`),
+and the resolve interpolates smooth colours at ``P + s``.
+
+Exactly equal to a full draw of the moved vertices: every face that no clipping plane cuts
+(the cut faces' fans are cut once, where the centre sample's vertices lie: the same
+polygons, whose corners a moved draw would round differently). Smooth colours are
+evaluated at the sample point from the centre's barycentric terms, which a moved draw would
+round differently too (the same interpolation, to float64 rounding).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit._triangles import draw_prepared, prepare
+from rasterkit.triangles import _background, _check_buffer, _check_depth, _check_geometry, _depth_offset, _shading, \
+    _threads
+from rasterkit.options import CULL
+
+__all__ = ["SharedTriangles"]
+
+
+class SharedTriangles:
+    """Triangles set up once (as :func:`rasterkit.triangles.rasterize_triangles` would draw
+    them), for drawing at several sample points.
+
+    Parameters
+    ----------
+    clip, faces, face_colors, vertex_colors, cull, depth_offset, threads
+        As for :func:`rasterkit.triangles.rasterize_triangles`.
+    width, height : int
+        The image size.
+    color : bool
+        Whether colours are drawn (then ``face_colors`` or ``vertex_colors`` is needed).
+
+    The setup lives in this thread's scratch memory (:mod:`rasterkit._triangles`): it can
+    be drawn until the next draw of triangles of this thread (:meth:`draw` raises after that).
+    """
+
+    def __init__(self, clip, faces, *, width, height, color, face_colors=None, vertex_colors=None, cull="back",
+                 depth_offset=(0.0, 0.0), threads=None):
+        _check_depth(np.empty((height, width), np.float32))  # the size
+        _check_geometry(clip, faces)
+        if cull not in CULL:
+            raise ValueError(f"cull must be one of {sorted(CULL)}, got {cull!r}")
+        face_colors, vertex_colors, lighting = _shading(True if color else None, face_colors, vertex_colors, faces,
+                                                        clip)
+        self._threads = _threads(threads)
+        self._faces = faces
+        self._color = bool(color)
+        self._prepared = prepare(clip, faces, face_colors, vertex_colors, cull, _depth_offset(depth_offset),
+                                 width=width, height=height, color=self._color, ids=False, threads=self._threads,
+                                 lighting=lighting, padded=True)
+
+    def draw(self, color, depth, *, sample=(0, 0), clear=None) -> int:
+        """Draw the triangles sampled at ``sample`` from each pixel centre, ``(x, y)``
+        integers in 1/256 pixel, each in -256..256 (raster x right, y down); returns the
+        fragments depth-tested.
+
+        ``color`` (H, W, C) uint8 (None exactly when the setup was made without colours),
+        ``depth`` (H, W) float32 or None and ``clear`` as for
+        :func:`rasterkit.triangles.rasterize_triangles`. The image is what that function
+        draws of the vertices moved by ``-sample / 256`` pixel (see the module docstring).
+        """
+        prepared = self._prepared
+        shape = (prepared.height, prepared.width)
+        if (color is not None) != self._color:
+            raise ValueError("color must be given exactly when the triangles were set up with colours")
+        if color is not None:
+            if not (isinstance(color, np.ndarray) and color.ndim == 3 and color.shape[2] in (3, 4)):
+                raise ValueError("color must be an (H, W, 3 or 4) uint8 array")
+            _check_buffer("color", color, np.uint8, shape + (color.shape[2],))
+        elif depth is None:
+            raise ValueError("depth can be None only when color is given")
+        if depth is not None:
+            _check_buffer("depth", depth, np.float32, shape)
+        for name, buffer in (("color", color), ("depth", depth)):
+            if buffer is not None and np.may_share_memory(self._faces, buffer):
+                raise ValueError(f"faces must not share memory with {name}, the buffer drawn into")
+        x, y = sample
+        if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and -256 <= v <= 256 for v in (x, y)):
+            raise ValueError(f"sample must be two integers in -256..256 (1/256 pixel), got {sample!r}")
+        return draw_prepared(prepared, color, depth, None, _background(clear, color), threads=self._threads,
+                             sample=(int(x), int(y)))
