@@ -58,15 +58,18 @@ def render_samples(camera, samples: int, vignette: float, background, ids: bool,
     """The averaged render.
 
     ``draw(fb, matrix, shared=None)`` draws one sample into ``fb`` (clearing it); for a
-    pinhole camera ``shared`` is ``(setup, sample)``: ``share()``'s setup (made once, before
-    the first sample; None when nothing is shared), and the sample's offset from the pixel
-    centres in 1/256 pixel, by which ``matrix`` moves the image. ``centre(ids)`` renders the
-    centre sample into a new framebuffer (``samples=1``)."""
+    pinhole camera ``shared`` is ``(setup, sample)``: the faces set up once
+    (:class:`rasterkit._shared_triangles.SharedTriangles`, None when the mode draws none) and
+    the sample's offset from the pixel centres in 1/256 pixel, by which ``matrix`` moves the
+    image. ``share()`` makes the setup: ``(setup, whole)``, ``whole`` when the setup's faces
+    are all a sample draws (then an RGB render draws and averages every sample in one pass,
+    :meth:`SharedTriangles.draw_average`). ``centre(ids)`` renders the centre sample into a
+    new framebuffer (``samples=1``)."""
     if samples == 1:
         fb = centre(ids)
     else:
         fb = Framebuffer(camera.width, camera.height, background=background, ids=ids, cleared=False)
-        _average(fb.color, camera, samples, background, draw, share)
+        _average(fb, camera, samples, background, draw, share)
         _centre_buffers(fb, ids, centre)
     factor = vignette_factor(camera, vignette)
     if factor is not None:
@@ -89,23 +92,25 @@ def grid_offsets(samples: int) -> np.ndarray:
     return np.rint(pixel_offsets(samples) * 256.0).astype(np.int64)
 
 
-def _draws(camera, samples: int, draw, share):
-    """One ``draw(fb)`` per sample: through its matrix, or (pinhole) at its offset on the
-    1/256-pixel grid, the faces from the setup ``share()`` makes once."""
-    if not pinhole(camera):
-        return [partial(draw, matrix=m) for m in sample_matrices(camera, pixel_offsets(samples), lens_points(samples))]
-    offsets = grid_offsets(samples)
-    matrices = sample_matrices(camera, offsets / 256.0, np.zeros((samples, 2)))
-    setup = share()
-    return [partial(draw, matrix=m, shared=None if setup is None else (setup, (int(x), int(y))))
-            for m, (x, y) in zip(matrices, offsets.tolist())]
-
-
-def _average(color: np.ndarray, camera, samples: int, background, draw, share) -> None:
-    """Draw every sample into one scratch framebuffer, sum them (the first sample is written,
-    the others added: no clear) and divide once, with rounding, into ``color``."""
+def _average(fb: Framebuffer, camera, samples: int, background, draw, share) -> None:
+    """Draw every sample, sum them and divide once, with rounding, into ``fb.color``: in one
+    pass over the bands when a pinhole render's samples draw only the shared faces in RGB,
+    else each sample into one scratch framebuffer (the first sample written into the sums,
+    the others added: no clear)."""
+    color = fb.color
+    if pinhole(camera):
+        offsets = grid_offsets(samples)
+        matrices = sample_matrices(camera, offsets / 256.0, np.zeros((samples, 2)))
+        setup, whole = share()
+        if whole and color.shape[2] == 3:
+            setup.draw_average(color, offsets, clear=tuple(int(c) for c in fb.background[:3]))
+            return
+        draws = [partial(draw, matrix=m, shared=None if setup is None else (setup, (int(x), int(y))))
+                 for m, (x, y) in zip(matrices, offsets.tolist())]
+    else:
+        matrices = sample_matrices(camera, pixel_offsets(samples), lens_points(samples))
+        draws = [partial(draw, matrix=m) for m in matrices]
     scratch = Framebuffer(camera.width, camera.height, background=background, cleared=False)
-    draws = _draws(camera, samples, draw, share)
     if color.shape[2] == 4:  # transparent: premultiplied sums (kernels.accumulate)
         pixels = color.shape[0] * color.shape[1]
         premultiplied = _memory.take((pixels, 3), np.uint32)

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit._triangles import draw_prepared, prepare
+from rasterkit._triangles import average_prepared, draw_prepared, prepare
 from rasterkit.triangles import _background, _check_buffer, _check_depth, _check_geometry, _depth_offset, _shading, \
     _threads
 from rasterkit.options import CULL
@@ -95,3 +95,23 @@ class SharedTriangles:
             raise ValueError(f"sample must be two integers in -256..256 (1/256 pixel), got {sample!r}")
         return draw_prepared(prepared, color, depth, None, _background(clear, color), threads=self._threads,
                              sample=(int(x), int(y)))
+
+    def draw_average(self, color, samples, *, clear) -> int:
+        """Draw the triangles at every sample point of ``samples`` ((n, 2) integers in
+        -256..256, 1/256 pixel; 1 <= n <= 256) and write the average into ``color`` (H, W,
+        3) uint8, cleared to ``clear`` (3 integers) first: what :meth:`draw` of each sample
+        into an image cleared to ``clear``, the images summed and divided with rounding
+        (:func:`rasterkit.kernels.accumulate.average_samples`), gives, to the bit, in one pass
+        over the bands (:mod:`rasterkit.kernels.sample_bands`). Returns the fragments."""
+        prepared = self._prepared
+        if not self._color or not isinstance(color, np.ndarray) or color.ndim != 3 or color.shape[2] != 3:
+            raise ValueError("draw_average draws colours into an (H, W, 3) uint8 image")
+        _check_buffer("color", color, np.uint8, (prepared.height, prepared.width, 3))
+        if np.may_share_memory(self._faces, color):
+            raise ValueError("faces must not share memory with color, the buffer drawn into")
+        offsets = np.asarray(samples)
+        if offsets.dtype.kind not in "iu" or offsets.ndim != 2 or offsets.shape[1] != 2 \
+                or not 1 <= offsets.shape[0] <= 256 or offsets.size and np.abs(offsets).max() > 256:
+            raise ValueError("samples must be (n, 2) integers in -256..256 (1/256 pixel), 1 <= n <= 256")
+        return average_prepared(prepared, color, _background(clear, color), offsets.astype(np.int64),
+                                threads=self._threads)

@@ -23,7 +23,7 @@ from rasterkit.limits import check_memory
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.kernels.fans import count_fans, setup_cut_faces
-from rasterkit.kernels.records import Clear, Counts, Cuts, Lit, Records, Sample, Shading, Target
+from rasterkit.kernels.records import Clear, Counts, Cuts, Lit, Records, Sample, Samples, Shading, Target
 from rasterkit.kernels.setup import (
     MAX_FAN,
     N_CHUNKS,
@@ -37,7 +37,7 @@ from rasterkit.kernels.setup import (
     setup_vertices,
 )
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, SHADE_TAGGED, bary_matrices, pack_colors
-from rasterkit.kernels.tiles import BAND_HEIGHT, BAND_SHIFT, bin_cursors, bin_records, draw_bands, n_bands, slot_rows
+from rasterkit.kernels.tiles import BAND_HEIGHT, BAND_SHIFT, SLOT_GUARD_BYTES, bin_cursors, bin_records, draw_bands, n_bands, slot_rows
 from rasterkit.kernels.triangle import offset_depths
 
 CULL_CODES = {"none": CULL_NONE, "back": CULL_BACK, "front": CULL_FRONT}
@@ -314,6 +314,29 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     return int(sum(run_workers(draw_bands, prepared.band_start, prepared.items, prepared.records, prepared.shading,
                                target, clear, sample, ws.visibility(threads, width), spans, threads=threads)))
+
+
+def average_prepared(prepared: Prepared, color, background, offsets, *, threads) -> int:
+    """Draw ``prepared`` (padded, flat or smooth colours) at every sample point ``offsets``
+    (n, 2) int64 (1/256 pixel, each in -256..256) and write their average into ``color``
+    (H, W, 3) uint8 on a ``background`` (3,) uint8, as :func:`draw_prepared` of each sample,
+    summed and divided by :func:`rasterkit.kernels.accumulate.average_samples` would, to the
+    bit (:mod:`rasterkit.kernels.sample_bands`); returns the number of fragments."""
+    from rasterkit.kernels.sample_bands import draw_sample_bands  # multi-sample renders only
+
+    ws = WORKSPACE
+    if prepared.generation != ws.generation or not prepared.padded:
+        raise RuntimeError("the triangles were not set up for samples, or before another draw of this thread")
+    n, width = offsets.shape[0], prepared.width
+    band_depth = ws.reserve("band_depth", (threads * slot_rows(width), width), np.float32)
+    guard = -(-SLOT_GUARD_BYTES // (6 * width))  # rows of sums between two slots' bands
+    sums = ws.reserve("sample_sums", (threads, BAND_HEIGHT + guard, width, 3), np.uint16)
+    rgb = int(background[0]) | int(background[1]) << 8 | int(background[2]) << 16
+    samples = Samples(np.ascontiguousarray(offsets, np.int64), np.uint32(rgb), 1.0 / n, (n // 2 + 0.5) / n, sums)
+    spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
+    return int(sum(run_workers(draw_sample_bands, prepared.band_start, prepared.items, prepared.records,
+                               prepared.shading, band_depth, color, _clear_spec(background, color), samples,
+                               ws.visibility(threads, width), spans, threads=threads)))
 
 
 def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,

@@ -262,18 +262,20 @@ def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarr
 
 
 def _shared_setup(mesh: Mesh, camera: Camera, options: _Options):
-    """The faces set up once for every sample of a pinhole render (through the centre
-    sample's matrix), or None when the mode draws none."""
+    """``(setup, whole)``: the faces set up once for every sample of a pinhole render
+    (through the centre sample's matrix; None when the mode draws none), and whether they
+    are all that a sample draws."""
     if options.mode == "wire":
-        return None
+        return None, False
     from ._shared_triangles import SharedTriangles
 
     clip = transform_points(mesh.vertices, camera.world_to_raster())
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     face_colors, vertex_colors = _shade(mesh, options) if options.mode != "hidden" else (None, None)
-    return SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=options.mode != "hidden",
-                           face_colors=face_colors, vertex_colors=vertex_colors, cull=options.cull,
-                           depth_offset=offset)
+    setup = SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=options.mode != "hidden",
+                            face_colors=face_colors, vertex_colors=vertex_colors, cull=options.cull,
+                            depth_offset=offset)
+    return setup, options.mode == "solid" and options.points is None
 
 
 def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha: bool, ids: bool) -> int:

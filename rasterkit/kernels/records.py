@@ -44,6 +44,13 @@ Target = namedtuple("Target", "depth keep_depth height color write_ids ids")
 #: at several sample points): each triangle is then bounded again for the sample point.
 Sample = namedtuple("Sample", "padded x y")
 
+#: The samples that :func:`rasterkit.kernels.sample_bands.draw_sample_bands` averages:
+#: ``offsets`` (n, 2) int64, each sample point's offset from the pixel centres in 1/256 pixel;
+#: ``background`` the background's packed RGB (uint32, R in the low byte); ``scale, bias`` the
+#: rounding division of the sums (:func:`rasterkit.kernels.accumulate.average_samples`);
+#: ``sums`` (n_slots, rows, W, 3) uint16, each slot's band of sums in its last BAND_HEIGHT rows.
+Samples = namedtuple("Samples", "offsets background scale bias sums")
+
 #: Clearing a band before it is drawn: when ``on``, depth +inf, ids -1 and the band's part of
 #: ``color_bytes`` (the colour buffer as 1-D uint8, empty without one) to ``pattern``, the
 #: background repeated over 24 bytes (:func:`rasterkit.kernels.clear.fill_bytes`).
