@@ -34,6 +34,10 @@ from rasterkit.kernels.clip import (
     FACE_NONFINITE,
     MAX_POLYGON,
     NONFINITE_BIT,
+    VIEW_BOTTOM,
+    VIEW_LEFT,
+    VIEW_RIGHT,
+    VIEW_TOP,
     classify_face,
     project_vertex,
     vertex_code,
@@ -54,6 +58,9 @@ STATUS_EMPTY = 2  # zero area after snapping, or covers no pixel centre of the i
 STATUS_OUTSIDE = 3
 STATUS_NONFINITE = 4
 N_STATUS = 5
+#: The vertex code bits of the image's sides (:mod:`rasterkit.kernels.clip`): a face wholly
+#: beside one of them is rejected, unless the boxes are padded.
+VIEW_MASK = (1 << VIEW_LEFT) | (1 << VIEW_RIGHT) | (1 << VIEW_TOP) | (1 << VIEW_BOTTOM)
 #: Faces (and vertices) are processed in this many contiguous chunks, setup and binning
 #: using the same ones. A constant, so that nothing depends on the thread count.
 N_CHUNKS = 64
@@ -277,13 +284,16 @@ def _setup_chunk(
     n_seen = 0
     n_vertices = np.uint64(corners.shape[0])
     scattered = _scattered(faces, start, stop)
+    # padded (drawn at other sample points): a face beside the image is not rejected, as
+    # the moved face may not be; its box (empty, or within a pixel of the image) decides
+    keep = ~VIEW_MASK if pad else ~0
     for f in range(np.uint64(start), np.uint64(stop)):
         if scattered and f + PREFETCH_AHEAD < stop:
             _prefetch_corners(faces, f + PREFETCH_AHEAD, corners)  # never faults, even out of range
         a, b, c = np.uint64(faces[f, 0]), np.uint64(faces[f, 1]), np.uint64(faces[f, 2])
         if a >= n_vertices or b >= n_vertices or c >= n_vertices:  # a negative index too
             return -1  # the caller raises before anything is drawn
-        cls, mask = classify_face(corners[a, _V_CODE], corners[b, _V_CODE], corners[c, _V_CODE])
+        cls, mask = classify_face(corners[a, _V_CODE] & keep, corners[b, _V_CODE] & keep, corners[c, _V_CODE] & keep)
         cut_mask[f] = mask
         n_fan[f] = 0
         if cls == FACE_INSIDE:
