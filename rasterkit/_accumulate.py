@@ -1,16 +1,32 @@
-"""Multi-sample renders: the samples drawn into one reused framebuffer, summed, averaged once.
+"""Multi-sample renders: the samples drawn, summed, averaged once.
 
-:func:`rasterkit.render` with ``samples > 1`` (or a ``vignette``) comes here. Sample ``s`` is
-the whole scene drawn through its own world -> raster matrix
+:func:`rasterkit.render` with ``samples > 1`` (or a ``vignette``) comes here. Sample ``s``
+sees the scene through its own world -> raster matrix
 (:func:`rasterkit.camera.lens.sample_matrices`: a sub-pixel shift of the window, and for a
-lens camera an eye moved across the lens), into one scratch framebuffer that every sample
-reuses (its buffers are cleared by the drawing kernels, band by band, as for any render).
-Its colour is added into a 16-bit sum (256 samples of 255 fit) by a small parallel kernel
-(:mod:`rasterkit.kernels.accumulate`), which is divided once, with rounding, into the result;
-an RGBA render (transparent background) sums colour times alpha and alpha, in 32 bits, so
-that a half-covered edge keeps its colour at half opacity. The result's depth buffer and ids are those of the centre sample
-(the ``samples=1`` render): the depth is drawn when first read (:meth:`Framebuffer.defer_depth`),
-the ids, when asked for, by drawing the centre sample once more.
+lens camera an eye moved across the lens). The colours are summed in 16 bits (256 samples of
+255 fit) and divided once, with rounding; an RGBA render (transparent background) sums colour
+times alpha and alpha, in 32 bits, so that a half-covered edge keeps its colour at half
+opacity. The result's depth buffer and ids are those of the centre sample (the ``samples=1``
+render): the depth is drawn when first read (:meth:`Framebuffer.defer_depth`), the ids, when
+asked for, by drawing the centre sample once more.
+
+What the samples share
+    Through a pinhole (a parallel camera, or a perspective one without ``aperture``) the
+    samples differ only in where each pixel is sampled: the pixel offsets
+    (:func:`rasterkit.samples.pixel_offsets`) are rounded to the 1/256-pixel grid the vertices
+    are snapped to (:func:`grid_offsets`), and the faces are set up once, through the centre
+    sample's matrix, for all of them (:mod:`rasterkit._shared_triangles`: vertex pass, face
+    pass with clipping, culling, snapping and flat colours, the cut faces' fans, binning,
+    polygon offset, the smooth colours' terms); each sample draws only the bands, at its
+    offset, which is exactly the draw of the vertices moved by the offset. A solid RGB
+    render without points draws every sample of a band in turn and averages them there, in
+    one pass over the bands, with no frame per sample at all
+    (:mod:`rasterkit.kernels.sample_bands`). The hidden and solid+wire modes draw each sample
+    into one reused scratch framebuffer (the faces from the shared setup, the edges and
+    points through the sample's matrix: they are not shared) and add its colours into the
+    sums (:mod:`rasterkit.kernels.accumulate`); so do wireframes (no faces to share) and RGBA
+    renders. A lens camera's samples move the eye, a different projection each: each is a
+    whole frame through its matrix, at the exact (unrounded) pixel offsets.
 
 Nothing here depends on the thread count: each sample's image does not, and every pixel's
 sum is added in the samples' fixed order.

@@ -102,11 +102,14 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         the object (both -1 where none).
     samples : int
         Samples per pixel, 1 to 256, averaged (rounded to the nearest level). Each sample
-        draws the whole scene once at a fixed, stratified sub-pixel offset
-        (:mod:`rasterkit.samples`): anti-aliasing of faces, edges and lines. A camera with
-        an ``aperture`` also moves each sample's eye across its lens, keeping the focus
-        plane in place: depth of field (:mod:`rasterkit.camera.lens`). 1 is one sample at
-        the pixel centre through the pinhole (the aperture is then unused). The depth buffer
+        sees the scene at a fixed, stratified sub-pixel offset (:mod:`rasterkit.samples`):
+        anti-aliasing of faces, edges and lines. Through a pinhole the offsets are rounded
+        to 1/256 pixel and the faces are set up once for all the samples (only their
+        rasterization runs per sample; solid RGB renders average the samples band by band,
+        :mod:`rasterkit._accumulate`). A camera with an ``aperture`` also moves each
+        sample's eye across its lens, keeping the focus plane in place: depth of field
+        (:mod:`rasterkit.camera.lens`), each sample a whole frame. 1 is one sample at the
+        pixel centre through the pinhole (the aperture is then unused). The depth buffer
         and the ids of a render with ``samples > 1`` are those of the centre sample: what
         ``samples=1`` gives with the same camera (the depth is drawn when first read; with
         ``ids`` the centre sample is drawn once more, eagerly).
