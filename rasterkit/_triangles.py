@@ -38,7 +38,7 @@ from rasterkit.kernels.setup import (
 )
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, SHADE_TAGGED, bary_matrices, pack_colors
 from rasterkit.kernels.tiles import BAND_HEIGHT, BAND_SHIFT, SLOT_GUARD_BYTES, bin_cursors, bin_records, draw_bands, n_bands, slot_rows
-from rasterkit.kernels.triangle import offset_depths
+from rasterkit.kernels.triangle import move_records, offset_depths
 
 CULL_CODES = {"none": CULL_NONE, "back": CULL_BACK, "front": CULL_FRONT}
 """The cull kernel's code of each name of :data:`rasterkit.options.CULL`."""
@@ -195,7 +195,7 @@ def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads):
     n, m = clip.shape[0], faces.shape[0]
     corners = ws.reserve("corners", (n, 4), np.int32)
     depths = corners.view(np.float32)  # the same rows: z as float32
-    run_workers(setup_vertices, clip, width, height, corners, depths, threads=threads)
+    run_workers(setup_vertices, clip, width, height, pad, corners, depths, threads=threads)
     tri_xy, tri_z, tri_box = _records(ws, m)
     cut_mask, n_fan = ws.reserve("cut_mask", (m,), np.int8), ws.reserve("n_fan", (m,), np.int8)
     band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
@@ -299,8 +299,15 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
     ws = WORKSPACE
     if prepared.generation != ws.generation:
         raise RuntimeError("the triangles were set up before another draw of this thread (or in another thread)")
-    sample = Sample(prepared.padded, int(sample[0]), int(sample[1]))
-    if not prepared.padded and sample != (False, 0, 0):
+    sample = Sample(int(sample[0]), int(sample[1]))
+    records = prepared.records
+    if prepared.padded:  # the records moved to the sample point
+        n = records.xy.shape[0]
+        moved = Records(ws.reserve("moved_xy", (n, 6), np.int32), records.z, ws.reserve("moved_box", (n, 4), np.int32))
+        run_workers(move_records, records, moved, n, sample, prepared.width, prepared.height,
+                    threads=1 if n < _PARALLEL_FACES else threads)
+        records = moved
+    elif sample != (0, 0):
         raise ValueError("a draw prepared without padded boxes is sampled at the pixel centres only")
     width, height = prepared.width, prepared.height
     color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
@@ -312,7 +319,7 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
         target = Target(depth, True, height, color_target, ids is not None, ids_target)
     clear = _clear_spec(background, color)
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
-    return int(sum(run_workers(draw_bands, prepared.band_start, prepared.items, prepared.records, prepared.shading,
+    return int(sum(run_workers(draw_bands, prepared.band_start, prepared.items, records, prepared.shading,
                                target, clear, sample, ws.visibility(threads, width), spans, threads=threads)))
 
 

@@ -37,12 +37,9 @@ Shading = namedtuple("Shading", "mode n_faces fan_face packed vertex_colors face
 #: C) uint8; whether to write face indices (``write_ids``) into ``ids`` (H, W) int32.
 Target = namedtuple("Target", "depth keep_depth height color write_ids ids")
 
-#: The point of each pixel that :func:`rasterkit.kernels.tiles.draw_bands` samples: ``x, y``
-#: int64, its offset from the pixel centre in fixed point (1/256 pixel, raster x right, y
-#: down; ``0, 0`` the centre), and ``padded``, whether the setup padded the records' boxes
-#: by a pixel (:func:`rasterkit.kernels.setup.setup_triangle`'s ``pad``, for records drawn
-#: at several sample points): each triangle is then bounded again for the sample point.
-Sample = namedtuple("Sample", "padded x y")
+#: Where a draw samples each pixel: ``x, y`` int64, the sample point's offset from the pixel
+#: centre in fixed point (1/256 pixel, raster x right, y down; ``0, 0`` the centre).
+Sample = namedtuple("Sample", "x y")
 
 #: The samples that :func:`rasterkit.kernels.sample_bands.draw_sample_bands` averages:
 #: ``offsets`` (n, 2) int64, each sample point's offset from the pixel centres in 1/256 pixel;

@@ -4,7 +4,7 @@ The samples of a pinhole render share one triangle setup (:mod:`rasterkit._share
 they differ only in where each pixel is sampled. :func:`draw_sample_bands` draws them all in
 one pass over the bands: each band (claimed by one thread, as in
 :func:`rasterkit.kernels.tiles.draw_bands`) is rasterized at each sample point in turn
-(:func:`rasterkit.kernels.tiles.raster_bin`), and each sample's colours (the background
+(:func:`rasterkit.kernels.triangle.raster_band_at`), and each sample's colours (the background
 where no face won) are added at once into a band of 16-bit sums (which start at the
 background times the number of samples: a sample adds its colour minus the background, and
 only where it may have drawn); after the last sample the
@@ -26,7 +26,28 @@ from rasterkit.kernels.intrinsics import fetch_add
 from rasterkit.kernels.records import Sample
 from rasterkit.kernels.setup import ONE
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED, _smooth_rgba
-from rasterkit.kernels.tiles import BAND_HEIGHT, _clear_depth, raster_bin
+from rasterkit.kernels.tiles import BAND_HEIGHT, PREFETCH_AHEAD, _clear_depth, _prefetch_record
+from rasterkit.kernels.triangle import raster_band_at
+
+
+@kernel(inline="always")
+def _raster_bin_at(b, band_start, items, records, shading, sample, y0, y1, band_depth, band_lid, row_lo, row_hi):
+    """:func:`rasterkit.kernels.tiles.raster_bin` sampled at ``sample``
+    (:func:`rasterkit.kernels.triangle.raster_band_at`)."""
+    tri_xy, tri_z, _ = records
+    mode, n_faces, fan_face, packed, _, _, _ = shading
+    for r in range(BAND_HEIGHT):
+        row_lo[r], row_hi[r] = band_lid.shape[1], -1
+    fragments = 0
+    end = band_start[b + 1]
+    for k in range(band_start[b], end):
+        if k + PREFETCH_AHEAD < end:
+            _prefetch_record(items[k + PREFETCH_AHEAD], records, shading)
+        t = items[k]
+        face = t if t < n_faces else fan_face[t - n_faces]
+        tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
+        fragments += raster_band_at(t, tag, tri_xy, tri_z, sample, y0, y1, band_depth, band_lid, row_lo, row_hi)
+    return fragments
 
 
 @kernel(inline="always")
@@ -132,10 +153,10 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
         band_depth = depth[scratch_row: scratch_row + y1 - y0]
         _fill_sums(band_sums, y1 - y0, offsets.shape[0], background)
         for s in range(offsets.shape[0]):
-            sample = Sample(True, offsets[s, 0], offsets[s, 1])
+            sample = Sample(offsets[s, 0], offsets[s, 1])
             _clear_depth(band_depth)
-            fragments += raster_bin(b, band_start, items, records, shading, sample, y0, y1, band_depth, band_lid,
-                                    row_lo, row_hi)
+            fragments += _raster_bin_at(b, band_start, items, records, shading, sample, y0, y1, band_depth,
+                                        band_lid, row_lo, row_hi)
             sample_x, sample_y = offsets[s, 0] / ONE, offsets[s, 1] / ONE
             for r in range(y1 - y0):
                 _add_row(band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, shading, background,

@@ -59,7 +59,7 @@ STATUS_OUTSIDE = 3
 STATUS_NONFINITE = 4
 N_STATUS = 5
 #: The vertex code bits of the image's sides (:mod:`rasterkit.kernels.clip`): a face wholly
-#: beside one of them is rejected, unless the boxes are padded.
+#: beside one of them is rejected, unless the boxes are padded (:func:`setup_vertices`).
 VIEW_MASK = (1 << VIEW_LEFT) | (1 << VIEW_RIGHT) | (1 << VIEW_TOP) | (1 << VIEW_BOTTOM)
 #: Faces (and vertices) are processed in this many contiguous chunks, setup and binning
 #: using the same ones. A constant, so that nothing depends on the thread count.
@@ -88,6 +88,13 @@ def _ceil_div(a, b):
 def pixel_bounds(lo, hi):
     """Pixel indices whose centres ``256 k + 128`` lie in the fixed-point range [lo, hi]."""
     return _ceil_div(lo - HALF, ONE), (hi - HALF) // ONE
+
+
+@kernel(inline="always")
+def _padded_bounds(lo, hi, pad):
+    """:func:`pixel_bounds` widened by ``pad`` pixels on each side (the sums' constant
+    parts are loop-invariant: the face loop pays nothing for the padding)."""
+    return _ceil_div(lo - (HALF + pad * ONE), ONE), (hi - (HALF - pad * ONE)) // ONE
 
 
 @kernel(inline="always")
@@ -137,10 +144,10 @@ def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode,
         return STATUS_EMPTY
     if is_culled(area2, cull_mode):
         return STATUS_CULLED
-    i_lo, i_hi = pixel_bounds(min(x0, x1, x2), max(x0, x1, x2))
-    j_lo, j_hi = pixel_bounds(min(y0, y1, y2), max(y0, y1, y2))
-    i_lo, i_hi = max(i_lo - pad, 0), min(i_hi + pad, width - 1)
-    j_lo, j_hi = max(j_lo - pad, 0), min(j_hi + pad, height - 1)
+    i_lo, i_hi = _padded_bounds(min(x0, x1, x2), max(x0, x1, x2), pad)
+    j_lo, j_hi = _padded_bounds(min(y0, y1, y2), max(y0, y1, y2), pad)
+    i_lo, i_hi = max(i_lo, 0), min(i_hi, width - 1)
+    j_lo, j_hi = max(j_lo, 0), min(j_hi, height - 1)
     if i_lo > i_hi or j_lo > j_hi:
         return STATUS_EMPTY
     if area2 < 0:  # store clockwise on screen, so every edge function is positive inside
@@ -157,11 +164,11 @@ _V_CODE, _V_X, _V_Y, _V_Z = range(4)
 
 
 @kernel(refcounts=False)
-def _setup_vertex_chunk(ch, clip, width, height, corners, depths):
+def _setup_vertex_chunk(ch, clip, width, height, keep, corners, depths):
     """:func:`setup_vertices` for the vertices of chunk ``ch``."""
     start, stop = chunk_range(clip.shape[0], ch)
     for i in range(np.uint64(start), np.uint64(stop)):
-        code = vertex_code(clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3], width, height)
+        code = vertex_code(clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3], width, height) & keep
         corners[i, _V_CODE] = code
         if code & CUT_MASK or code & (NONFINITE_BIT | DEGENERATE_BIT):
             corners[i, _V_X], corners[i, _V_Y], depths[i, _V_Z] = 0, 0, 0.0
@@ -171,7 +178,7 @@ def _setup_vertex_chunk(ch, clip, width, height, corners, depths):
 
 
 @kernel
-def setup_vertices(slot, counter, clip, width, height, corners, depths):
+def setup_vertices(slot, counter, clip, width, height, pad, corners, depths):
     """Vertex pass: classify every vertex once and, where it is safe, project and snap it.
 
     A vertex is shared by about six faces of a closed mesh, so doing this per vertex and
@@ -183,6 +190,11 @@ def setup_vertices(slot, counter, clip, width, height, corners, depths):
         Homogeneous raster coordinates.
     width, height : int
         Image size.
+    pad : int
+        1 for faces drawn at other sample points than the pixel centres
+        (:func:`setup_triangle`): the codes get no bits of the image's sides (VIEW_MASK),
+        so that no face is rejected for lying beside the image, as a moved face may not
+        be (its box decides: empty, or within a pixel of the image); else 0.
     corners : (N, 4) int32
         Out, one 16-byte row per vertex (what a face reads of each corner, in one cache
         line): column ``_V_CODE`` the :func:`rasterkit.kernels.clip.vertex_code`;
@@ -199,7 +211,7 @@ def setup_vertices(slot, counter, clip, width, height, corners, depths):
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        _setup_vertex_chunk(ch, clip, width, height, corners, depths)
+        _setup_vertex_chunk(ch, clip, width, height, ~VIEW_MASK if pad else ~0, corners, depths)
 
 
 @kernel(inline="always")
@@ -284,16 +296,13 @@ def _setup_chunk(
     n_seen = 0
     n_vertices = np.uint64(corners.shape[0])
     scattered = _scattered(faces, start, stop)
-    # padded (drawn at other sample points): a face beside the image is not rejected, as
-    # the moved face may not be; its box (empty, or within a pixel of the image) decides
-    keep = ~VIEW_MASK if pad else ~0
     for f in range(np.uint64(start), np.uint64(stop)):
         if scattered and f + PREFETCH_AHEAD < stop:
             _prefetch_corners(faces, f + PREFETCH_AHEAD, corners)  # never faults, even out of range
         a, b, c = np.uint64(faces[f, 0]), np.uint64(faces[f, 1]), np.uint64(faces[f, 2])
         if a >= n_vertices or b >= n_vertices or c >= n_vertices:  # a negative index too
             return -1  # the caller raises before anything is drawn
-        cls, mask = classify_face(corners[a, _V_CODE] & keep, corners[b, _V_CODE] & keep, corners[c, _V_CODE] & keep)
+        cls, mask = classify_face(corners[a, _V_CODE], corners[b, _V_CODE], corners[c, _V_CODE])
         cut_mask[f] = mask
         n_fan[f] = 0
         if cls == FACE_INSIDE:

@@ -201,7 +201,7 @@ def _prefetch_record(t, records, shading):
 
 
 @kernel(inline="always")
-def raster_bin(b, band_start, items, records, shading, sample, y0, y1, band_depth, band_lid, row_lo, row_hi):
+def raster_bin(b, band_start, items, records, shading, y0, y1, band_depth, band_lid, row_lo, row_hi):
     """Rasterize every record of band ``b``'s bin (:func:`raster_band`, in bin order) into
     its depth and visibility rows, ``row_lo, row_hi`` first reset; returns the fragments."""
     tri_xy, tri_z, tri_box = records
@@ -218,8 +218,7 @@ def raster_bin(b, band_start, items, records, shading, sample, y0, y1, band_dept
         # what the visibility buffer holds: the face, or (SHADE_TAGGED) its colour, so
         # the resolve need not look each pixel's colour up
         tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
-        fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, sample, y0, y1, band_depth, band_lid, row_lo,
-                                 row_hi)
+        fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
     return fragments
 
 
@@ -256,10 +255,10 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
         before it is drawn, while its rows are in this thread's cache anyway. A depth
         scratch (not ``keep_depth``) is cleared in any case.
     sample : Sample
-        :class:`rasterkit.kernels.records.Sample`: where in each pixel coverage, depth and
-        (smooth shading) colour are sampled; ``Sample(False, 0, 0)``: the centre, with the
-        records' own boxes. One setup is drawn at every sample point of a multi-sample
-        render (:func:`rasterkit.kernels.triangle.raster_band`).
+        :class:`rasterkit.kernels.records.Sample`: where in each pixel smooth colours are
+        interpolated, ``Sample(0, 0)`` at the centre. The records are those of the same
+        sample point (:func:`rasterkit.kernels.triangle.move_records` moves a setup shared
+        by the samples of a multi-sample render to each).
     lid : (n_slots, slot_rows(W), W) int32
         One visibility buffer per parallel slot (its last ``BAND_HEIGHT`` rows; the rows
         before them keep the slots apart, :data:`SLOT_GUARD_BYTES`), all -1 on entry, all
@@ -297,8 +296,8 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
             continue
         if not keep_depth:
             _clear_depth(band_depth)
-        fragments += raster_bin(b, band_start, items, records, shading, sample, y0, y1, band_depth, band_lid,
-                                row_lo, row_hi)
+        fragments += raster_bin(b, band_start, items, records, shading, y0, y1, band_depth, band_lid, row_lo,
+                                row_hi)
         for r in range(y1 - y0):
             resolve_row(
                 mode,
