@@ -5,8 +5,15 @@ resolve).
 The kernels are in :mod:`rasterkit.kernels.setup`, :mod:`rasterkit.kernels.fans`,
 :mod:`rasterkit.kernels.tiles`, :mod:`rasterkit.kernels.triangle` and
 :mod:`rasterkit.kernels.shade`; this module picks the resolve mode once per draw, the scratch
-memory and the threads, and runs the passes in order. Its caller
-(:func:`rasterkit.triangles.rasterize_triangles`) has validated the inputs.
+memory and the threads, and runs the passes in order. Its callers
+(:func:`rasterkit.triangles.rasterize_triangles`, :mod:`rasterkit._shared_triangles`) have
+validated the inputs.
+
+A draw is :func:`prepare` (everything up to the bins) then :func:`draw_prepared` (the bands);
+the samples of a pinhole multi-sample render share one :func:`prepare` with padded boxes,
+each drawn by :func:`draw_prepared` at its sample point (the records moved there first,
+:func:`rasterkit.kernels.triangle.move_records`), or all averaged in one pass over the
+bands by :func:`average_prepared`.
 """
 
 from __future__ import annotations

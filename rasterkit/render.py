@@ -104,12 +104,11 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         Samples per pixel, 1 to 256, averaged (rounded to the nearest level). Each sample
         sees the scene at a fixed, stratified sub-pixel offset (:mod:`rasterkit.samples`):
         anti-aliasing of faces, edges and lines. Through a pinhole the offsets are rounded
-        to 1/256 pixel and the faces are set up once for all the samples (only their
-        rasterization runs per sample; solid RGB renders average the samples band by band,
-        :mod:`rasterkit._accumulate`). A camera with an ``aperture`` also moves each
-        sample's eye across its lens, keeping the focus plane in place: depth of field
-        (:mod:`rasterkit.camera.lens`), each sample a whole frame. 1 is one sample at the
-        pixel centre through the pinhole (the aperture is then unused). The depth buffer
+        to 1/256 pixel and the faces set up once for all samples (:mod:`rasterkit._accumulate`).
+        A camera with an ``aperture`` also moves each sample's eye across its lens, keeping
+        the focus plane in place: depth of field (:mod:`rasterkit.camera.lens`), a whole
+        frame per sample. 1 is one sample at the pixel centre through the pinhole (the
+        aperture is then unused). The depth buffer
         and the ids of a render with ``samples > 1`` are those of the centre sample: what
         ``samples=1`` gives with the same camera (the depth is drawn when first read; with
         ``ids`` the centre sample is drawn once more, eagerly).
@@ -244,9 +243,8 @@ def _frame(mesh: Mesh, camera: Camera, options: _Options, background, ids: bool)
 
 def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarray, shared=None) -> None:
     """Draw the mesh into every buffer of ``fb`` (cleared on the way) through the world ->
-    raster ``matrix``; ``shared``: ``(triangles, sample)``, the faces from a setup shared by
-    the samples of a pinhole render (:func:`_shared_setup`), drawn at ``sample``, the
-    offset in 1/256 pixel that ``matrix`` moves the image by (its edges and points)."""
+    raster ``matrix``; ``shared``: ``(faces, sample)``, a pinhole render's faces set up once
+    (:func:`_shared_setup`), drawn at ``sample`` (1/256 px), the offset ``matrix`` adds."""
     if options.mode == "wire":  # no depth buffer: it stays "farthest" until someone asks
         if fb.ids is not None:
             fb.ids.fill(-1)

@@ -31,26 +31,6 @@ from rasterkit.kernels.triangle import raster_band_at
 
 
 @kernel(inline="always")
-def _raster_bin_at(b, band_start, items, records, shading, sample, y0, y1, band_depth, band_lid, row_lo, row_hi):
-    """:func:`rasterkit.kernels.tiles.raster_bin` sampled at ``sample``
-    (:func:`rasterkit.kernels.triangle.raster_band_at`)."""
-    tri_xy, tri_z, _ = records
-    mode, n_faces, fan_face, packed, _, _, _ = shading
-    for r in range(BAND_HEIGHT):
-        row_lo[r], row_hi[r] = band_lid.shape[1], -1
-    fragments = 0
-    end = band_start[b + 1]
-    for k in range(band_start[b], end):
-        if k + PREFETCH_AHEAD < end:
-            _prefetch_record(items[k + PREFETCH_AHEAD], records, shading)
-        t = items[k]
-        face = t if t < n_faces else fan_face[t - n_faces]
-        tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
-        fragments += raster_band_at(t, tag, tri_xy, tri_z, sample, y0, y1, band_depth, band_lid, row_lo, row_hi)
-    return fragments
-
-
-@kernel(inline="always")
 def _fill_sums(sums, rows, n, background):
     """The first ``rows`` rows of ``sums`` to ``n`` times the background, channel by
     channel: what ``n`` samples that no face covers add up to."""
@@ -133,6 +113,9 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
         As for ``draw_bands`` (``lid`` all -1 on entry and on return).
     """
     offsets, background, scale, bias, sums = samples
+    tri_xy, tri_z, _ = records
+    mode, n_faces, fan_face, packed, _, _, _ = shading
+    width = lid.shape[2]
     guard = lid.shape[1] - BAND_HEIGHT
     band_lid = lid[slot, guard:]
     band_sums = sums[slot, sums.shape[1] - BAND_HEIGHT:]
@@ -151,12 +134,21 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
             fill_bytes(clear.color_bytes, y0 * row_bytes, y1 * row_bytes, clear.pattern)
             continue
         band_depth = depth[scratch_row: scratch_row + y1 - y0]
+        end = band_start[b + 1]
         _fill_sums(band_sums, y1 - y0, offsets.shape[0], background)
         for s in range(offsets.shape[0]):
             sample = Sample(offsets[s, 0], offsets[s, 1])
             _clear_depth(band_depth)
-            fragments += _raster_bin_at(b, band_start, items, records, shading, sample, y0, y1, band_depth,
-                                        band_lid, row_lo, row_hi)
+            for r in range(BAND_HEIGHT):
+                row_lo[r], row_hi[r] = width, -1
+            for k in range(band_start[b], end):  # as draw_bands, each record moved to the sample
+                if k + PREFETCH_AHEAD < end:
+                    _prefetch_record(items[k + PREFETCH_AHEAD], records, shading)
+                t = items[k]
+                face = t if t < n_faces else fan_face[t - n_faces]
+                tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
+                fragments += raster_band_at(t, tag, tri_xy, tri_z, sample, y0, y1, band_depth, band_lid, row_lo,
+                                            row_hi)
             sample_x, sample_y = offsets[s, 0] / ONE, offsets[s, 1] / ONE
             for r in range(y1 - y0):
                 _add_row(band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, shading, background,

@@ -200,28 +200,6 @@ def _prefetch_record(t, records, shading):
         prefetch_row(packed, t)
 
 
-@kernel(inline="always")
-def raster_bin(b, band_start, items, records, shading, y0, y1, band_depth, band_lid, row_lo, row_hi):
-    """Rasterize every record of band ``b``'s bin (:func:`raster_band`, in bin order) into
-    its depth and visibility rows, ``row_lo, row_hi`` first reset; returns the fragments."""
-    tri_xy, tri_z, tri_box = records
-    mode, n_faces, fan_face, packed, _, _, _ = shading
-    for r in range(BAND_HEIGHT):
-        row_lo[r], row_hi[r] = band_lid.shape[1], -1
-    fragments = 0
-    end = band_start[b + 1]
-    for k in range(band_start[b], end):
-        if k + PREFETCH_AHEAD < end:
-            _prefetch_record(items[k + PREFETCH_AHEAD], records, shading)
-        t = items[k]
-        face = t if t < n_faces else fan_face[t - n_faces]
-        # what the visibility buffer holds: the face, or (SHADE_TAGGED) its colour, so
-        # the resolve need not look each pixel's colour up
-        tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
-        fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
-    return fragments
-
-
 @kernel(refcounts=False)
 def draw_bands(slot, counter, band_start, items, records, shading, target, clear, sample, lid, spans):
     """Rasterize and resolve bands, each the next one no slot has claimed yet (through
@@ -271,10 +249,12 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
     Compiled without reference counting (nothing is allocated here, and the counts cost
     atomic operations in the per-record loop).
     """
-    mode, _, _, packed, vertex_colors, faces, bary = shading
+    tri_xy, tri_z, tri_box = records
+    mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
     depth, keep_depth, height, color, write_ids, ids = target
     do_clear = clear.on
     sample_x, sample_y = sample.x / ONE, sample.y / ONE  # pixels, for the smooth colours
+    width = lid.shape[2]
     guard = lid.shape[1] - BAND_HEIGHT  # unused rows before each slot's band rows
     band_lid = lid[slot, guard:]
     scratch_row = np.int64(slot) * lid.shape[1] + guard  # this slot's depth scratch rows
@@ -296,8 +276,18 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
             continue
         if not keep_depth:
             _clear_depth(band_depth)
-        fragments += raster_bin(b, band_start, items, records, shading, y0, y1, band_depth, band_lid, row_lo,
-                                row_hi)
+        for r in range(BAND_HEIGHT):
+            row_lo[r], row_hi[r] = width, -1
+        end = band_start[b + 1]
+        for k in range(band_start[b], end):
+            if k + PREFETCH_AHEAD < end:
+                _prefetch_record(items[k + PREFETCH_AHEAD], records, shading)
+            t = items[k]
+            face = t if t < n_faces else fan_face[t - n_faces]
+            # what the visibility buffer holds: the face, or (SHADE_TAGGED) its colour, so
+            # the resolve need not look each pixel's colour up
+            tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
+            fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
         for r in range(y1 - y0):
             resolve_row(
                 mode,

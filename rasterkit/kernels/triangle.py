@@ -270,22 +270,6 @@ def offset_depths(slot, counter, tri_xy, tri_z, tri_box, n_records, factor, unit
 
 
 @kernel(inline="always")
-def _raster_record(x0, y0_, x1, y1_, x2, y2, t, tri_z, tag, i_lo, i_hi, j_lo, j_hi, y0, depth, lid, row_lo, row_hi):
-    """The rows ``j_lo..j_hi`` (within the band from ``y0``) of the triangle of fixed-point
-    vertices ``x0 .. y2`` (record ``t``'s depths), bounded by the columns ``i_lo..i_hi``."""
-    e0, e1, e2 = triangle_edges(x0, y0_, x1, y1_, x2, y2)
-    zc, gx, gy = depth_plane(
-        x0, y0_, x1, y1_, x2, y2, float(tri_z[t, 0]), float(tri_z[t, 1]), float(tri_z[t, 2])
-    )
-    tag = np.int32(tag)
-    if i_hi - i_lo < BLOCK and depth.shape[1] >= BLOCK:
-        return _raster_masked(
-            depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi
-        )
-    return _raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi)
-
-
-@kernel(inline="always")
 def raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, lid, row_lo, row_hi):
     """Rasterize record ``t`` into image rows ``[y0, y1)`` (one band).
 
@@ -321,9 +305,17 @@ def raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, lid, row_lo, row_
         return 0
     x0, y0_, x1 = np.int64(tri_xy[t, 0]), np.int64(tri_xy[t, 1]), np.int64(tri_xy[t, 2])
     y1_, x2, y2 = np.int64(tri_xy[t, 3]), np.int64(tri_xy[t, 4]), np.int64(tri_xy[t, 5])
+    e0, e1, e2 = triangle_edges(x0, y0_, x1, y1_, x2, y2)
+    zc, gx, gy = depth_plane(
+        x0, y0_, x1, y1_, x2, y2, float(tri_z[t, 0]), float(tri_z[t, 1]), float(tri_z[t, 2])
+    )
     i_lo, i_hi = np.int64(tri_box[t, 0]), np.int64(tri_box[t, 1])
-    return _raster_record(x0, y0_, x1, y1_, x2, y2, t, tri_z, tag, i_lo, i_hi, j_lo, j_hi, y0, depth, lid, row_lo,
-                          row_hi)
+    tag = np.int32(tag)
+    if i_hi - i_lo < BLOCK and depth.shape[1] >= BLOCK:
+        return _raster_masked(
+            depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi
+        )
+    return _raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi)
 
 
 @kernel(inline="always")
@@ -359,8 +351,16 @@ def raster_band_at(t, tag, tri_xy, tri_z, sample, y0, y1, depth, lid, row_lo, ro
                                        np.int64(y1) - 1)
     if j_lo > j_hi:
         return 0
-    return _raster_record(x0, y0_, x1, y1_, x2, y2, t, tri_z, tag, i_lo, i_hi, j_lo, j_hi, y0, depth, lid, row_lo,
-                          row_hi)
+    e0, e1, e2 = triangle_edges(x0, y0_, x1, y1_, x2, y2)
+    zc, gx, gy = depth_plane(
+        x0, y0_, x1, y1_, x2, y2, float(tri_z[t, 0]), float(tri_z[t, 1]), float(tri_z[t, 2])
+    )
+    tag = np.int32(tag)
+    if i_hi - i_lo < BLOCK and depth.shape[1] >= BLOCK:
+        return _raster_masked(
+            depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi
+        )
+    return _raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi)
 
 
 @kernel
