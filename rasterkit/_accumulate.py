@@ -58,13 +58,15 @@ def check(samples, vignette) -> tuple[int, float]:
     return samples, v
 
 
-def extra_bytes(width: int, height: int, alpha: bool, samples: int, vignette: float) -> int:
+def extra_bytes(width: int, height: int, alpha: bool, samples: int, vignette: float, faces: int = 0) -> int:
     """Bytes a render needs beyond one frame's: the scratch framebuffer and the 16-bit sums
-    of the samples, and the vignette's float32 factors and products."""
+    of the samples, the ``faces``' records moved to each sample point (a pinhole render's
+    shared setup, :func:`rasterkit.kernels.triangle.move_records`: 40 bytes a record, grown
+    by a quarter), and the vignette's float32 factors and products."""
     pixels, channels = width * height, 4 if alpha else 3
     total = 0
     if samples > 1:
-        total += buffer_bytes(width, height, alpha) + (16 * pixels if alpha else 2 * pixels * channels)
+        total += buffer_bytes(width, height, alpha) + (16 * pixels if alpha else 2 * pixels * channels) + faces * 50
     if vignette:
         total += 4 * pixels * (1 + channels)
     return total

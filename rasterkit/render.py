@@ -191,7 +191,8 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         options = replace(options, keep_depth=True, points=points)
     alpha = parse_color(background)[3] < 255
     check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids or normals)
-                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette)
+                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette,
+                                           len(mesh.faces) if options.mode != "wire" else 0)
                  + _maps_bytes(mesh, camera.width * camera.height, normals, object_faces is not None),
                  f"a {camera.width}x{camera.height} {options.mode} render of {len(mesh.faces)} faces")
     if samples == 1 and vignette == 0.0:
