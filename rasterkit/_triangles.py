@@ -44,7 +44,16 @@ from rasterkit.kernels.setup import (
     setup_vertices,
 )
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, SHADE_TAGGED, bary_matrices, pack_colors
-from rasterkit.kernels.tiles import BAND_HEIGHT, BAND_SHIFT, SLOT_GUARD_BYTES, bin_cursors, bin_records, draw_bands, n_bands, slot_rows
+from rasterkit.kernels.tiles import (
+    BAND_HEIGHT,
+    BAND_SHIFT,
+    SLOT_GUARD_BYTES,
+    bin_cursors,
+    bin_records,
+    draw_bands,
+    n_bands,
+    slot_rows,
+)
 from rasterkit.kernels.triangle import move_records, offset_depths
 
 CULL_CODES = {"none": CULL_NONE, "back": CULL_BACK, "front": CULL_FRONT}
@@ -310,7 +319,8 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
     records = prepared.records
     if prepared.padded:  # the records moved to the sample point
         n = records.xy.shape[0]
-        moved = Records(ws.reserve("moved_xy", (n, 6), np.int32), records.z, ws.reserve("moved_box", (n, 4), np.int32))
+        moved = Records(ws.reserve("moved_xy", (n, 6), np.int32), records.z,
+                        ws.reserve("moved_box", (n, 4), np.int32))
         run_workers(move_records, records, moved, n, sample, prepared.width, prepared.height,
                     threads=1 if n < _PARALLEL_FACES else threads)
         records = moved
