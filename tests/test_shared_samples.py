@@ -12,6 +12,7 @@ import pytest
 
 import rasterkit
 from rasterkit import Camera, shapes
+from rasterkit._jit import get_threads
 from rasterkit._shared_triangles import SharedTriangles
 from rasterkit.render import AMBIENT
 from rasterkit.samples import pixel_offsets
@@ -191,14 +192,15 @@ def test_shared_multi_sample_renders_do_not_depend_on_the_thread_count(mode, sha
     mesh = shapes.icosphere(3)
     camera = Camera.look_at((2.0, 1.5, 3.0), (0.0, 0.0, 0.0), width=150, height=110)
     images = []
+    previous = get_threads()
     for threads in (1, 2):
-        before = rasterkit.set_threads(threads)
+        rasterkit.set_threads(threads)
         try:
             images.append(rasterkit.render(mesh, camera, mode, shading=shading, samples=16).color)
             images.append(rasterkit.render(mesh, camera, mode, shading=shading, samples=4,
                                            background="transparent").color)
         finally:
-            rasterkit.set_threads(None)
+            rasterkit.set_threads(previous)
     assert np.array_equal(images[0], images[2]) and np.array_equal(images[1], images[3])
     assert len(np.unique(images[0])) > 4
 
