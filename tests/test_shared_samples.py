@@ -207,20 +207,30 @@ def test_shared_multi_sample_renders_do_not_depend_on_the_thread_count(mode, sha
 
 @pytest.mark.parametrize("mode", ["solid", "hidden", "solid+wire"])
 @pytest.mark.parametrize("background", ["white", "transparent"])
-def test_shared_renders_match_a_frame_per_sample_at_the_same_offsets(monkeypatch, mode, background):
+@pytest.mark.parametrize("near", [None, 0.5])
+def test_shared_renders_match_a_frame_per_sample_at_the_same_offsets(monkeypatch, mode, background, near):
     """Against today's path, every sample a whole frame through its jittered matrix (what a
     lens camera's samples still get), at the same offsets on the 1/256 grid: the matrices
-    move the image by the offsets up to float rounding, which may move a snapped vertex by
-    1/256 pixel here and there (none does in this scene)."""
+    move the image by the offsets up to float rounding, which may move a snapped vertex (or
+    a corner where the near plane cuts a face: ``near=0.5`` cuts some) by 1/256 pixel here
+    and there (none does in these scenes)."""
     from rasterkit import _accumulate
 
     mesh = shapes.icosphere(3)
-    camera = Camera.look_at((2.0, 1.5, 3.0), (0.0, 0.0, 0.0), width=150, height=110)
-    shared = rasterkit.render(mesh, camera, mode, samples=16, background=background, shading="smooth").color
+    camera = Camera.look_at((0.1, 0.2, 1.3), (0.0, 0.0, 0.0), fov_y=90.0, width=150, height=110, near=near) \
+        if near else Camera.look_at((2.0, 1.5, 3.0), (0.0, 0.0, 0.0), width=150, height=110)
+    if near:
+        from rasterkit._vertex import transform_points
+
+        clip = transform_points(np.ascontiguousarray(mesh.vertices), np.ascontiguousarray(camera.world_to_raster()))
+        depth = np.empty((110, 150), np.float32)
+        assert rasterize_triangles(None, depth, clip, mesh.faces, cull="none", clear=()).clipped > 10
+    options = dict(samples=16, background=background, shading="smooth", cull="none")
+    shared = rasterkit.render(mesh, camera, mode, **options).color
     rounded = np.rint(pixel_offsets(16) * 256) / 256
     monkeypatch.setattr(_accumulate, "pinhole", lambda camera: False)
     monkeypatch.setattr(_accumulate, "pixel_offsets", lambda n: rounded)
-    frames = rasterkit.render(mesh, camera, mode, samples=16, background=background, shading="smooth").color
+    frames = rasterkit.render(mesh, camera, mode, **options).color
     differ = np.abs(shared.astype(int) - frames).max(axis=2)
     assert np.mean(differ > 0) < 1e-3 and differ.max() <= 16
     assert len(np.unique(shared)) > 4
