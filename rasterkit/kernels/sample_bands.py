@@ -51,9 +51,10 @@ def _channel(sum_value, rgb, shift, background):
 
 
 @kernel(inline="always")
-def _add_row(lid, r, y, lo, hi, sample_x, sample_y, shading, background, sums):
+def _add_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, background, sums):
     """Add one sample's colours minus the background at the pixels ``lo .. hi`` of band row
-    ``r`` (image row ``y``) into ``sums[r]``, resetting the visibility row to -1 there.
+    ``r`` (image row ``y``) into ``sums[r]``, resetting the visibility row to -1 and the
+    depth row to +inf there (nothing else of them was written): ready for the next sample.
 
     The sums start at ``n`` backgrounds (:func:`_fill_sums`): a pixel no face covers adds
     nothing, and the loop visits only the columns the sample may have written. Flat colours
@@ -65,6 +66,7 @@ def _add_row(lid, r, y, lo, hi, sample_x, sample_y, shading, background, sums):
         iu = np.uint64(lo) + np.uint64(k)
         f = lid[ru, iu]
         lid[ru, iu] = -1
+        depth[ru, iu] = np.inf
         if mode == SHADE_TAGGED:
             rgb = np.uint32(f)
         elif mode == SHADE_FLAT:
@@ -136,9 +138,9 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
         band_depth = depth[scratch_row: scratch_row + y1 - y0]
         end = band_start[b + 1]
         _fill_sums(band_sums, y1 - y0, offsets.shape[0], background)
+        _clear_depth(band_depth)  # once: each sample resets what it wrote (_add_row)
         for s in range(offsets.shape[0]):
             sample = Sample(offsets[s, 0], offsets[s, 1])
-            _clear_depth(band_depth)
             for r in range(BAND_HEIGHT):
                 row_lo[r], row_hi[r] = width, -1
             for k in range(band_start[b], end):  # as draw_bands, each record moved to the sample
@@ -151,7 +153,7 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
                                             row_hi)
             sample_x, sample_y = offsets[s, 0] / ONE, offsets[s, 1] / ONE
             for r in range(y1 - y0):
-                _add_row(band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, shading, background,
-                         band_sums)
+                _add_row(band_lid, band_depth, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, shading,
+                         background, band_sums)
         _average_rows(band_sums, y0, y1, color, scale, bias)
     return fragments
