@@ -4,16 +4,16 @@ The samples of a pinhole render share one triangle setup (:mod:`rasterkit._share
 they differ only in where each pixel is sampled. :func:`draw_sample_bands` draws them all in
 one pass over the bands: each band (claimed by one thread, as in
 :func:`rasterkit.kernels.tiles.draw_bands`) is rasterized at each sample point in turn
-(:func:`rasterkit.kernels.triangle.raster_band_at`), and each sample's colours (the background
-where no face won) are added at once into a band of 16-bit sums (which start at the
-background times the number of samples: a sample adds its colour minus the background, and
-only where it may have drawn); after the last sample the
-band's average, rounded as :func:`rasterkit.kernels.accumulate.average_samples` rounds it, is
-written into the image. The band's depth, visibility and sum rows stay in the thread's cache
-from one sample to the next, where a frame per sample writes a whole image and reads it
-back (:mod:`rasterkit._accumulate`) for every sample. The sums are those of the frames the
-samples draw one by one (:func:`rasterkit.kernels.shade.resolve_row` at the same points), so
-the image is the same, to the bit, and does not depend on the thread count either.
+(:func:`rasterkit.kernels.triangle.raster_band_at`), and each sample's colours are added at
+once into a band of 16-bit sums. The sums start at the background times the number of
+samples, and a sample adds its colour minus the background where a face won, visiting only
+the columns it may have written (which it also resets for the next sample). After the last
+sample the band's average, rounded as :func:`rasterkit.kernels.accumulate.average_samples`
+rounds it, is written into the image. The band's depth, visibility and sum rows stay in the
+thread's cache from one sample to the next, where a frame per sample writes a whole image
+and reads it back (:mod:`rasterkit._accumulate`) for every sample. The sums are those of the
+frames the samples draw one by one (:func:`rasterkit.kernels.shade.resolve_row` at the same
+points), so the image is the same, to the bit, and does not depend on the thread count.
 """
 
 from __future__ import annotations
