@@ -37,6 +37,17 @@ Shading = namedtuple("Shading", "mode n_faces fan_face packed vertex_colors face
 #: C) uint8; whether to write face indices (``write_ids``) into ``ids`` (H, W) int32.
 Target = namedtuple("Target", "depth keep_depth height color write_ids ids")
 
+#: Where a draw samples each pixel: ``x, y`` int64, the sample point's offset from the pixel
+#: centre in fixed point (1/256 pixel, raster x right, y down; ``0, 0`` the centre).
+Sample = namedtuple("Sample", "x y")
+
+#: The samples that :func:`rasterkit.kernels.sample_bands.draw_sample_bands` averages:
+#: ``offsets`` (n, 2) int64, each sample point's offset from the pixel centres in 1/256 pixel;
+#: ``background`` the background's packed RGB (uint32, R in the low byte); ``scale, bias`` the
+#: rounding division of the sums (:func:`rasterkit.kernels.accumulate.average_samples`);
+#: ``sums`` (n_slots, rows, W, 3) uint16, each slot's band of sums in its last BAND_HEIGHT rows.
+Samples = namedtuple("Samples", "offsets background scale bias sums")
+
 #: Clearing a band before it is drawn: when ``on``, depth +inf, ids -1 and the band's part of
 #: ``color_bytes`` (the colour buffer as 1-D uint8, empty without one) to ``pattern``, the
 #: background repeated over 24 bytes (:func:`rasterkit.kernels.clear.fill_bytes`).
