@@ -61,7 +61,7 @@ def check(samples, vignette) -> tuple[int, float]:
 def extra_bytes(width: int, height: int, alpha: bool, samples: int, vignette: float, faces: int = 0) -> int:
     """Bytes a render needs beyond one frame's: the scratch framebuffer and the 16-bit sums
     of the samples, the ``faces``' records moved to each sample point (a pinhole render's
-    shared setup, :func:`rasterkit.kernels.triangle.move_records`: 40 bytes a record, grown
+    shared setup, :func:`rasterkit.kernels.triangle_samples.move_records`: 40 bytes a record, grown
     by a quarter), and the vignette's float32 factors and products."""
     pixels, channels = width * height, 4 if alpha else 3
     total = 0

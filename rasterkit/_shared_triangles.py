@@ -11,10 +11,10 @@ colour). So the vertex pass, the face pass (clipping, culling, snapping, flat co
 the cut faces' fans, the binning, the polygon offset and the smooth colours'
 perspective-correct terms are done once, with every box padded by a pixel, and each sample
 only draws the bands: :meth:`SharedTriangles.draw` moves the records' vertices by
-``-256 s`` and bounds them again (:func:`rasterkit.kernels.triangle.move_records`, a pass over
+``-256 s`` and bounds them again (:func:`rasterkit.kernels.triangle_samples.move_records`, a pass over
 the records) and draws them as any draw (:func:`rasterkit.kernels.tiles.draw_bands`);
 :meth:`SharedTriangles.draw_average` draws every sample of a band in turn, moving each
-record as it draws it (:func:`rasterkit.kernels.triangle.raster_band_at`), and averages
+record as it draws it (:func:`rasterkit.kernels.triangle_samples.raster_band_at`), and averages
 them there (:mod:`rasterkit.kernels.sample_bands`). The resolve interpolates smooth colours
 at ``P + s``. Boxes are padded by a pixel, and faces beside the image are not rejected
 (:func:`rasterkit.kernels.setup.setup_vertices`), for offsets up to a pixel.

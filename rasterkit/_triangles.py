@@ -12,7 +12,7 @@ validated the inputs.
 A draw is :func:`prepare` (everything up to the bins) then :func:`draw_prepared` (the bands);
 the samples of a pinhole multi-sample render share one :func:`prepare` with padded boxes,
 each drawn by :func:`draw_prepared` at its sample point (the records moved there first,
-:func:`rasterkit.kernels.triangle.move_records`), or all averaged in one pass over the
+:func:`rasterkit.kernels.triangle_samples.move_records`), or all averaged in one pass over the
 bands by :func:`average_prepared`.
 """
 
@@ -54,7 +54,8 @@ from rasterkit.kernels.tiles import (
     n_bands,
     slot_rows,
 )
-from rasterkit.kernels.triangle import move_records, offset_depths
+from rasterkit.kernels.triangle import offset_depths
+from rasterkit.kernels.triangle_samples import move_records
 
 CULL_CODES = {"none": CULL_NONE, "back": CULL_BACK, "front": CULL_FRONT}
 """The cull kernel's code of each name of :data:`rasterkit.options.CULL`."""

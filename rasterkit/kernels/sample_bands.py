@@ -4,7 +4,7 @@ The samples of a pinhole render share one triangle setup (:mod:`rasterkit._share
 they differ only in where each pixel is sampled. :func:`draw_sample_bands` draws them all in
 one pass over the bands: each band (claimed by one thread, as in
 :func:`rasterkit.kernels.tiles.draw_bands`) is rasterized at each sample point in turn
-(:func:`rasterkit.kernels.triangle.raster_band_at`), and each sample's colours are added at
+(:func:`rasterkit.kernels.triangle_samples.raster_band_at`), and each sample's colours are added at
 once into a band of 16-bit sums. The sums start at the background times the number of
 samples, and a sample adds its colour minus the background where a face won, visiting only
 the columns it may have written (which it also resets for the next sample). After the last
@@ -27,7 +27,7 @@ from rasterkit.kernels.records import Sample
 from rasterkit.kernels.setup import ONE
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED, _smooth_rgba
 from rasterkit.kernels.tiles import BAND_HEIGHT, PREFETCH_AHEAD, _clear_depth, _prefetch_record
-from rasterkit.kernels.triangle import raster_band_at
+from rasterkit.kernels.triangle_samples import raster_band_at
 
 
 @kernel(inline="always")

@@ -126,7 +126,7 @@ def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode,
         0, or 1 for records drawn at sample points other than the pixel centres: the box
         grows by a pixel on every side (before it is clamped to the image), so that it
         holds the pixels of every sample point up to a pixel from the centres (each
-        sample point bounds the triangle again: :func:`rasterkit.kernels.triangle.moved_box`),
+        sample point bounds the triangle again: :func:`rasterkit.kernels.triangle_samples.moved_box`),
         and a triangle that covers no pixel centre is kept all the same.
     t : int
         Record to write.

@@ -235,7 +235,7 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
     sample : Sample
         :class:`rasterkit.kernels.records.Sample`: where in each pixel smooth colours are
         interpolated, ``Sample(0, 0)`` at the centre. The records are those of the same
-        sample point (:func:`rasterkit.kernels.triangle.move_records` moves a setup shared
+        sample point (:func:`rasterkit.kernels.triangle_samples.move_records` moves a setup shared
         by the samples of a multi-sample render to each).
     lid : (n_slots, slot_rows(W), W) int32
         One visibility buffer per parallel slot (its last ``BAND_HEIGHT`` rows; the rows
