@@ -14,6 +14,7 @@ from rasterkit import _jit, _memory
 from rasterkit._jit import readonly, run_workers
 from rasterkit.kernels import edge_setup as _setup
 from rasterkit.kernels import edges as _kernels
+from rasterkit.kernels import edges_wu as _wu
 
 #: Fewer edges than this are drawn by the calling thread alone: handing work to another
 #: thread costs about 15 microseconds a pass.
@@ -33,18 +34,20 @@ def scratch_bytes(n_vertices, n_edges, n_pixels, mode, transform=False) -> int:
     plain = mode == _kernels.MODE_PLAIN
     per_vertex = 32 + (8 if plain else 0) + (32 if transform else 0)
     per_edge = 4 * _setup.REC_FIELDS if plain else 0
-    return n_vertices * per_vertex + n_edges * per_edge + (n_pixels if plain else 0)
+    blocks = 4 * _setup.BLOCK_FIELDS * _setup.n_blocks(n_edges) if plain else 0
+    return n_vertices * per_vertex + n_edges * per_edge + blocks + (n_pixels if plain else 0)
 
 
 def scratch(n_vertices, n_edges, n_pixels, mode, take=_memory.take):
-    """``(proj, pixels, recs, mask)`` for :func:`rasterkit.kernels.edges.draw_edge_bands`
-    (``n_pixels``: mask bytes, 0 for none), from recycled memory unless ``take`` says
-    otherwise (``np.empty`` for fresh arrays)."""
+    """The :class:`rasterkit.kernels.edges.EdgeScratch` of a draw (``n_pixels``: mask bytes,
+    0 for none), from recycled memory unless ``take`` says otherwise (``np.empty`` for fresh
+    arrays)."""
     plain = mode == _kernels.MODE_PLAIN
-    return (take((n_vertices, 4), np.float64),
-            take((n_vertices if plain else 0,), np.int64),
-            take((_setup.REC_FIELDS, n_edges if plain else 0), np.int32),
-            take((n_pixels if plain else 0,), np.uint8))
+    return _kernels.EdgeScratch(take((n_vertices, 4), np.float64),
+                                take((n_vertices if plain else 0,), np.int64),
+                                take((_setup.REC_FIELDS, n_edges if plain else 0), np.int32),
+                                take((_setup.BLOCK_FIELDS, _setup.n_blocks(n_edges) if plain else 0), np.int32),
+                                take((n_pixels if plain else 0,), np.uint8))
 
 
 def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None, *, n_bands=None,
@@ -73,22 +76,22 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
         clip = _memory.take((len(points), 4), np.float64)
     if memory is None:
         memory = scratch(len(clip), len(edges), height * width if background.size else 0, mode)
-    proj, pixels, recs, _ = memory
+    proj, pixels = memory.proj, memory.pixels
     edges = readonly(edges)  # as a Mesh's: one compiled kernel for both
-    counts = np.zeros((_setup.VERTEX_CHUNKS, -(-height // _setup.ROWS_PER_BIN)), np.int64)
+    n_bins = -(-height // _setup.ROWS_PER_BIN)
+    counts = np.zeros((_setup.VERTEX_CHUNKS, n_bins), np.int64)
     run_workers(_setup.project_vertices, clip, proj, pixels if plain else pixels[:0], width, height, counts, points,
               matrix, threads=threads)
-    if plain:
-        run_workers(_setup.plain_setup, pixels, edges, width, height, recs, threads=threads)
-        work = _setup.record_work(recs, height)
-    else:
-        work = counts.sum(axis=0)
-    bounds = _setup.balanced_bands(work, n_bands, height)
+    if plain:  # the work of its records (and of clearing and painting rows) in the balance
+        counts = np.zeros((_setup.SETUP_CHUNKS, n_bins), np.int64)
+        run_workers(_setup.plain_setup, pixels, edges, width, height, memory.recs, memory.blocks, counts,
+                    threads=threads)
+    bounds = _setup.balanced_bands(_setup.band_work(counts, _setup.ROW_WORK if plain else 0, height), n_bands, height)
     if plain:  # a kernel of its own: a wireframe compiles nothing of the other modes
         dropped = run_workers(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,
                             threads=threads)
     else:
-        worker = _kernels.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _kernels.draw_edge_bands
+        worker = _wu.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _kernels.draw_edge_bands
         dropped = run_workers(worker, color, depth if depth is not None else _NO_DEPTH, clip, edges, rgba, mode, bias,
                             bounds, background, memory, threads=threads)
     return max(dropped)

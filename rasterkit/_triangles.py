@@ -5,8 +5,15 @@ resolve).
 The kernels are in :mod:`rasterkit.kernels.setup`, :mod:`rasterkit.kernels.fans`,
 :mod:`rasterkit.kernels.tiles`, :mod:`rasterkit.kernels.triangle` and
 :mod:`rasterkit.kernels.shade`; this module picks the resolve mode once per draw, the scratch
-memory and the threads, and runs the passes in order. Its caller
-(:func:`rasterkit.triangles.rasterize_triangles`) has validated the inputs.
+memory and the threads, and runs the passes in order. Its callers
+(:func:`rasterkit.triangles.rasterize_triangles`, :mod:`rasterkit._shared_triangles`) have
+validated the inputs.
+
+A draw is :func:`prepare` (everything up to the bins) then :func:`draw_prepared` (the bands);
+the samples of a pinhole multi-sample render share one :func:`prepare` with padded boxes,
+each drawn by :func:`draw_prepared` at its sample point (the records moved there first,
+:func:`rasterkit.kernels.triangle_samples.move_records`), or all averaged in one pass over the
+bands by :func:`average_prepared`.
 """
 
 from __future__ import annotations
@@ -23,7 +30,7 @@ from rasterkit.limits import check_memory
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.kernels.fans import count_fans, setup_cut_faces
-from rasterkit.kernels.records import Clear, Counts, Cuts, Lit, Records, Shading, Target
+from rasterkit.kernels.records import Clear, Counts, Cuts, Lit, Records, Sample, Samples, Shading, Target
 from rasterkit.kernels.setup import (
     MAX_FAN,
     N_CHUNKS,
@@ -37,8 +44,18 @@ from rasterkit.kernels.setup import (
     setup_vertices,
 )
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, SHADE_TAGGED, bary_matrices, pack_colors
-from rasterkit.kernels.tiles import BAND_HEIGHT, BAND_SHIFT, bin_cursors, bin_records, draw_bands, n_bands, slot_rows
+from rasterkit.kernels.tiles import (
+    BAND_HEIGHT,
+    BAND_SHIFT,
+    SLOT_GUARD_BYTES,
+    bin_cursors,
+    bin_records,
+    draw_bands,
+    n_bands,
+    slot_rows,
+)
 from rasterkit.kernels.triangle import offset_depths
+from rasterkit.kernels.triangle_samples import move_records
 
 CULL_CODES = {"none": CULL_NONE, "back": CULL_BACK, "front": CULL_FRONT}
 """The cull kernel's code of each name of :data:`rasterkit.options.CULL`."""
@@ -102,6 +119,7 @@ class _Workspace(threading.local):
 
     def __init__(self):
         self._buffers = {}
+        self.generation = 0  # draws set up (rasterkit._triangles.prepare) by this thread
 
     def reserve(self, name, shape, dtype, keep=0):
         """A C-contiguous ``shape`` array of ``dtype``; its first ``keep`` rows are kept
@@ -183,8 +201,9 @@ def _pattern(background: bytes) -> np.ndarray:
 
 
 
-def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
+def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads):
     """Vertex pass, face pass and (when needed) the cut faces' fans; binning counted.
+    ``pad``: the boxes' padding (:func:`rasterkit.kernels.setup.setup_triangle`).
 
     Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts, listed)`` for
     :func:`rasterkit.kernels.tiles.bin_records` and the resolve; ``counts`` (N_STATUS + 1,)
@@ -193,7 +212,7 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
     n, m = clip.shape[0], faces.shape[0]
     corners = ws.reserve("corners", (n, 4), np.int32)
     depths = corners.view(np.float32)  # the same rows: z as float32
-    run_workers(setup_vertices, clip, width, height, corners, depths, threads=threads)
+    run_workers(setup_vertices, clip, width, height, pad, corners, depths, threads=threads)
     tri_xy, tri_z, tri_box = _records(ws, m)
     cut_mask, n_fan = ws.reserve("cut_mask", (m,), np.int8), ws.reserve("n_fan", (m,), np.int8)
     band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
@@ -201,8 +220,8 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
     listed = (ws.reserve("listed", (m,), np.int32), np.zeros(N_CHUNKS, np.int64))
     cut = np.zeros(N_CHUNKS, np.int64)
     cuts, counts = Cuts(cut_mask, n_fan), Counts(BAND_SHIFT, band_counts, tally)
-    run_workers(setup_faces, faces, corners, depths, width, height, cull_mode, Records(tri_xy, tri_z, tri_box), cuts,
-              counts, lit, listed, cut, threads=threads)
+    run_workers(setup_faces, faces, corners, depths, width, height, cull_mode, pad, Records(tri_xy, tri_z, tri_box),
+                cuts, counts, lit, listed, cut, threads=threads)
     if cut.min() < 0:
         raise ValueError(f"faces must index vertices 0..{n - 1}")
     n_cut = int(cut.sum())
@@ -214,8 +233,8 @@ def _set_up(ws, clip, faces, width, height, cull_mode, lit, threads):
         fan_start += np.cumsum(fans) - fans
         tri_xy, tri_z, tri_box = _records(ws, m + int(fans.sum()), keep=m)
         fan_face = ws.reserve("fan_face", (int(fans.sum()),), np.int32)
-        run_workers(setup_cut_faces, clip, faces, width, height, cull_mode, fan_start, fan_face,
-                  Records(tri_xy, tri_z, tri_box), cuts, counts, threads=threads)
+        run_workers(setup_cut_faces, clip, faces, width, height, cull_mode, pad, fan_start, fan_face,
+                    Records(tri_xy, tri_z, tri_box), cuts, counts, threads=threads)
     return Records(tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally.sum(axis=0), listed
 
 
@@ -225,6 +244,124 @@ def _flat_colors(ws, m, face_colors, lighting):
     if lighting is not None:
         return ws.reserve("packed", (m,), np.uint32)
     return face_colors if face_colors.dtype == np.uint32 else pack_colors(face_colors)
+
+
+class Prepared(NamedTuple):
+    """A draw's triangles set up and binned (:func:`prepare`), ready to be drawn
+    (:func:`draw_prepared`) once, or at each sample point of a multi-sample render. Its
+    arrays are the workspace's: valid until the next :func:`prepare` of this thread."""
+
+    records: Records
+    band_start: np.ndarray
+    items: np.ndarray
+    shading: Shading
+    width: int
+    height: int
+    padded: bool
+    generation: int  # the workspace's at prepare: checked by draw_prepared
+    stats: dict  # the counts of rasterkit.triangles.TriangleStats but fragments
+
+
+def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, height, color, ids, threads,
+            lighting=None, padded=False) -> Prepared:
+    """Vertex pass, face pass, fans, bins, polygon offset and the smooth colours' terms of
+    a :func:`draw_triangles` (its arguments; ``color`` and ``ids``: whether colours and
+    face ids will be drawn). ``padded``: boxes padded by a pixel, for drawing at sample
+    points other than the pixel centres."""
+    ws = WORKSPACE
+    faces = readonly(faces)  # as a Mesh's: one compiled kernel for both
+    m = faces.shape[0]
+    if not color:
+        mode, packed = SHADE_NONE, np.empty(0, np.uint32)
+    elif vertex_colors is not None:
+        mode, packed = SHADE_SMOOTH, np.empty(0, np.uint32)
+    else:
+        mode, packed = SHADE_FLAT, _flat_colors(ws, m, face_colors, lighting)
+    lit = _lit(lighting, packed if lighting is not None else np.empty(0, np.uint32))
+    setup_threads = 1 if m < _PARALLEL_FACES else threads
+    ws.generation += 1
+    records, n_fan, fan_start, fan_face, band_counts, counts, listed = _set_up(
+        ws, clip, faces, width, height, CULL_CODES[cull], int(padded), lit, setup_threads
+    )
+    band_start = bin_cursors(band_counts)
+    items = ws.reserve("items", (int(band_start[-1]),), np.int32)
+    drawn = np.zeros(N_CHUNKS, np.int64)
+    run_workers(bin_records, m, n_fan, fan_start, records.box, band_counts, listed, items, drawn,
+                threads=setup_threads)
+    if offset != (0.0, 0.0):
+        run_workers(offset_depths, *records, records.xy.shape[0], *offset, threads=setup_threads)
+    bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
+    # Flat colours without ids: the visibility buffer carries the colour itself.
+    resolve = SHADE_TAGGED if mode == SHADE_FLAT and not ids else mode
+    colors = vertex_colors if vertex_colors is not None else np.zeros((0, 3), np.float32)
+    shading = Shading(resolve, m, fan_face, packed, colors, faces, bary)
+    stats = dict(
+        faces=m,
+        drawn=int(counts[STATUS_DRAWN]),
+        culled=int(counts[STATUS_CULLED]),
+        empty=int(counts[STATUS_EMPTY]),
+        outside=int(counts[STATUS_OUTSIDE]),
+        dropped_nonfinite=int(counts[STATUS_NONFINITE]),
+        clipped=int(counts[N_STATUS]),
+        triangles=int(drawn.sum()),
+    )
+    return Prepared(records, band_start, items, shading, width, height, bool(padded), ws.generation, stats)
+
+
+def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads, sample=(0, 0)) -> int:
+    """Draw ``prepared`` into ``color``, ``depth`` and ``ids`` (as :func:`draw_triangles`,
+    which made the draw's ``prepared`` with the same ones wanted), sampling each pixel at
+    ``sample``, an offset from its centre in 1/256 pixel (``(0, 0)`` unless padded); returns
+    the number of fragments."""
+    ws = WORKSPACE
+    if prepared.generation != ws.generation:
+        raise RuntimeError("the triangles were set up before another draw of this thread (or in another thread)")
+    sample = Sample(int(sample[0]), int(sample[1]))
+    records = prepared.records
+    if prepared.padded:  # the records moved to the sample point
+        n = records.xy.shape[0]
+        moved = Records(ws.reserve("moved_xy", (n, 6), np.int32), records.z,
+                        ws.reserve("moved_box", (n, 4), np.int32))
+        run_workers(move_records, records, moved, n, sample, prepared.width, prepared.height,
+                    threads=1 if n < _PARALLEL_FACES else threads)
+        records = moved
+    elif sample != (0, 0):
+        raise ValueError("a draw prepared without padded boxes is sampled at the pixel centres only")
+    width, height = prepared.width, prepared.height
+    color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
+    ids_target = ids if ids is not None else np.empty((0, 0), np.int32)
+    if depth is None:  # a band-sized depth scratch per thread, never written to memory whole
+        band_depth = ws.reserve("band_depth", (threads * slot_rows(width), width), np.float32)
+        target = Target(band_depth, False, height, color_target, ids is not None, ids_target)
+    else:
+        target = Target(depth, True, height, color_target, ids is not None, ids_target)
+    clear = _clear_spec(background, color)
+    spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
+    return int(sum(run_workers(draw_bands, prepared.band_start, prepared.items, records, prepared.shading,
+                               target, clear, sample, ws.visibility(threads, width), spans, threads=threads)))
+
+
+def average_prepared(prepared: Prepared, color, background, offsets, *, threads) -> int:
+    """Draw ``prepared`` (padded, flat or smooth colours) at every sample point ``offsets``
+    (n, 2) int64 (1/256 pixel, each in -256..256) and write their average into ``color``
+    (H, W, 3) uint8 on a ``background`` (3,) uint8, as :func:`draw_prepared` of each sample,
+    summed and divided by :func:`rasterkit.kernels.accumulate.average_samples` would, to the
+    bit (:mod:`rasterkit.kernels.sample_bands`); returns the number of fragments."""
+    from rasterkit.kernels.sample_bands import draw_sample_bands  # multi-sample renders only
+
+    ws = WORKSPACE
+    if prepared.generation != ws.generation or not prepared.padded:
+        raise RuntimeError("the triangles were not set up for samples, or before another draw of this thread")
+    n, width = offsets.shape[0], prepared.width
+    band_depth = ws.reserve("band_depth", (threads * slot_rows(width), width), np.float32)
+    guard = -(-SLOT_GUARD_BYTES // (6 * width))  # rows of sums between two slots' bands
+    sums = ws.reserve("sample_sums", (threads, BAND_HEIGHT + guard, width, 3), np.uint16)
+    rgb = int(background[0]) | int(background[1]) << 8 | int(background[2]) << 16
+    samples = Samples(np.ascontiguousarray(offsets, np.int64), np.uint32(rgb), 1.0 / n, (n // 2 + 0.5) / n, sums)
+    spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
+    return int(sum(run_workers(draw_sample_bands, prepared.band_start, prepared.items, prepared.records,
+                               prepared.shading, band_depth, color, _clear_spec(background, color), samples,
+                               ws.visibility(threads, width), spans, threads=threads)))
 
 
 def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,
@@ -240,53 +377,8 @@ def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, c
     a few faces run on one). Returns the counts of
     :class:`rasterkit.triangles.TriangleStats`, by field name.
     """
-    ws = WORKSPACE
     height, width = (depth if depth is not None else color).shape[:2]
-    faces = readonly(faces)  # as a Mesh's: one compiled kernel for both
-    m = faces.shape[0]
-    if color is None:
-        mode, packed = SHADE_NONE, np.empty(0, np.uint32)
-    elif vertex_colors is not None:
-        mode, packed = SHADE_SMOOTH, np.empty(0, np.uint32)
-    else:
-        mode, packed = SHADE_FLAT, _flat_colors(ws, m, face_colors, lighting)
-    lit = _lit(lighting, packed if lighting is not None else np.empty(0, np.uint32))
-    setup_threads = 1 if m < _PARALLEL_FACES else threads
-    records, n_fan, fan_start, fan_face, band_counts, counts, listed = _set_up(
-        ws, clip, faces, width, height, CULL_CODES[cull], lit, setup_threads
-    )
-    band_start = bin_cursors(band_counts)
-    items = ws.reserve("items", (int(band_start[-1]),), np.int32)
-    drawn = np.zeros(N_CHUNKS, np.int64)
-    run_workers(bin_records, m, n_fan, fan_start, records.box, band_counts, listed, items, drawn,
-              threads=setup_threads)
-    if offset != (0.0, 0.0):
-        run_workers(offset_depths, *records, records.xy.shape[0], *offset, threads=setup_threads)
-    bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
-    # Flat colours without ids: the visibility buffer carries the colour itself.
-    resolve = SHADE_TAGGED if mode == SHADE_FLAT and ids is None else mode
-    no_colors = np.zeros((0, 3), np.float32)
-    colors = vertex_colors if vertex_colors is not None else no_colors
-    shading = Shading(resolve, m, fan_face, packed, colors, faces, bary)
-    color_target = color if color is not None else np.empty((0, 0, 3), np.uint8)
-    ids_target = ids if ids is not None else np.empty((0, 0), np.int32)
-    if depth is None:  # a band-sized depth scratch per thread, never written to memory whole
-        band_depth = ws.reserve("band_depth", (threads * slot_rows(width), width), np.float32)
-        target = Target(band_depth, False, height, color_target, ids is not None, ids_target)
-    else:
-        target = Target(depth, True, height, color_target, ids is not None, ids_target)
-    clear = _clear_spec(background, color)
-    spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
-    fragments = sum(run_workers(draw_bands, band_start, items, records, shading, target, clear,
-                              ws.visibility(threads, width), spans, threads=threads))
-    return dict(
-        faces=m,
-        drawn=int(counts[STATUS_DRAWN]),
-        culled=int(counts[STATUS_CULLED]),
-        empty=int(counts[STATUS_EMPTY]),
-        outside=int(counts[STATUS_OUTSIDE]),
-        dropped_nonfinite=int(counts[STATUS_NONFINITE]),
-        clipped=int(counts[N_STATUS]),
-        triangles=int(drawn.sum()),
-        fragments=int(fragments),
-    )
+    prepared = prepare(clip, faces, face_colors, vertex_colors, cull, offset, width=width, height=height,
+                       color=color is not None, ids=ids is not None, threads=threads, lighting=lighting)
+    fragments = draw_prepared(prepared, color, depth, ids, background, threads=threads)
+    return dict(prepared.stats, fragments=fragments)

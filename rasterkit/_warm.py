@@ -15,6 +15,13 @@ types they get (``Dispatcher.compile``) and not run, and the other workers are n
 compiled nor run (their writable arrays are zeroed, so the few small kernels that read
 them see harmless input). If anything goes wrong in the helper, this process simply
 compiles the kernels itself: the images never depend on it.
+
+The built-in demo (no model to load) gets a helper of another kind on a machine with two
+cores or more: while this process compiles the demo's kernels, it compiles the OBJ reader's
+(:data:`PARSER`, by reading a small OBJ of every kind of statement), which the first real
+model would otherwise compile for about 4 seconds. This process does not wait for it (it
+has nothing to wait for); the helper runs to its end on its own, in a few seconds, unless
+the command line is interrupted.
 """
 
 from __future__ import annotations
@@ -32,8 +39,13 @@ from . import _jit
 #: The band workers, the kernels that a helper may compile.
 BAND_WORKERS = ("draw_bands", "draw_wire_bands", "draw_edge_bands", "draw_antialiased_bands")
 
+#: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
+PARSER = (("obj_scan", "scan_statements"), ("obj_numbers", "parse_number_rows"),
+          ("obj_corners", "parse_corners"), ("obj_polygons", "side_keys"))
+
 _helper: subprocess.Popen | None = None
 _helped: str | None = None  # the worker the helper compiles
+_parser_helper: subprocess.Popen | None = None
 
 
 def _band_worker(style: dict):
@@ -44,9 +56,9 @@ def _band_worker(style: dict):
         from .kernels import tiles
 
         return tiles.draw_bands
-    from .kernels import edges
+    from .kernels import edges, edges_wu
 
-    return edges.draw_antialiased_bands if style["aa"] else edges.draw_wire_bands
+    return edges_wu.draw_antialiased_bands if style["aa"] else edges.draw_wire_bands
 
 
 def _cached(dispatcher) -> bool:
@@ -67,15 +79,35 @@ def start(style: dict, depth: bool, loading: bool) -> None:
     global _helper, _helped
     worker = _band_worker(style)
     if _helper is not None or _cached(worker) or (style["mode"] == "wire" and not loading):
+        if not loading and _helper is None:
+            _start_parser_helper()
         return
-    order = json.dumps({"style": style, "depth": depth, "worker": worker.py_func.__name__})
+    _helper = _spawn({"style": style, "depth": depth, "worker": worker.py_func.__name__})
+    if _helper is not None:
+        _helped = worker.py_func.__name__
+        _jit.intercept(_wait_for_helper)
+
+
+def _spawn(order: dict) -> subprocess.Popen | None:
     try:
-        _helper = subprocess.Popen([sys.executable, "-m", "rasterkit._warm", order], stdin=subprocess.DEVNULL,
-                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        return subprocess.Popen([sys.executable, "-m", "rasterkit._warm", json.dumps(order)],
+                                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     except OSError:
+        return None
+
+
+def _start_parser_helper() -> None:
+    """The demo's helper: compiles the OBJ reader's kernels when they are not cached and a
+    second core is free to do it."""
+    global _parser_helper
+    if _parser_helper is not None or _jit.get_threads() < 2:
         return
-    _helped = worker.py_func.__name__
-    _jit.intercept(_wait_for_helper)
+    from importlib import import_module
+
+    kernels = [getattr(import_module(f"rasterkit.kernels.{module}"), name) for module, name in PARSER]
+    if all(_cached(k) for k in kernels):
+        return
+    _parser_helper = _spawn({"obj": True})
 
 
 def stop() -> None:
@@ -83,16 +115,17 @@ def stop() -> None:
     nothing more. Numba writes a cache file under a temporary name and renames it, so no
     cache file is left half-written (a helper stopped during those milliseconds leaves the
     temporary one in Numba's cache folder)."""
-    global _helper
-    helper, _helper = _helper, None
-    if helper is None:
-        return
-    _jit.intercept(None)
-    try:
-        helper.terminate()
-        helper.wait(timeout=5)
-    except (OSError, subprocess.TimeoutExpired):
-        pass
+    global _helper, _parser_helper
+    helpers = [h for h in (_helper, _parser_helper) if h is not None]
+    if _helper is not None:
+        _jit.intercept(None)
+    _helper = _parser_helper = None
+    for helper in helpers:
+        try:
+            helper.terminate()
+            helper.wait(timeout=5)
+        except (OSError, subprocess.TimeoutExpired):
+            pass
 
 
 def _wait_for_helper(worker, args):
@@ -126,16 +159,58 @@ def _zero_writable(values) -> None:
             value.fill(0)
 
 
+#: An OBJ with a statement of every kind the reader has a kernel for: vertices with colours,
+#: texture coordinates and normals, a triangle, a quad, a concave and a non-planar polygon
+#: (the triangulation), negative indices, a line and a point, groups and a material.
+SAMPLE_OBJ = """\
+o sample
+v 0 0 0 1 0 0
+v 1 0 0 0 1 0
+v 1 1 0 0 0 1
+v 0 1 0.2 1 1 0
+v 0.5 0.4 0
+v 0.5 2 0.3
+vt 0 0
+vt 1 0
+vt 1 1
+vn 0 0 1
+g faces
+usemtl red
+f 1/1/1 2/2/1 3/3/1
+f 1/1 2/2 3/3 4/1
+f 1//1 2//1 5//1 3//1 4//1
+f -6 -5 -4 -1 -3 -2
+l 1 2 3
+p 4
+"""
+
+
 def _helper_main(order: str) -> None:
+    order = json.loads(order)
+    if order.get("obj"):
+        _read_sample_obj()
+        return
     from . import render, shapes
     from .camera import Camera
 
-    order = json.loads(order)
     _jit.intercept(_compile_only(order["worker"]))
     camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
     fb = render(shapes.icosphere(1), camera, **order["style"])
     if order["depth"]:
         fb.depth  # noqa: B018 - reading it runs the depth pass
+
+
+def _read_sample_obj() -> None:
+    """In the demo's helper: read :data:`SAMPLE_OBJ`, which compiles the reader's kernels."""
+    import tempfile
+
+    from .obj import load_obj
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "sample.obj")
+        with open(path, "w") as f:
+            f.write(SAMPLE_OBJ)
+        load_obj(path)
 
 
 if __name__ == "__main__":

@@ -102,11 +102,13 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         the object (both -1 where none).
     samples : int
         Samples per pixel, 1 to 256, averaged (rounded to the nearest level). Each sample
-        draws the whole scene once at a fixed sub-pixel offset, tuned for coverage
-        (:mod:`rasterkit.samples`): anti-aliasing of faces, edges and lines. A camera with
-        an ``aperture`` also moves each sample's eye across its lens, keeping the focus
-        plane in place: depth of field (:mod:`rasterkit.camera.lens`). 1 is one sample at
-        the pixel centre through the pinhole (the aperture is then unused). The depth buffer
+        sees the scene at a fixed sub-pixel offset, tuned for coverage (:mod:`rasterkit.samples`):
+        anti-aliasing of faces, edges and lines. Through a pinhole the offsets (whole 1/256
+        pixels) and the faces' setup are shared by all samples (:mod:`rasterkit._accumulate`).
+        A camera with an ``aperture`` also moves each sample's eye across its lens, keeping
+        the focus plane in place: depth of field (:mod:`rasterkit.camera.lens`), a whole
+        frame per sample. 1 is one sample at the pixel centre through the pinhole (the
+        aperture is then unused). The depth buffer
         and the ids of a render with ``samples > 1`` are those of the centre sample: what
         ``samples=1`` gives with the same camera (the depth is drawn when first read; with
         ``ids`` the centre sample is drawn once more, eagerly).
@@ -189,7 +191,8 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         options = replace(options, keep_depth=True, points=points)
     alpha = parse_color(background)[3] < 255
     check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids or normals)
-                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette)
+                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette,
+                                           len(mesh.faces) if options.mode != "wire" else 0)
                  + _maps_bytes(mesh, camera.width * camera.height, normals, object_faces is not None),
                  f"a {camera.width}x{camera.height} {options.mode} render of {len(mesh.faces)} faces")
     if samples == 1 and vignette == 0.0:
@@ -197,6 +200,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     else:
         fb = _accumulate.render_samples(camera, samples, vignette, background, ids or normals,
                                         partial(_draw_frame, mesh, options),
+                                        partial(_shared_setup, mesh, camera, options),
                                         partial(_frame, mesh, camera, options, background))
     fb.camera = camera
     if normals or object_faces is not None:  # imported here: a plain render loads none of it
@@ -238,9 +242,10 @@ def _frame(mesh: Mesh, camera: Camera, options: _Options, background, ids: bool)
     return fb
 
 
-def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarray) -> None:
+def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarray, shared=None) -> None:
     """Draw the mesh into every buffer of ``fb`` (cleared on the way) through the world ->
-    raster ``matrix``."""
+    raster ``matrix``; ``shared``: ``(faces, sample)``, a pinhole render's faces set up once
+    (:func:`_shared_setup`), drawn at ``sample`` (1/256 px), the offset ``matrix`` adds."""
     if options.mode == "wire":  # no depth buffer: it stays "farthest" until someone asks
         if fb.ids is not None:
             fb.ids.fill(-1)
@@ -248,14 +253,31 @@ def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarr
         _draw_edges(fb, mesh, None, options, depth_test=False, clear=True,
                     transform=(mesh.vertices, matrix))
     else:
-        clip = transform_points(mesh.vertices, matrix)
-        _draw_triangles(fb, mesh, clip, options)
+        clip = None if shared is not None and options.mode == "solid" else transform_points(mesh.vertices, matrix)
+        _draw_triangles(fb, mesh, clip, options, shared)
         if options.mode != "solid":
             _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
     if options.points is not None:
         from .points import draw_points
 
         draw_points(fb, options.points, matrix)
+
+
+def _shared_setup(mesh: Mesh, camera: Camera, options: _Options):
+    """``(setup, whole)``: the faces set up once for every sample of a pinhole render
+    (through the centre sample's matrix; None when the mode draws none), and whether they
+    are all that a sample draws."""
+    if options.mode == "wire":
+        return None, False
+    from ._shared_triangles import SharedTriangles
+
+    clip = transform_points(mesh.vertices, camera.world_to_raster())
+    offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
+    face_colors, vertex_colors = _shade(mesh, options) if options.mode != "hidden" else (None, None)
+    setup = SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=options.mode != "hidden",
+                            face_colors=face_colors, vertex_colors=vertex_colors, cull=options.cull,
+                            depth_offset=offset)
+    return setup, options.mode == "solid" and options.points is None
 
 
 def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha: bool, ids: bool) -> int:
@@ -284,9 +306,15 @@ def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha:
     return total
 
 
-def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray,
-                    options: _Options) -> None:
+def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, options: _Options, shared=None) -> None:
     """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer."""
+    if shared is not None:  # a sample of a pinhole render: the faces are set up
+        triangles, sample = shared
+        hidden = options.mode == "hidden"
+        depth = None if options.mode == "solid" and not options.keep_depth else fb.uncleared_depth()
+        triangles.draw(None if hidden else fb.color, depth, sample=sample,
+                       clear=() if hidden else tuple(int(c) for c in fb.background[: fb.color.shape[2]]))
+        return
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     if options.mode == "hidden":  # the colour buffer is cleared by the edge pass
         rasterize_triangles(None, fb.uncleared_depth(), clip, mesh.faces, ids=fb.ids,

@@ -25,13 +25,23 @@ import numpy as np
 
 from . import _memory, _png
 from ._atomic import atomic_write
-from ._jit import run_workers
+from ._jit import readonly, run_workers
 
 __all__ = ["camera_depth", "fill_maps", "save_depth", "save_ids", "save_normals", "visible_faces"]
 
 #: Scale of a 16-bit depth PNG: the value is the depth times this, rounded (millimetres
 #: when the world unit is the metre); 0 where nothing was drawn, 65535 at 65.535 m and beyond.
 DEPTH_PNG_SCALE = 1000.0
+
+#: Passes over fewer pixels (and faces) than this make the maps and the camera depth on the
+#: calling thread alone: handing a pass to another thread costs about 15 microseconds (much
+#: more on a busy machine), as much as this many pixels.
+_PARALLEL_PIXELS = 32_768
+
+
+def _threads(items: int):
+    """The ``threads`` of a pass over ``items`` pixels and faces: 1 for a small one, else all."""
+    return 1 if items < _PARALLEL_PIXELS else None
 
 
 def camera_depth(depth: np.ndarray, camera) -> np.ndarray:
@@ -41,7 +51,7 @@ def camera_depth(depth: np.ndarray, camera) -> np.ndarray:
 
     out = _memory.take(depth.shape, np.float32)
     run_workers(metric_depth, np.ascontiguousarray(depth), out, float(camera.near), float(camera.far),
-                camera.kind == "perspective")
+                camera.kind == "perspective", threads=_threads(depth.size))
     return out
 
 
@@ -50,23 +60,23 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     and, for a scene (``object_faces``: the number of faces of each object, in order),
     ``fb.object_ids``, turning ``fb.ids`` into indices within each object; from ``fb.ids``,
     the faces of ``mesh`` (world space) seen through ``matrix``."""
-    from .kernels.maps import camera_normals, surface_maps
+    from .kernels.maps import N_FACE_CHUNKS, surface_maps
     from .kernels.records import Maps
     from .kernels.shade import bary_matrices, vertex_normals
     from ._vertex import transform_points
 
     height, width = fb.ids.shape
-    rotation = np.stack(camera.basis())  # rows u, v, w: world -> camera
+    rotation = camera.rotation()  # rows u, v, w: world -> camera
     smooth = normals == "smooth"
-    face_normals, vertex = np.zeros((0, 3), np.float32), np.zeros((0, 3))
-    bary = np.zeros((0, 9))
+    no_rows = np.zeros((0, 3), np.float32)
+    world_normals, face_normals, vertex, bary = readonly(no_rows), no_rows, np.zeros((0, 3)), np.zeros((0, 9))
     if smooth:
         world = mesh.normals if mesh.normals is not None else vertex_normals(mesh.vertices, mesh.faces)
         vertex = np.ascontiguousarray(world, np.float64)
         bary = bary_matrices(transform_points(mesh.vertices, matrix), mesh.faces)
-    elif normals:
-        face_normals = np.empty((len(mesh.faces), 3), np.float32)
-        run_workers(camera_normals, mesh.face_normals, rotation, face_normals)
+    elif normals:  # turned into camera space by the kernel, first
+        world_normals = readonly(mesh.face_normals)  # one compiled kernel: read-only either way
+        face_normals = _memory.take((len(mesh.faces), 3), np.float32)
     out_normals = _memory.take((height, width, 3), np.float32) if normals else np.empty((0, 0, 3), np.float32)
     objects = object_faces is not None
     if objects:
@@ -76,8 +86,10 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     else:
         first, face_object = np.zeros(0, np.int64), np.zeros(0, np.int32)
     object_ids = _memory.take((height, width), np.int32) if objects else np.empty((0, 0), np.int32)
-    run_workers(surface_maps, fb.ids, Maps(normals is not None, out_normals, smooth, face_normals, vertex, bary,
-                                           mesh.faces, rotation, objects, object_ids, face_object, first))
+    faces_done = np.zeros(N_FACE_CHUNKS, np.int64)
+    maps = Maps(normals is not None, out_normals, smooth, world_normals, face_normals, faces_done, vertex, bary,
+                mesh.faces, rotation, objects, object_ids, face_object, first)
+    run_workers(surface_maps, fb.ids, maps, threads=_threads(height * width + len(world_normals)))
     fb.normals = out_normals if normals else None
     if objects:
         fb.object_ids, fb.object_first = object_ids, first

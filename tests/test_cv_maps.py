@@ -79,13 +79,14 @@ def _sphere_normals(camera, center, radius):
 
 
 @pytest.mark.parametrize("shading, limit", [("smooth", 1.0), ("flat", 3.0)])
-def test_normals_of_a_subdivided_sphere(shading, limit):
+@pytest.mark.parametrize("size", [(200, 160), (360, 240)])  # the maps on one thread, and shared out
+def test_normals_of_a_subdivided_sphere(shading, limit, size):
     center, radius = np.array([0.3, -0.2, 0.1]), 1.2
     mesh = shapes.icosphere(5, radius)
     mesh = Mesh(mesh.vertices + center, mesh.faces)
-    camera = Camera.look_at((1.0, 2.0, 5.0), center, fov_y=40, width=200, height=160)
+    camera = Camera.look_at((1.0, 2.0, 5.0), center, fov_y=40, width=size[0], height=size[1])
     fb = rasterkit.render(mesh, camera, mode="solid", shading=shading, normals=True)
-    assert fb.ids is None and fb.normals.dtype == np.float32 and fb.normals.shape == (160, 200, 3)
+    assert fb.ids is None and fb.normals.dtype == np.float32 and fb.normals.shape == (size[1], size[0], 3)
     drawn = ~np.isnan(fb.normals[..., 0])
     assert np.all(np.isnan(fb.normals[~drawn]))
     assert np.allclose(np.linalg.norm(fb.normals[drawn], axis=1), 1.0, atol=1e-5)
@@ -113,9 +114,10 @@ def _three_objects():
     return scene
 
 
-def test_object_ids_of_a_three_object_scene():
+@pytest.mark.parametrize("size", [(160, 90), (400, 225)])  # the maps on one thread, and shared out
+def test_object_ids_of_a_three_object_scene(size):
     scene = _three_objects()
-    camera = Camera.look_at((0, 0.5, 6), (0, 0, 0), fov_y=45, width=160, height=90)
+    camera = Camera.look_at((0, 0.5, 6), (0, 0, 0), fov_y=45, width=size[0], height=size[1])
     fb = rasterkit.render(scene, camera, mode="solid", ids=True)
     assert fb.object_ids.dtype == np.int32
     for k, obj in enumerate(scene.objects):

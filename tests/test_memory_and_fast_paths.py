@@ -121,13 +121,22 @@ def test_rasterize_triangles_takes_packed_face_colours():
 
 
 def test_balanced_bands_cover_every_row_once_and_follow_the_work():
-    counts = np.zeros(100, np.int64)
-    counts[80:90] = 1000  # all the work in rows 640..719
-    bounds = line_kernels.balanced_bands(counts, 4, 800)
+    counts = np.zeros((3, 100), np.int64)
+    counts[1, 80:90] = 1000  # all the work in rows 640..719
+    bounds = line_kernels.balanced_bands(line_kernels.band_work(counts, 0, 800), 4, 800)
     assert bounds[0] == 0 and bounds[-1] == 800 and np.all(np.diff(bounds) >= 0)
     assert 640 <= bounds[1] <= bounds[2] <= bounds[3] <= 720
     even = line_kernels.balanced_bands(np.zeros(10, np.int64), 3, 75)
     assert even.tolist() == [0, 25, 50, 75]
+    # work per row alone: equal shares of the rows, in whole bins of ROWS_PER_BIN (8) rows
+    rows = line_kernels.balanced_bands(line_kernels.band_work(np.zeros((2, 100), np.int64), 5, 800), 4, 800)
+    assert rows.tolist() == [0, 200, 400, 600, 800]
+    # 80 in each of bins 80..89 plus 1 for each row: the split leaves half of the total
+    # above it, within one bin's work
+    counts[1, 80:90] = 80
+    half = line_kernels.balanced_bands(line_kernels.band_work(counts, 1, 800), 2, 800)
+    work = counts.sum(axis=0) + 8
+    assert half[1] % 8 == 0 and abs(work[: half[1] // 8].sum() - work.sum() / 2) <= work.max()
 
 
 def test_plain_setup_records_match_the_general_path_on_random_edges():
@@ -223,7 +232,7 @@ def test_marked_wire_path_equals_drawing_into_colour(channels, width):
     for n_bands in (1, 3):
         marked = np.full((height, width, channels), 77, np.uint8)  # garbage: must be cleared
         memory = scratch(len(clip), len(edges), height * width, MODE_PLAIN, take=np.empty)
-        memory[3][:] = 3  # garbage in the mask too: each band clears its part
+        memory.mask[:] = 3  # garbage in the mask too: each band clears its part
         draw_edges(marked, None, clip, edges, rgba, MODE_PLAIN, 0.0, background, n_bands=n_bands,
                        memory=memory)
         expected = np.empty((height, width, channels), np.uint8)
@@ -258,40 +267,61 @@ def test_short_edges_in_every_octant_mark_the_same_pixels_as_the_general_path():
             assert np.array_equal(marked, expected), (centre, dx, dy)
 
 
-def test_record_work_samples_every_stride_th_record_of_a_large_draw():
-    """Beyond _WORK_SAMPLES records, every s-th record counts s times."""
-    rng = np.random.default_rng(4)
-    height = 700
-    m = 3 * line_kernels._WORK_SAMPLES + 5
-    stride = m // line_kernels._WORK_SAMPLES
-    jlo = rng.integers(0, height, m)
-    jhi = np.minimum(jlo + rng.integers(0, 40, m), height - 1)
-    recs = np.zeros((line_kernels.REC_FIELDS, m), np.int32)
-    recs[2] = np.where(rng.random(m) < 0.1, -1, jlo | jhi << 16)  # some general-path edges
-    recs[1] = rng.integers(0, 300, m) | rng.integers(0, 300, m) << 15
-    expected = np.zeros((height + line_kernels.ROWS_PER_BIN - 1) // line_kernels.ROWS_PER_BIN, np.int64)
-    for e in range(0, m, stride):
+def _work_of(recs, height, start, stop, stride):
+    """The sampled work of records start .. stop - 1 per ROWS_PER_BIN rows, in NumPy."""
+    work = np.zeros((height + line_kernels.ROWS_PER_BIN - 1) // line_kernels.ROWS_PER_BIN, np.int64)
+    for e in range(start, stop):
         rows = int(recs[2, e])
-        if rows >= 0:
+        if e % stride == 0 and rows >= 0:
             middle = ((rows & 0xFFFF) + (rows >> 16)) // 2
-            expected[middle // line_kernels.ROWS_PER_BIN] += stride * ((int(recs[1, e]) & 0x7FFF) + 1
-                                                                        + line_kernels._EDGE_WORK)
+            work[middle // line_kernels.ROWS_PER_BIN] += stride * ((int(recs[1, e]) & 0x7FFF) + 1
+                                                                    + line_kernels._EDGE_WORK)
+    return work
+
+
+def test_plain_setup_samples_the_work_of_every_stride_th_record_of_a_large_chunk():
+    """Beyond _WORK_SAMPLES records of a chunk, every s-th edge counts s times; the block
+    summaries hold the rows of their plain records and count the general ones."""
+    rng = np.random.default_rng(4)
+    height, width = 700, 900
+    m = line_kernels.SETUP_CHUNKS * 3 * line_kernels._WORK_SAMPLES + 1234
+    pixels = rng.integers(0, width, 3000) | rng.integers(0, height, 3000) << 32
+    pixels[rng.random(3000) < 0.05] = -1  # vertices outside: their edges take the general path
+    edges = rng.integers(0, 3000, (m, 2))
+    recs = np.zeros((line_kernels.REC_FIELDS, m), np.int32)
+    blocks = np.zeros((line_kernels.BLOCK_FIELDS, line_kernels.n_blocks(m)), np.int32)
+    work = np.zeros((line_kernels.SETUP_CHUNKS, (height + 7) // 8), np.int64)
+    line_kernels.plain_setup(0, np.zeros(1, np.int64), pixels, readonly(edges), width, height, recs, blocks, work)
+    n = line_kernels.n_blocks(m)
+    chunk = 5  # any chunk: its blocks, its sampled records
+    start = n * chunk // line_kernels.SETUP_CHUNKS * line_kernels.BLOCK
+    stop = n * (chunk + 1) // line_kernels.SETUP_CHUNKS * line_kernels.BLOCK
+    stride = (stop - start) // line_kernels._WORK_SAMPLES
     assert stride == 3
-    assert np.array_equal(line_kernels.record_work(recs, height), expected)
+    assert np.array_equal(work[chunk], _work_of(recs, height, start, stop, stride))
+    rows = recs[2].astype(np.int64)
+    for b in (0, 7, n - 1):
+        r = rows[b * line_kernels.BLOCK:(b + 1) * line_kernels.BLOCK]
+        plain = r[r >= 0]
+        assert blocks[2, b] == np.sum(r < 0) > 0
+        assert blocks[0, b] == (plain & 0xFFFF).min() and blocks[1, b] == (plain >> 16).max()
 
 
 def test_record_work_counts_pixels_and_edges_by_middle_row():
     clip = np.array([[2.5, 3.5, 0.5, 1.0], [12.5, 7.5, 0.5, 1.0], [4.5, 30.5, 0.5, 1.0],
                      [-5.0, 1.0, 0.5, 1.0]])
     edges = np.array([[0, 1], [1, 2], [0, 3]])  # the last one leaves the image: general path
-    proj, pixels, recs, _ = scratch(4, 3, 0, MODE_PLAIN, take=np.empty)
+    memory = scratch(4, 3, 0, MODE_PLAIN, take=np.empty)
+    proj, pixels, recs = memory.proj, memory.pixels, memory.recs
     counts = np.zeros((line_kernels.VERTEX_CHUNKS, 5), np.int64)
     line_kernels.project_vertices(0, np.zeros(1, np.int64), clip, proj, pixels, 20, 40, counts,
                                   readonly(np.empty((0, 3))), readonly(np.eye(4)))
     assert pixels.tolist() == [2 | 3 << 32, 12 | 7 << 32, 4 | 30 << 32, -1]
-    line_kernels.plain_setup(0, np.zeros(1, np.int64), pixels, edges, 20, 40, recs)
+    work = np.zeros((line_kernels.SETUP_CHUNKS, 5), np.int64)
+    line_kernels.plain_setup(0, np.zeros(1, np.int64), pixels, readonly(edges), 20, 40, recs, memory.blocks, work)
     assert recs[2].tolist() == [3 | 7 << 16, 7 | 30 << 16, -1]  # rows jlo | jhi << 16
-    work = line_kernels.record_work(recs, 40)
+    assert memory.blocks[:, 0].tolist() == [3, 30, 1]  # one block: rows 3..30, one general edge
+    work = work.sum(axis=0)
     expected = np.zeros_like(work)
     per_edge = line_kernels._EDGE_WORK
     expected[(3 + 7) // 2 // line_kernels.ROWS_PER_BIN] += 11 + per_edge  # 10 steps in x, 11 pixels
@@ -528,3 +558,37 @@ def test_solid_render_makes_its_depth_when_read_and_forgets_the_recipe_when_clea
     replaced = rasterkit.render(mesh, camera, mode="solid")
     replaced.depth = np.zeros((48, 64), np.float32)
     assert not replaced.depth.any()
+
+
+@pytest.mark.parametrize("n_bands", [1, 3, 7])
+def test_blocks_of_nearby_edges_draw_what_the_general_path_draws(n_bands):
+    """Edges listed in row order, as a mesh lists nearby faces together: most blocks of
+    BLOCK edges lie wholly inside one band (stepped without a test per edge) or outside it
+    (skipped), some straddle a band's border, and one block holds an edge leaving the image
+    (the general path). The image equals the general path's."""
+    rng = np.random.default_rng(23)
+    height, width = 90, 120
+    m = 6 * line_kernels.BLOCK + 77
+    centre = np.sort(rng.uniform(2, height - 2, m))
+    x = rng.uniform(2, width - 2, m)
+    ends = np.stack([x + rng.uniform(-3, 3, m), centre + rng.uniform(-2, 2, m),
+                     x + rng.uniform(-3, 3, m), centre + rng.uniform(-2, 2, m)], axis=1)
+    ends[:, 0::2] = ends[:, 0::2].clip(0, width - 0.01)
+    ends[:, 1::2] = ends[:, 1::2].clip(0, height - 0.01)
+    ends[3 * line_kernels.BLOCK + 5, 2] = width + 40.0  # leaves the image
+    w = rng.uniform(0.5, 2.0, 2 * m)
+    clip = np.c_[ends.reshape(-1, 2) * w[:, None], 0.5 * w, w]
+    edges = np.arange(2 * m).reshape(m, 2)
+    rgba = np.array([10, 200, 30], np.uint8)
+    background = np.array([250, 251, 252], np.uint8)
+    marked = np.zeros((height, width, 3), np.uint8)
+    memory = scratch(len(clip), m, height * width, MODE_PLAIN, take=np.empty)
+    draw_edges(marked, None, clip, edges, rgba, MODE_PLAIN, 0.0, background, n_bands=n_bands, memory=memory)
+    summary = memory.blocks
+    assert np.sum(summary[2] > 0) == 1 and np.all(summary[1] - summary[0] < height // 4)
+    expected = np.empty((height, width, 3), np.uint8)
+    expected[...] = background
+    draw_edges(expected, np.full((height, width), np.inf, np.float32), clip, edges, rgba, MODE_DEPTH_TEST,
+               n_bands=1)
+    assert (expected == rgba).all(axis=2).sum() > 1000
+    assert np.array_equal(marked, expected)

@@ -1,6 +1,7 @@
 """rasterkit._warm, the first run's helper process: it compiles only the mode's band worker
 into Numba's cache, the main process then loads that worker instead of compiling it, and a
-first CLI render (with the helper) draws the same image as a cached one.
+first CLI render (with the helper) draws the same image as a cached one; the demo's helper
+compiles the OBJ reader for the first model.
 
 Each test compiles kernels into an empty NUMBA_CACHE_DIR of its own, in fresh interpreters
 (about 5-15 s each on two cores)."""
@@ -16,6 +17,7 @@ import numpy as np
 from PIL import Image
 
 import rasterkit
+from rasterkit import _warm
 from rasterkit._notice import MESSAGE
 from rasterkit._cli_args import framed_camera
 from rasterkit.cli import _parser
@@ -150,3 +152,66 @@ def test_first_cli_render_with_the_helper_equals_a_cached_one_and_the_api(tmp_pa
                           background=args.background, aa=args.aa)
     np.testing.assert_array_equal(fb.color, first)
 
+
+
+# Loads an OBJ file and prints, as JSON, the names of the functions Numba compiled.
+LOAD_OBJ = """
+import json, sys
+from numba.core import event
+
+compiled = []
+
+class Record(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__module__ + "." + ev.data["dispatcher"].py_func.__name__)
+
+    def on_end(self, ev):
+        pass
+
+event.register("numba:compile", Record())
+
+from rasterkit.obj import load_obj
+
+mesh = load_obj(sys.argv[1])
+print(json.dumps({"compiled": sorted(set(compiled)), "faces": len(mesh.faces)}))
+"""
+
+
+def test_the_demos_helper_compiles_the_obj_reader_for_the_first_model(tmp_path):
+    """The demo's helper reads its sample OBJ: afterwards a model with quads and an n-gon
+    loads without compiling any of the reader's kernels."""
+    cache = tmp_path / "cache"
+    env = _env(cache)
+    helper = _run([sys.executable, "-m", "rasterkit._warm", json.dumps({"obj": True})], env)
+    assert helper.returncode == 0, helper.stderr
+    for module, function in _warm.PARSER:
+        assert _kernel_indexes(cache, module, function), _indexes(cache)
+    model = tmp_path / "model.obj"
+    model.write_text(CUBE_OBJ + "v 0 3 0\nv 2 4 1\nf 4 3 9 10 8\n")  # and a pentagon
+    loaded = _run([sys.executable, "-c", textwrap.dedent(LOAD_OBJ), str(model)], env)
+    assert loaded.returncode == 0, loaded.stderr
+    report = json.loads(loaded.stdout.splitlines()[-1])
+    assert report["faces"] == 6 * 2 + 3
+    assert not [name for name in report["compiled"] if name.startswith("rasterkit.")], report["compiled"]
+
+
+def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(monkeypatch):
+    orders = []
+    monkeypatch.setattr(_warm, "_spawn", lambda order: orders.append(order) or object())
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: dispatcher.py_func.__name__ == "draw_wire_bands")
+    monkeypatch.setattr(_warm, "_helper", None)
+    monkeypatch.setattr(_warm, "_parser_helper", None)
+    wire = {"mode": "wire", "cull": "back", "shading": "flat", "background": "white", "aa": False}
+    monkeypatch.setattr(rasterkit._jit, "_threads", 1)
+    _warm.start(wire, depth=False, loading=False)
+    assert orders == []  # one core: the helper would only take it from the demo
+    monkeypatch.setattr(rasterkit._jit, "_threads", 2)
+    _warm.start(wire, depth=False, loading=True)  # a model: its own process compiles the reader
+    assert orders == []
+    _warm.start(wire, depth=False, loading=False)
+    _warm.start(wire, depth=False, loading=False)  # once per process
+    assert orders == [{"obj": True}]
+    monkeypatch.setattr(_warm, "_parser_helper", None)
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: True)
+    _warm.start(wire, depth=False, loading=False)  # all cached: no helper
+    assert orders == [{"obj": True}]

@@ -291,6 +291,14 @@ class Camera(NamedProjections, Interop):
         """
         return self._cached("_cached_backward", lambda: self.basis()[2])
 
+    def rotation(self) -> np.ndarray:
+        """The world -> camera rotation: the rows are ``u, v, w`` of :meth:`basis`.
+
+        Computed once per camera (the vision maps turn normals by it every frame); (3, 3)
+        float64, not writeable.
+        """
+        return self._cached("_cached_rotation", lambda: np.stack(self.basis()))
+
     def _cached(self, name: str, compute) -> np.ndarray:
         value = self.__dict__.get(name)
         if value is None:

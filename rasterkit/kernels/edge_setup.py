@@ -5,9 +5,10 @@ Plain edges (a wireframe: no depth test, no anti-aliasing) whose ends are both i
 image take a faster road to the same pixels. The vertex pass also records each such
 vertex's pixel; :func:`plain_setup` turns every edge into a 12-byte record (first pixel,
 packed ``n``, ``a`` and direction bits, rows spanned) with branch-free arithmetic that
-vectorises; :func:`record_work` counts pixels per row so the bands get equal work; each
-band marks its edges' pixels in a byte mask, then clears its colour rows and paints the
-marked pixels 8 at a time (:func:`rasterkit.kernels.paint.paint_marked`).
+vectorises, summarises each block of edges (the rows it spans) and counts the work per
+row so the bands get equal work; each band marks its edges' pixels in a byte mask, then
+clears its colour rows and paints the marked pixels 8 at a time
+(:func:`rasterkit.kernels.paint.paint_marked`).
 """
 
 from __future__ import annotations
@@ -43,8 +44,8 @@ def project_vertices(slot, counter, clip, proj, pixels, width, height, counts, p
     ``counts`` (VERTEX_CHUNKS, n_bins) int64, zeros on entry, gets the number of projected
     vertices of each chunk in each ``ROWS_PER_BIN`` rows of an image ``height`` rows tall
     (``n_bins`` rows' worth), a cheap estimate of where the drawing work lies; it stays zero
-    when ``pixels`` is given (the plain path balances its bands by :func:`record_work`, and
-    the count cost a sixth of this pass).
+    when ``pixels`` is given (the plain path balances its bands by the work that
+    :func:`plain_setup` counts, and the count cost a sixth of this pass).
 
     Unless ``points`` is empty, ``clip`` is made here first, row by row, as
     :func:`rasterkit.kernels.vertex.transform_points` makes it from ``points`` (N, 3) float64
@@ -112,68 +113,112 @@ def balanced_bands(counts, n_bands, height):
     return bounds
 
 
+def band_work(counts, row_work, height):
+    """The work per ``ROWS_PER_BIN`` rows for :func:`balanced_bands`: ``counts`` (chunks,
+    n_bins) summed over its chunks, plus ``row_work`` for each of the bin's rows."""
+    work = counts.sum(axis=0)
+    if row_work:
+        work += row_work * ROWS_PER_BIN
+        work[-1] -= row_work * (len(work) * ROWS_PER_BIN - height)
+    return work
+
+
 #: Rows of the per-edge records of :func:`plain_setup`, each (E,) int32: the first pixel,
 #: the packed steps ``n | a << 15 | steep << 30 | negative << 31`` and the rows
 #: ``jlo | jhi << 16`` (-1 for an edge of the general path).
 REC_PIX, REC_STEPS, REC_ROWS = range(3)
 REC_FIELDS = 3
+#: Rows of the block summaries of :func:`plain_setup`, each (B,) int32 for the blocks of
+#: ``BLOCK`` consecutive edges: the lowest first row and the highest last row of the block's
+#: plain records (``BLOCK_EMPTY`` and -1 when it has none) and how many of its edges take the
+#: general path. A band skips a block of plain edges wholly outside its rows and steps one
+#: wholly inside without testing each edge: meshes list nearby faces together, so most
+#: blocks lie in one band, and a band no longer reads every edge's record.
+BLOCK_LO, BLOCK_HI, BLOCK_GENERAL = range(3)
+BLOCK_FIELDS = 3
+BLOCK = 512
+BLOCK_EMPTY = 1 << 20
 #: Images at most this many pixels a side fit ``n``, ``a`` and the rows into 15 and 16
 #: bits; larger ones draw every edge by the general path.
 _PACKED_LIMIT = 1 << 15
 #: Work of one plain edge beyond its pixels, in pixel steps (setup, loop entry and exit),
 #: for balancing the bands.
 _EDGE_WORK = 4
+#: Work of one image row in the plain path, in pixel steps: clearing its colour and mask
+#: bytes and painting the marked pixels (measured on ogre at 1920x1080: about 0.8 us a row,
+#: against 1.1 ms for its 1.45 million pixel steps; a band of rows with no edges is not free).
+ROW_WORK = 800
 SETUP_CHUNKS = 16
-_SETUP_BLOCK = 512
-_WORK_LANES = 4  # a power of two
-#: Records that :func:`record_work` counts at most (about; it samples beyond).
-_WORK_SAMPLES = 1 << 15
+#: Records of each chunk that :func:`plain_setup` counts for the balance at most (about; it
+#: samples beyond).
+_WORK_SAMPLES = 1 << 10
+
+
+def n_blocks(n_edges):
+    """Blocks of :data:`BLOCK` edges (the last one partial) of ``n_edges`` edges."""
+    return (n_edges + BLOCK - 1) // BLOCK
 
 
 @kernel
-def plain_setup(slot, counter, pixels, edges, width, height, recs):
+def plain_setup(slot, counter, pixels, edges, width, height, recs, blocks, work):
     """Per-edge Bresenham setup of plain (no depth test, no anti-aliasing) edges, once.
 
     An edge whose two ends have a pixel in ``pixels`` (:func:`project_vertices`) lies
     inside the image with its whole integer line; its record (column ``e`` of ``recs``,
-    (REC_FIELDS, E) int32) gets the loop state that :func:`_draw_bresenham` would start
-    from: the first pixel (index into the flattened image), ``n`` and ``a = |dv|`` with
+    (REC_FIELDS, E) int32) gets the loop state that the general path
+    (:func:`rasterkit.kernels.edges._bresenham_start`) would start from: the first pixel
+    (index into the flattened image), ``n`` and ``a = |dv|`` with
     two bits (steep; minor steps go negative), and the rows ``jlo <= jhi`` it spans.
-    Every other edge gets rows -1 and is drawn by the general path.
+    Every other edge gets rows -1 and is drawn by the general path. ``blocks``
+    (BLOCK_FIELDS, :func:`n_blocks`) int32 gets each block's summary (``BLOCK_LO`` ...).
 
-    In blocks of ``_SETUP_BLOCK`` edges: first the ends are gathered, then the arithmetic
-    runs over the block without a branch, which LLVM turns into vector instructions (16
-    edges at a time with AVX-512: ten times faster than edge by edge with branches).
-    Stepping from the end with the smaller major coordinate is the same as deciding on the
-    real ends (the integer ends differ along the major axis unless the line is a single
-    pixel). A worker of :func:`rasterkit._jit.run_parallel` (``slot`` unused, chunks
-    claimed through ``counter``).
+    ``work`` (SETUP_CHUNKS, n_bins) int64, zeros on entry, gets the work of each chunk's
+    records (their pixels plus ``_EDGE_WORK`` each) per ``ROWS_PER_BIN`` image rows, by the
+    row of their middle: what :func:`balanced_bands` shares out in plain mode (the vertex
+    counts of :func:`project_vertices` follow the vertices, not the pixels, and left one of
+    two bands 60 % of the work on some models). Records of the general path are not
+    counted. Beyond ``_WORK_SAMPLES`` records a chunk counts only every ``s``-th edge
+    (``e % s == 0``), ``s`` times over: an estimate is all the balance needs.
+
+    In blocks of ``BLOCK`` edges (the chunks are whole blocks): first the ends are
+    gathered, then the arithmetic runs over the block without a branch, which LLVM turns
+    into vector instructions (16 edges at a time with AVX-512: ten times faster than edge by
+    edge with branches). Stepping from the end with the smaller major coordinate is the same
+    as deciding on the real ends (the integer ends differ along the major axis unless the
+    line is a single pixel). A worker of :func:`rasterkit._jit.run_parallel` (``slot``
+    unused, chunks claimed through ``counter``).
     """
     m = edges.shape[0]
+    nb = (m + BLOCK - 1) // BLOCK  # n_blocks(m)
     packed = width <= _PACKED_LIMIT and height <= _PACKED_LIMIT
-    ends = np.empty((2, _SETUP_BLOCK), np.int64)
+    ends = np.empty((2, BLOCK), np.int64)
     while True:  # claim the next piece until none is left
         ch = fetch_add(counter, 0, 1)
         if ch >= SETUP_CHUNKS:
             break
-        stop = m * (ch + 1) // SETUP_CHUNKS
-        for start in range(m * ch // SETUP_CHUNKS, stop, _SETUP_BLOCK):
-            count = min(_SETUP_BLOCK, stop - start)
+        first, last = nb * ch // SETUP_CHUNKS, nb * (ch + 1) // SETUP_CHUNKS
+        for b in range(first, last):
+            start = b * BLOCK
+            count = min(BLOCK, m - start)
             for k in range(count):
                 ends[0, k] = pixels[edges[start + k, 0]] if packed else -1
                 ends[1, k] = pixels[edges[start + k, 1]]
-            _setup_block(ends[0], ends[1], count, width, recs[REC_PIX], recs[REC_STEPS], recs[REC_ROWS],
-                         start)
+            lo, hi, general = _setup_block(ends[0], ends[1], count, width, recs[REC_PIX], recs[REC_STEPS],
+                                           recs[REC_ROWS], start)
+            blocks[BLOCK_LO, b], blocks[BLOCK_HI, b], blocks[BLOCK_GENERAL, b] = lo, hi, general
+        _count_work(recs, first * BLOCK, min(last * BLOCK, m), work[ch])
 
 
 @kernel
 def _setup_block(first, second, count, width, pix, steps, rows, offset):
     """Records ``offset .. offset + count - 1`` of :func:`plain_setup` from the end pixels
-    ``first[k], second[k]`` (``x | y << 32``, -1 outside). 0/1 integers and products in
-    place of if/else: no branch, so the loop vectorises (and edge directions are random:
-    branches would be mispredicted half the time)."""
+    ``first[k], second[k]`` (``x | y << 32``, -1 outside); returns the block's summary
+    ``(lo, hi, general)``. 0/1 integers and products in place of if/else: no branch, so
+    the loop vectorises (and edge directions are random: branches would be mispredicted
+    half the time)."""
     w = np.int32(width)
     one = np.int32(1)
+    lo, hi, general = np.int32(BLOCK_EMPTY), np.int32(-1), np.int32(0)
     for k in range(np.uint64(count)):
         p0, p1 = first[k], second[k]
         x0, y0 = np.int32(p0 & 0xFFFFFFFF), np.int32(p0 >> 32)
@@ -192,36 +237,22 @@ def _setup_block(first, second, count, width, pix, steps, rows, offset):
         pix[u] = (y0 + swap * dy) * w + x0 + swap * dx
         steps[u] = n | (a << np.int32(15)) | (steep << np.int32(30)) | (negative << np.int32(31))
         jlo = y0 + dy * np.int32(dy < 0)
-        rows[u] = ok * ((jlo | ((y0 + y1 - jlo) << np.int32(16))) + one) - one
+        jhi = y0 + y1 - jlo
+        rows[u] = ok * ((jlo | (jhi << np.int32(16))) + one) - one
+        lo = min(lo, jlo + (one - ok) * np.int32(BLOCK_EMPTY))
+        hi = max(hi, ok * (jhi + one) - one)
+        general += one - ok
+    return lo, hi, general
 
 
-@kernel
-def record_work(recs, height):
-    """The work of the records of :func:`plain_setup` (their pixels plus ``_EDGE_WORK``
-    each) per ``ROWS_PER_BIN`` image rows, by the row of their middle: what
-    :func:`balanced_bands` shares out in plain mode. (The vertex counts of
-    :func:`project_vertices` follow the vertices, not the pixels, and left one of two bands
-    60 % of the work on some models.) Records of the general path are not counted.
-
-    Counted in four interleaved lanes: consecutive edges mostly fall into the same bin,
-    and one counter would make every addition wait for the previous one. Beyond
-    ``_WORK_SAMPLES`` records only every ``s``-th is counted, ``s`` times over
-    (``s = E // _WORK_SAMPLES``): an estimate is all the balance needs, and counting every
-    record cost more than the balance won on the largest models."""
-    n_bins = (height + ROWS_PER_BIN - 1) // ROWS_PER_BIN
-    work = np.zeros((_WORK_LANES, n_bins), np.int64)
-    m = recs.shape[1]
-    stride = max(m // _WORK_SAMPLES, 1)
-    lane = 0
-    for e in range(0, m, stride):
+@kernel(inline="always")
+def _count_work(recs, start, stop, work):
+    """Add the sampled work of records ``start .. stop - 1`` into ``work`` (n_bins,) int64
+    (:func:`plain_setup`)."""
+    stride = max((stop - start) // _WORK_SAMPLES, 1)
+    for e in range(start + (-start) % stride, stop, stride):
         u = np.uint64(e)
         rows = np.int64(recs[REC_ROWS, u])
-        ok = np.int64(rows >= 0)
-        middle = ((rows & 0xFFFF) + (rows >> 16)) >> 1
-        n = np.int64(recs[REC_STEPS, u]) & 0x7FFF
-        work[lane, ok * (middle // ROWS_PER_BIN)] += ok * stride * (n + 1 + _EDGE_WORK)
-        lane = (lane + 1) & (_WORK_LANES - 1)
-    for k in range(1, _WORK_LANES):
-        for b in range(n_bins):
-            work[0, b] += work[k, b]
-    return work[0]
+        if rows >= 0:
+            middle = ((rows & 0xFFFF) + (rows >> 16)) >> 1
+            work[middle // ROWS_PER_BIN] += stride * ((np.int64(recs[REC_STEPS, u]) & 0x7FFF) + 1 + _EDGE_WORK)

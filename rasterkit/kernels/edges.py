@@ -1,4 +1,5 @@
-"""Drawing edges into a framebuffer, band by band (wire, hidden-line and solid+wire edges).
+"""Drawing edges into a framebuffer, band by band (wire, hidden-line and solid+wire edges;
+the anti-aliased ones in :mod:`rasterkit.kernels.edges_wu`).
 
 :func:`draw_edges` draws many edges given in homogeneous raster space (see
 ``ARCHITECTURE.md``). Per vertex, once: classify it and, when it is inside the visible
@@ -16,20 +17,31 @@ closed form the image does not depend on the number of bands or threads.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
 from rasterkit._jit import kernel
 from rasterkit.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
 from rasterkit.kernels.clip import project_segment
-from rasterkit.kernels.edge_setup import REC_PIX, REC_ROWS, REC_STEPS
+from rasterkit.kernels.edge_setup import (BLOCK, BLOCK_GENERAL, BLOCK_HI, BLOCK_LO, REC_PIX, REC_ROWS,
+                                          REC_STEPS)
 from rasterkit.kernels.intrinsics import fetch_add
-from rasterkit.kernels.line import blend_pixel, minor_steps, put_pixel, step_line, step_mask, step_range, tie_offset
+from rasterkit.kernels.line import minor_steps, put_pixel, step_line, step_mask, step_range, tie_offset
 from rasterkit.kernels.paint import paint_marked, paint_tables
 
 MODE_PLAIN = 0
 MODE_DEPTH_TEST = 1
 MODE_ANTIALIAS = 2
+#: The band whose count of dropped edges :func:`draw_edge_bands` reports.
+DROPPED_BAND = 0
+
+#: The scratch arrays of a draw (:func:`rasterkit._edges.scratch`): ``proj`` (N, 4) float64
+#: from :func:`rasterkit.kernels.edge_setup.project_vertices`; for plain edges ``pixels``
+#: (N,) int64, ``recs`` (REC_FIELDS, E) int32 and ``blocks`` (BLOCK_FIELDS, B) int32 from
+#: :func:`rasterkit.kernels.edge_setup.plain_setup`, and ``mask`` (H * W,) uint8, the bands'
+#: byte masks (empty arrays in the other modes).
+EdgeScratch = namedtuple("EdgeScratch", "proj pixels recs blocks mask")
 
 
 @kernel(inline="always")
@@ -52,7 +64,7 @@ def _edge_segment(clip, proj, i, j):
 
 
 @kernel(inline="always")
-def _band_frame(steep, width, ylo, yhi):
+def band_frame(steep, width, ylo, yhi):
     """Strides and ranges of the band in (major u, minor v) terms.
 
     Returns ``(ustride, vstride, ulo, uhi, vlo, vhi)``: pixel index steps (in pixels of the
@@ -64,7 +76,7 @@ def _band_frame(steep, width, ylo, yhi):
 
 
 @kernel(inline="always")
-def _oriented(x0, y0, x1, y1, steep, swap):
+def oriented(x0, y0, x1, y1, steep, swap):
     """The segment as ``(u0, v0, u1, v1)``: transposed if steep, reversed if swap."""
     u0, v0, u1, v1 = (y0, x0, y1, x1) if steep else (x0, y0, x1, y1)
     if swap:
@@ -73,24 +85,27 @@ def _oriented(x0, y0, x1, y1, steep, swap):
 
 
 @kernel(inline="always")
-def _depth_at(u, u0f, du, z0, gz):
+def depth_at(u, u0f, du, z0, gz):
     """Depth of the segment at the centre of major coordinate ``u``, clamped to its ends."""
     return z0 + min(max(u + 0.5 - u0f, 0.0), du) * gz
 
 
 @kernel(inline="always")
-def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
-    """Draw one segment's integer line, restricted to rows ``[ylo, yhi]`` of the image."""
+def _bresenham_start(seg, width, ylo, yhi):
+    """Where one segment's integer line starts in rows ``[ylo, yhi]`` of the image:
+    ``(count, pix, r, two_a, two_n, ustride, vstride, u0, u0f, du, z0, gz)``, the loop
+    state of :func:`rasterkit.kernels.line.step_line` (``count`` 0: nothing in the band)
+    and the depth terms of its major steps (:func:`depth_at` of ``u0 + t``)."""
     xi0, yi0 = math.floor(seg[0]), math.floor(seg[1])
     xi1, yi1 = math.floor(seg[3]), math.floor(seg[4])
     steep = abs(yi1 - yi0) > abs(xi1 - xi0)
     # Step towards increasing major coordinate; deciding on the real ends also orders the
     # integer ones, and keeps the depth slope's denominator >= 0.
     swap = (seg[4] < seg[1]) if steep else (seg[3] < seg[0])
-    u0, v0, u1, v1 = _oriented(xi0, yi0, xi1, yi1, steep, swap)
-    u0f, _, u1f, _ = _oriented(seg[0], seg[1], seg[3], seg[4], steep, swap)
+    u0, v0, u1, v1 = oriented(xi0, yi0, xi1, yi1, steep, swap)
+    u0f, _, u1f, _ = oriented(seg[0], seg[1], seg[3], seg[4], steep, swap)
     z0, z1 = (seg[5], seg[2]) if swap else (seg[2], seg[5])
-    ustride, vstride, ulo, uhi, vlo, vhi = _band_frame(steep, width, ylo, yhi)
+    ustride, vstride, ulo, uhi, vlo, vhi = band_frame(steep, width, ylo, yhi)
 
     n = u1 - u0
     dv = v1 - v0
@@ -101,78 +116,32 @@ def _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_te
         tlo, thi, k, r = 0, n, 0, n - c  # the whole line is in the band: the usual case
     else:
         tlo, thi = step_range(u0, v0, n, a, sv, c, ulo, uhi, vlo, vhi)
-        if tlo > thi:
-            return
-        k, r = minor_steps(tlo, n, a, c)
+        k, r = minor_steps(tlo, n, a, c) if tlo <= thi else (0, 0)
     pix = (u0 + tlo) * ustride + (v0 + sv * k) * vstride
-    if depth_test:
-        du = u1f - u0f
-        gz = (z1 - z0) / du if du > 0.0 else 0.0
-        for t in range(tlo, thi + 1):
-            if _depth_at(u0 + t, u0f, du, z0, gz) - bias <= dflat[pix]:
-                put_pixel(cflat, pix, channels, rgba)
-            r += 2 * a
-            step = r >= 2 * n
-            r -= 2 * n if step else 0
-            pix += ustride + (sv * vstride if step else 0)
-    else:
-        step_line(cflat, channels, rgba, pix, thi - tlo + 1, r, 2 * a, 2 * n, ustride, sv * vstride)
+    du = u1f - u0f
+    gz = (z1 - z0) / du if du > 0.0 else 0.0
+    return (max(thi - tlo + 1, 0), pix, r, 2 * a, 2 * n, ustride, sv * vstride, u0 + tlo, u0f, du, z0, gz)
 
 
 @kernel(inline="always")
-def _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi):
-    """Major columns ``[first, last]`` of a Wu segment that can touch the band.
-
-    Column ``u`` puts the line's minor coordinate ``v(u)`` between the centres of rows
-    ``floor(v - 0.5)`` and the next, so it can touch ``[vlo, vhi]`` only when
-    ``v in [vlo - 0.5, vhi + 1.5)``; that range is inverted once per edge (with a margin of
-    one column for rounding) instead of testing every column.
-    """
-    first = max(math.floor(u0f), ulo)
-    last = min(math.ceil(u1f) - 1, uhi)
-    if g == 0.0:
-        if not vlo - 0.5 <= v0f < vhi + 1.5:
-            return 1, 0
-    elif first <= last:
-        ua = (vlo - 0.5 - v0f) / g + u0f - 0.5
-        ub = (vhi + 1.5 - v0f) / g + u0f - 0.5
-        lo = min(max(min(ua, ub), first - 1.0), last + 1.0)
-        hi = min(max(max(ua, ub), first - 1.0), last + 1.0)
-        first = max(first, math.floor(lo) - 1)
-        last = min(last, math.ceil(hi) + 1)
-    return first, last
+def _draw_bresenham(cflat, width, channels, rgba, seg, ylo, yhi):
+    """Draw one segment's integer line, restricted to rows ``[ylo, yhi]`` of the image."""
+    count, pix, r, two_a, two_n, ustride, vstride, _, _, _, _, _ = _bresenham_start(seg, width, ylo, yhi)
+    step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride)
 
 
-@kernel(refcounts=False)
-def _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias):
-    """Draw one segment anti-aliased (Xiaolin Wu), restricted to rows ``[ylo, yhi]``.
-
-    Each major column ``u`` is covered over ``min(u1, u + 1) - max(u0, u)`` of its width;
-    that coverage is split between the two pixels whose centres straddle the line at the
-    column centre, in proportion to their distance from it.
-    """
-    steep = abs(seg[4] - seg[1]) > abs(seg[3] - seg[0])
-    swap = (seg[4] < seg[1]) if steep else (seg[3] < seg[0])
-    u0f, v0f, u1f, v1f = _oriented(seg[0], seg[1], seg[3], seg[4], steep, swap)
-    z0, z1 = (seg[5], seg[2]) if swap else (seg[2], seg[5])
-    du = u1f - u0f
-    if du == 0.0:
-        return
-    ustride, vstride, ulo, uhi, vlo, vhi = _band_frame(steep, width, ylo, yhi)
-    g = (v1f - v0f) / du
-    gz = (z1 - z0) / du
-    first, last = _wu_columns(u0f, v0f, u1f, g, ulo, uhi, vlo, vhi)
-    for u in range(first, last + 1):
-        coverage = min(u1f, u + 1.0) - max(u0f, float(u))
-        below = v0f + (u + 0.5 - u0f) * g - 0.5
-        j = math.floor(below)
-        frac = below - j
-        z = _depth_at(u, u0f, du, z0, gz) - bias
-        for row, weight in ((j, 1.0 - frac), (j + 1, frac)):
-            if vlo <= row <= vhi:
-                pix = u * ustride + row * vstride
-                if not depth_test or z <= dflat[pix]:
-                    blend_pixel(cflat, pix, channels, rgba, coverage * weight)
+@kernel(inline="always")
+def _draw_bresenham_tested(cflat, dflat, width, channels, rgba, seg, ylo, yhi, bias):
+    """:func:`_draw_bresenham` with the depth test: a pixel is drawn where the segment's
+    depth at its major-axis centre, less ``bias``, is at most the depth buffer's."""
+    count, pix, r, two_a, two_n, ustride, vstride, u, u0f, du, z0, gz = _bresenham_start(seg, width, ylo, yhi)
+    for t in range(count):
+        if depth_at(u + t, u0f, du, z0, gz) - bias <= dflat[pix]:
+            put_pixel(cflat, pix, channels, rgba)
+        r += two_a
+        step = r >= two_n
+        r -= two_n if step else 0
+        pix += ustride + (vstride if step else 0)
 
 
 @kernel(inline="always")
@@ -189,7 +158,7 @@ def _record_steps(width, recs, e):
 
 
 @kernel(inline="always")
-def _band_segment(clip, proj, edges, e, ylo, yhi):
+def band_segment(clip, proj, edges, e, ylo, yhi):
     """Edge ``e`` clipped and projected (:func:`_edge_segment`): ``(status, seg)``, status
     1 when it may touch rows ``ylo .. yhi``, 0 when it cannot (or nothing is left of it),
     -1 when it is dropped (a NaN, infinite or too large coordinate)."""
@@ -201,28 +170,41 @@ def _band_segment(clip, proj, edges, e, ylo, yhi):
 
 
 @kernel(refcounts=False)
-def _band_wire(cflat, no_depth, width, channels, rgba, clip, proj, edges, recs, ylo, yhi):
+def _band_wire(cflat, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi):
     """Plain edges' parts in rows ``ylo .. yhi``: an edge with a record that lies wholly in
     the band is stepped from its record, any other by the general path without a depth
-    test. ``channels`` 1 is a band's mask. Returns the number of dropped edges."""
+    test; a block of plain records wholly outside the band is skipped, one wholly inside
+    stepped without testing each edge. ``channels`` 1 is a band's mask. Returns the number
+    of dropped edges. (One place steps records and one draws the general path: each is
+    compiled once; two places made the wireframe's first run compile 2 s longer.)"""
     dropped = 0
-    for e in range(edges.shape[0]):
-        rows = recs[REC_ROWS, e]
-        if rows >= 0:
-            jlo, jhi = rows & 0xFFFF, rows >> 16
-            if jhi < ylo or jlo > yhi:
-                continue
-            if jlo >= ylo and jhi <= yhi:
+    m = edges.shape[0]
+    for b in range(blocks.shape[1]):
+        plain = blocks[BLOCK_GENERAL, b] == 0
+        lo, hi = blocks[BLOCK_LO, b], blocks[BLOCK_HI, b]
+        if plain and (hi < ylo or lo > yhi):
+            continue
+        inside = plain and lo >= ylo and hi <= yhi
+        for e in range(b * BLOCK, min((b + 1) * BLOCK, m)):
+            record = inside
+            if not inside:
+                rows = recs[REC_ROWS, e]
+                if rows >= 0:
+                    jlo, jhi = rows & 0xFFFF, rows >> 16
+                    if jhi < ylo or jlo > yhi:
+                        continue
+                    record = jlo >= ylo and jhi <= yhi
+            if record:
                 pix, count, r, two_a, two_n, ustride, vstride = _record_steps(width, recs, e)
                 if channels == 1:  # a band's mask
                     step_mask(cflat, rgba[0], pix, count, r, two_a, two_n, ustride, vstride)
                 else:
                     step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride)
                 continue
-        status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
-        dropped += status < 0
-        if status > 0:
-            _draw_bresenham(cflat, no_depth, width, channels, rgba, seg, ylo, yhi, False, 0.0)
+            status, seg = band_segment(clip, proj, edges, e, ylo, yhi)
+            dropped += status < 0
+            if status > 0:
+                _draw_bresenham(cflat, width, channels, rgba, seg, ylo, yhi)
     return dropped
 
 
@@ -232,28 +214,15 @@ def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, y
     dropped edges."""
     dropped = 0
     for e in range(edges.shape[0]):
-        status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
+        status, seg = band_segment(clip, proj, edges, e, ylo, yhi)
         dropped += status < 0
         if status > 0:
-            _draw_bresenham(cflat, dflat, width, channels, rgba, seg, ylo, yhi, True, bias)
-    return dropped
-
-
-@kernel(refcounts=False)
-def _band_antialiased(cflat, dflat, width, channels, rgba, clip, proj, edges, ylo, yhi, depth_test, bias):
-    """Anti-aliased (Wu) edges' parts in rows ``ylo .. yhi``, depth-tested or not; returns
-    the number of dropped edges."""
-    dropped = 0
-    for e in range(edges.shape[0]):
-        status, seg = _band_segment(clip, proj, edges, e, ylo, yhi)
-        dropped += status < 0
-        if status > 0:
-            _draw_wu(cflat, dflat, width, channels, rgba, seg, ylo, yhi, depth_test, bias)
+            _draw_bresenham_tested(cflat, dflat, width, channels, rgba, seg, ylo, yhi, bias)
     return dropped
 
 
 @kernel(inline="always")
-def _buffers(color, depth, background):
+def band_buffers(color, depth, background):
     """``(cflat, dflat, width, row_bytes, clear, pattern)``: the colour and depth buffers
     flattened, the image width, the bytes per colour row, whether to clear to
     ``background`` and its :func:`rasterkit.kernels.clear.background_pattern`."""
@@ -264,7 +233,7 @@ def _buffers(color, depth, background):
 
 
 @kernel(inline="always")
-def _next_band(counter, bounds, cflat, row_bytes, clear, pattern):
+def next_band(counter, bounds, cflat, row_bytes, clear, pattern):
     """Claim the next band (``-1`` when none is left) and clear its colour rows (when
     ``clear``); returns ``(band, ylo, yhi)``."""
     band = fetch_add(counter, 0, 1)
@@ -286,10 +255,9 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
     first marks its edges' pixels in the mask (one byte store per pixel, in a buffer a third
     the size of an RGB image that stays in the thread's cache), then clears its colour rows
     and paints the marked pixels 8 at a time."""
-    proj, _, recs, mask = scratch
+    proj, recs, blocks, mask = scratch.proj, scratch.recs, scratch.blocks, scratch.mask
     height, width, channels = color.shape
     cflat = color.reshape(color.size)
-    no_depth = np.empty(0, np.float32)
     clear = background.size == channels
     pattern = background_pattern(background) if clear else np.empty(0, np.uint8)
     marked = clear and mask.size >= height * width
@@ -308,8 +276,8 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
             fill_bytes(mask, lo, hi, zeros)
         elif clear:
             fill_bytes(cflat, lo * channels, hi * channels, pattern)
-        lost = _band_wire(target, no_depth, width, target_channels, ink, clip, proj, edges, recs, bounds[band],
-                          bounds[band + 1] - 1)
+        lost = _band_wire(target, width, target_channels, ink, clip, proj, edges, recs, blocks,
+                          bounds[band], bounds[band + 1] - 1)
         if band == DROPPED_BAND:
             dropped = lost
         if marked:
@@ -329,8 +297,8 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
     A worker of :func:`rasterkit._jit.run_parallel`; ``slot`` is unused. The driver,
     :mod:`rasterkit._edges`, runs :func:`project_vertices` first, :func:`balanced_bands`
     gives ``bounds``, and it picks the worker by mode: this one for ``MODE_DEPTH_TEST``,
-    :func:`draw_wire_bands` for ``MODE_PLAIN``, :func:`draw_antialiased_bands` for
-    ``MODE_ANTIALIAS`` (with or without the depth test). Each is compiled on its own, so
+    :func:`draw_wire_bands` for ``MODE_PLAIN``,
+    :func:`rasterkit.kernels.edges_wu.draw_antialiased_bands` for ``MODE_ANTIALIAS`` (with or without the depth test). Each is compiled on its own, so
     a mode compiles only its own drawing code.
 
     Parameters
@@ -361,10 +329,9 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
     background : (C,) uint8 or (0,)
         Written to every pixel of a band by the worker that draws the band, right before
         its edges (nothing is cleared when it is empty).
-    scratch : tuple
-        ``(proj, pixels, recs, mask)`` (:func:`rasterkit._edges.scratch`): ``proj`` (N, 4)
-        float64 from :func:`project_vertices`; the others are read by
-        :func:`draw_wire_bands` only.
+    scratch : EdgeScratch
+        :func:`rasterkit._edges.scratch`'s arrays: ``proj`` (N, 4) float64 from
+        :func:`project_vertices`; the others are read by :func:`draw_wire_bands` only.
 
     Notes
     -----
@@ -379,39 +346,14 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
     coordinate beyond ``MAX_COORDINATE`` (or NaN, inf) are dropped and counted. The image
     must be smaller than ``SEGMENT_GUARD_BAND`` on each side.
     """
-    proj = scratch[0]
-    cflat, dflat, width, row_bytes, clear, pattern = _buffers(color, depth, background)
+    proj = scratch.proj
+    cflat, dflat, width, row_bytes, clear, pattern = band_buffers(color, depth, background)
     dropped = 0
     while True:  # claim the next band until none is left
-        band, ylo, yhi = _next_band(counter, bounds, cflat, row_bytes, clear, pattern)
+        band, ylo, yhi = next_band(counter, bounds, cflat, row_bytes, clear, pattern)
         if band < 0:
             break
         lost = _band_depth_tested(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, ylo, yhi, bias)
         if band == DROPPED_BAND:
             dropped = lost
     return dropped
-
-
-@kernel
-def draw_antialiased_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, bounds, background,
-                           scratch):
-    """:func:`draw_edge_bands` for anti-aliased edges (``MODE_ANTIALIAS``, depth-tested
-    with ``MODE_DEPTH_TEST``): Xiaolin Wu's lines, compiled apart so that the other modes
-    compile none of them."""
-    proj = scratch[0]
-    cflat, dflat, width, row_bytes, clear, pattern = _buffers(color, depth, background)
-    depth_test = (mode & MODE_DEPTH_TEST) != 0
-    dropped = 0
-    while True:  # claim the next band until none is left
-        band, ylo, yhi = _next_band(counter, bounds, cflat, row_bytes, clear, pattern)
-        if band < 0:
-            break
-        lost = _band_antialiased(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, ylo, yhi, depth_test,
-                                 bias)
-        if band == DROPPED_BAND:
-            dropped = lost
-    return dropped
-
-
-#: The band whose count of dropped edges :func:`draw_edge_bands` reports.
-DROPPED_BAND = 0

@@ -67,7 +67,7 @@ def count_fans(slot, counter, clip, faces, width, height, cut_mask, n_fan, recor
 
 
 @kernel
-def _setup_fan_chunk(ch, clip, faces, width, height, cull_mode, planes, t, fan_face, records, cuts, counts):
+def _setup_fan_chunk(ch, clip, faces, width, height, cull_mode, pad, planes, t, fan_face, records, cuts, counts):
     """:func:`setup_cut_faces` for the faces of chunk ``ch``, from record ``t`` on."""
     tri_xy, tri_z, tri_box = records
     cut_mask = cuts.mask
@@ -97,6 +97,7 @@ def _setup_fan_chunk(ch, clip, faces, width, height, cull_mode, planes, t, fan_f
                 width,
                 height,
                 cull_mode,
+                pad,
                 t,
                 tri_xy,
                 tri_z,
@@ -112,7 +113,8 @@ def _setup_fan_chunk(ch, clip, faces, width, height, cull_mode, planes, t, fan_f
 
 
 @kernel
-def setup_cut_faces(slot, counter, clip, faces, width, height, cull_mode, fan_start, fan_face, records, cuts, counts):
+def setup_cut_faces(slot, counter, clip, faces, width, height, cull_mode, pad, fan_start, fan_face, records, cuts,
+                    counts):
     """Cut pass 2: cut the flagged faces again and set up their fans.
 
     The fans of chunk ``ch`` go to consecutive records from ``fan_start[ch]`` (>= M), in
@@ -121,7 +123,8 @@ def setup_cut_faces(slot, counter, clip, faces, width, height, cull_mode, fan_st
     STATUS_CULLED when any is culled, else STATUS_EMPTY (STATUS_OUTSIDE when nothing was
     left of it). Drawn fan records are added to ``counts.bands``, and the new statuses to
     ``counts.tally``, as in :func:`setup_faces` (``records``, ``cuts`` and ``counts`` are its
-    named records, :mod:`rasterkit.kernels.records`). A worker of :func:`rasterkit._jit.run_parallel`
+    named records, :mod:`rasterkit.kernels.records`); ``pad`` as for
+    :func:`rasterkit.kernels.setup.setup_triangle`. A worker of :func:`rasterkit._jit.run_parallel`
     (``slot`` unused).
     """
     planes = clip_planes(width, height)
@@ -129,5 +132,5 @@ def setup_cut_faces(slot, counter, clip, faces, width, height, cull_mode, fan_st
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        _setup_fan_chunk(ch, clip, faces, width, height, cull_mode, planes, fan_start[ch], fan_face, records, cuts,
-                         counts)
+        _setup_fan_chunk(ch, clip, faces, width, height, cull_mode, pad, planes, fan_start[ch], fan_face, records,
+                         cuts, counts)

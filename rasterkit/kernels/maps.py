@@ -7,10 +7,24 @@ Compiled only when a render asks for them: a plain render never loads this modul
 import numpy as np
 
 from rasterkit._jit import kernel
-from rasterkit.kernels.intrinsics import fetch_add
+from rasterkit.kernels.intrinsics import fetch_add, load_acquire, pause
 
 #: The rows are worked on in this many chunks, shared out among the threads.
 N_CHUNKS = 64
+
+#: The faces' camera-space normals (flat normals) are made in this many pieces first.
+N_FACE_CHUNKS = 16
+
+#: Steps (``pause`` instructions, about 25 ns each) a thread waits for another's piece of
+#: the faces' normals before it makes that piece itself: this many, plus one per
+#: ``FACES_PER_STEP`` faces of the piece (a face takes about 2 ns: about three times as long
+#: as the piece takes).
+FACE_WAIT = 1000
+FACES_PER_STEP = 4
+
+#: Pixels tested at once for a face: a block that sees none (the background, most of many
+#: frames) is written with vector stores, without a test per pixel.
+BLOCK = 16
 
 
 @kernel(inline="always")
@@ -31,88 +45,167 @@ def _smooth_normal(f, px, py, faces, bary, vertex_normals):
 
 
 @kernel(inline="always")
-def _put_normal(normals, j, i, rotation, x, y, z):
-    """``normals[j, i]``: the world-space vector (x, y, z) turned into camera space by
-    ``rotation`` (3, 3) and scaled to unit length (NaN for a zero vector)."""
+def _to_camera(rotation, x, y, z):
+    """The world-space vector (x, y, z) turned into camera space by ``rotation`` (3, 3) and
+    scaled to unit length (NaN for a zero vector)."""
     cx = rotation[0, 0] * x + rotation[0, 1] * y + rotation[0, 2] * z
     cy = rotation[1, 0] * x + rotation[1, 1] * y + rotation[1, 2] * z
     cz = rotation[2, 0] * x + rotation[2, 1] * y + rotation[2, 2] * z
     scale = 1.0 / np.sqrt(cx * cx + cy * cy + cz * cz)
-    normals[j, i, 0] = cx * scale
-    normals[j, i, 1] = cy * scale
-    normals[j, i, 2] = cz * scale
+    return cx * scale, cy * scale, cz * scale
 
 
-@kernel(refcounts=False)
-def camera_normals(slot, counter, world, rotation, out):
-    """``out`` (M, 3) float32: the unit world-space normals ``world`` (M, 3) float32 (a
-    Mesh's ``face_normals``: unit, zero for a degenerate face, NaN for a non-finite one)
+@kernel(inline="always")
+def _camera_normals(world, rotation, out, lo, hi):
+    """``out[lo:hi]`` (float32): the unit world-space normals ``world[lo:hi]`` (float32: a
+    Mesh's ``face_normals``, unit, zero for a degenerate face, NaN for a non-finite one)
     turned by ``rotation`` (3, 3) float64 into camera space: a rotation keeps their length,
-    so no square root is needed; zero ones become NaN. A worker of
-    :func:`rasterkit._jit.run_workers`, in ``N_CHUNKS`` pieces."""
-    m = world.shape[0]
+    so no square root is needed; zero ones become NaN (a select, not a branch: the loop
+    is vectorised)."""
     r00, r01, r02 = rotation[0, 0], rotation[0, 1], rotation[0, 2]
     r10, r11, r12 = rotation[1, 0], rotation[1, 1], rotation[1, 2]
     r20, r21, r22 = rotation[2, 0], rotation[2, 1], rotation[2, 2]
-    nan = np.float32(np.nan)
-    while True:
-        ch = fetch_add(counter, 0, 1)
-        if ch >= N_CHUNKS:
-            break
-        for f in range(np.uint64(m * ch // N_CHUNKS), np.uint64(m * (ch + 1) // N_CHUNKS)):
-            x, y, z = np.float64(world[f, 0]), np.float64(world[f, 1]), np.float64(world[f, 2])
-            if x == 0.0 and y == 0.0 and z == 0.0:
-                out[f, 0] = out[f, 1] = out[f, 2] = nan
-            else:
-                out[f, 0] = r00 * x + r01 * y + r02 * z
-                out[f, 1] = r10 * x + r11 * y + r12 * z
-                out[f, 2] = r20 * x + r21 * y + r22 * z
-    return 0
+    wflat, oflat = world.reshape(world.size), out.reshape(out.size)
+    for f in range(lo, hi):
+        k = np.uint64(3) * f
+        x, y, z = np.float64(wflat[k]), np.float64(wflat[k + np.uint64(1)]), np.float64(wflat[k + np.uint64(2)])
+        zero = (x == 0.0) & (y == 0.0) & (z == 0.0)
+        cx = r00 * x + r01 * y + r02 * z
+        cy = r10 * x + r11 * y + r12 * z
+        cz = r20 * x + r21 * y + r22 * z
+        oflat[k] = np.nan if zero else cx
+        oflat[k + np.uint64(1)] = np.nan if zero else cy
+        oflat[k + np.uint64(2)] = np.nan if zero else cz
 
 
 @kernel(inline="always")
-def _nan_row(nflat, j, width, nan):
-    """Row ``j`` of the normals (``nflat``: the (H, W, 3) array, flat) set to NaN: a plain
-    fill the compiler vectorises; the pixels that see a face are written over next."""
-    for k in range(np.uint64(3 * width * j), np.uint64(3 * width * (j + 1))):
-        nflat[k] = nan  # unsigned: no wraparound test, a vectorised fill
+def _face_piece(world, rotation, out, done, piece):
+    """Piece ``piece`` of ``N_FACE_CHUNKS`` of the faces' camera-space normals, then marked
+    done: ``done[piece]`` counted up from 0."""
+    m = out.shape[0]
+    _camera_normals(world, rotation, out, np.uint64(m * piece // N_FACE_CHUNKS),
+                    np.uint64(m * (piece + 1) // N_FACE_CHUNKS))
+    fetch_add(done, piece, 1)  # sequentially consistent: publishes the normals
 
 
 @kernel(inline="always")
-def _flat_row(ids, j, width, normals, nflat, face_normals, nan):
-    """Row ``j`` of flat normals: the camera-space normal of each pixel's face, NaN for none."""
-    _nan_row(nflat, j, width, nan)
-    for i in range(np.uint64(width)):  # unsigned indices: no wraparound tests
-        f = ids[j, i]
-        if f >= 0:
-            normals[j, i, 0] = face_normals[f, 0]
-            normals[j, i, 1] = face_normals[f, 1]
-            normals[j, i, 2] = face_normals[f, 2]
+def _wait_for_faces(world, rotation, out, done):
+    """Return once every piece of the faces' normals is done (``done``: (N_FACE_CHUNKS,)
+    int64, not 0 for a piece done). A piece another thread still works on is waited for a
+    moment (``FACE_WAIT`` steps, more for a large piece), then made here too: that thread
+    may have lost its core for a while (a busy machine), and both write the same values."""
+    wait = FACE_WAIT + out.shape[0] // (N_FACE_CHUNKS * FACES_PER_STEP)
+    for piece in range(N_FACE_CHUNKS):
+        steps = 0
+        while load_acquire(done, piece) == 0:
+            if steps >= wait:
+                _face_piece(world, rotation, out, done, piece)
+                break
+            pause()
+            steps += 1
 
 
 @kernel(inline="always")
-def _smooth_row(ids, j, width, normals, nflat, faces, bary, vertex_normals, rotation, nan):
-    """Row ``j`` of smooth normals: vertex normals interpolated at each pixel centre."""
-    _nan_row(nflat, j, width, nan)
-    py = j + 0.5
-    for i in range(width):
-        f = ids[j, i]
-        if f >= 0:
-            x, y, z = _smooth_normal(f, i + 0.5, py, faces, bary, vertex_normals)
-            _put_normal(normals, j, i, rotation, x, y, z)
+def _background(iflat, k):
+    """Whether the ``BLOCK`` pixels from ``k`` of ``iflat`` (the ids, flat) all see no face:
+    a maximum the compiler vectorises."""
+    top = iflat[k]
+    for q in range(1, BLOCK):
+        v = iflat[k + np.uint64(q)]
+        top = v if v > top else top
+    return top < 0
 
 
 @kernel(inline="always")
-def _object_row(ids, j, width, object_ids, face_object, object_first):
-    """Row ``j`` of object ids, and ``ids`` made indices within their object."""
-    for i in range(width):
-        f = ids[j, i]
-        if f < 0:
-            object_ids[j, i] = -1
+def _flat_pixel(iflat, nflat, p, face_normals, nan):
+    """Pixel ``p`` (flat index) of flat normals: its face's camera-space normal, NaN for none."""
+    f = iflat[p]
+    o = np.uint64(3) * p
+    if f >= 0:
+        nflat[o] = face_normals[f, 0]
+        nflat[o + np.uint64(1)] = face_normals[f, 1]
+        nflat[o + np.uint64(2)] = face_normals[f, 2]
+    else:
+        nflat[o] = nflat[o + np.uint64(1)] = nflat[o + np.uint64(2)] = nan
+
+
+@kernel(inline="always")
+def _flat_row(iflat, lo, hi, nflat, face_normals, nan):
+    """Pixels ``lo`` to ``hi`` (flat indices, one row) of flat normals, in blocks of
+    ``BLOCK``: a block that sees no face is one vectorised fill of NaN."""
+    k = lo
+    while k + np.uint64(BLOCK) <= hi:
+        if _background(iflat, k):
+            o = np.uint64(3) * k
+            for q in range(3 * BLOCK):
+                nflat[o + np.uint64(q)] = nan
         else:
-            o = face_object[f]
-            object_ids[j, i] = o
-            ids[j, i] = f - object_first[o]
+            for q in range(BLOCK):
+                _flat_pixel(iflat, nflat, k + np.uint64(q), face_normals, nan)
+        k += np.uint64(BLOCK)
+    for p in range(k, hi):
+        _flat_pixel(iflat, nflat, p, face_normals, nan)
+
+
+@kernel(inline="always")
+def _smooth_pixel(iflat, nflat, p, px, py, faces, bary, vertex_normals, rotation, nan):
+    """Pixel ``p`` (flat index; raster centre (px, py)) of smooth normals."""
+    f = iflat[p]
+    o = np.uint64(3) * p
+    if f >= 0:
+        x, y, z = _smooth_normal(f, px, py, faces, bary, vertex_normals)
+        cx, cy, cz = _to_camera(rotation, x, y, z)
+        nflat[o], nflat[o + np.uint64(1)], nflat[o + np.uint64(2)] = cx, cy, cz
+    else:
+        nflat[o] = nflat[o + np.uint64(1)] = nflat[o + np.uint64(2)] = nan
+
+
+@kernel(inline="always")
+def _smooth_row(iflat, lo, hi, py, nflat, faces, bary, vertex_normals, rotation, nan):
+    """Pixels ``lo`` to ``hi`` (flat indices) of row ``py - 0.5``: vertex normals interpolated
+    at each pixel centre, in blocks like :func:`_flat_row`."""
+    k = lo
+    while k + np.uint64(BLOCK) <= hi:
+        if _background(iflat, k):
+            o = np.uint64(3) * k
+            for q in range(3 * BLOCK):
+                nflat[o + np.uint64(q)] = nan
+        else:
+            for q in range(BLOCK):
+                p = k + np.uint64(q)
+                _smooth_pixel(iflat, nflat, p, np.float64(p - lo) + 0.5, py, faces, bary, vertex_normals,
+                              rotation, nan)
+        k += np.uint64(BLOCK)
+    for p in range(k, hi):
+        _smooth_pixel(iflat, nflat, p, np.float64(p - lo) + 0.5, py, faces, bary, vertex_normals, rotation, nan)
+
+
+@kernel(inline="always")
+def _object_pixel(iflat, oflat, p, face_object, object_first):
+    """Pixel ``p``'s object id, and its id made the index within that object."""
+    f = iflat[p]
+    if f < 0:
+        oflat[p] = -1
+    else:
+        o = face_object[f]
+        oflat[p] = o
+        iflat[p] = f - object_first[o]
+
+
+@kernel(inline="always")
+def _object_row(iflat, lo, hi, oflat, face_object, object_first):
+    """Pixels ``lo`` to ``hi`` of object ids, in blocks like :func:`_flat_row`."""
+    k = lo
+    while k + np.uint64(BLOCK) <= hi:
+        if _background(iflat, k):
+            for q in range(BLOCK):
+                oflat[k + np.uint64(q)] = -1
+        else:
+            for q in range(BLOCK):
+                _object_pixel(iflat, oflat, k + np.uint64(q), face_object, object_first)
+        k += np.uint64(BLOCK)
+    for p in range(k, hi):
+        _object_pixel(iflat, oflat, p, face_object, object_first)
 
 
 @kernel(refcounts=False)
@@ -121,14 +214,21 @@ def surface_maps(slot, counter, ids, maps):
     normal and the scene object, as a :class:`rasterkit.kernels.records.Maps` asks.
 
     Normals (``maps.want_normals``) go into ``maps.normals`` (H, W, 3) float32, NaN where no
-    face is seen: ``maps.face_normals[f]`` (M, 3) float32 (camera space, unit:
-    :func:`camera_normals`) when ``maps.smooth`` is false, else ``maps.vertex_normals`` (N, 3)
-    float64 (world space) interpolated with ``maps.bary`` (M, 9) and ``maps.faces`` (M, 3)
-    int64, turned by ``maps.rotation`` (3, 3) float64 (world -> camera) and normalised. Objects (``maps.want_objects``): the object of
-    face ``f`` is ``maps.face_object[f]`` (M,) int32, written to ``maps.object_ids`` (H, W)
-    int32 (-1 where none), and ``ids`` becomes the index within that object (minus
-    ``maps.object_first[o]``, its first face). A worker of :func:`rasterkit._jit.run_workers`;
-    face indices in ``ids`` must lie in 0..M-1 (a render's ids do).
+    face is seen. Flat (``maps.smooth`` false): ``maps.face_normals`` (M, 3) float32 is
+    filled first with the world-space ``maps.world_normals`` (M, 3) float32 turned into
+    camera space (:func:`_camera_normals`), then each pixel takes its face's. Smooth:
+    ``maps.vertex_normals`` (N, 3) float64 (world space) interpolated with ``maps.bary``
+    (M, 9) and ``maps.faces`` (M, 3) int64, turned by ``maps.rotation`` (3, 3) float64
+    (world -> camera) and normalised. Objects (``maps.want_objects``): the object of face
+    ``f`` is ``maps.face_object[f]`` (M,) int32, written to ``maps.object_ids`` (H, W) int32
+    (-1 where none), and ``ids`` becomes the index within that object (minus
+    ``maps.object_first[o]``, its first face).
+
+    A worker of :func:`rasterkit._jit.run_workers`, one pass handed to the threads instead
+    of two: for flat normals the first ``N_FACE_CHUNKS`` pieces are the faces, marked done
+    in ``maps.faces_done`` ((N_FACE_CHUNKS,) int64, zeros), and a thread has all of them
+    done before its first rows (:func:`_wait_for_faces`); then ``N_CHUNKS`` pieces of rows.
+    Face indices in ``ids`` must lie in 0..M-1 (a render's ids do).
     """
     height, width = ids.shape
     nan = np.float32(np.nan)
@@ -137,20 +237,34 @@ def surface_maps(slot, counter, ids, maps):
     want_normals, smooth, want_objects = maps.want_normals, maps.smooth, maps.want_objects
     normals, faces, bary = maps.normals, maps.faces, maps.bary
     vertex_normals, face_normals, rotation = maps.vertex_normals, maps.face_normals, maps.rotation
+    world_normals, faces_done = maps.world_normals, maps.faces_done
     object_ids, face_object, object_first = maps.object_ids, maps.face_object, maps.object_first
-    nflat = normals.reshape(normals.size)
+    iflat, nflat, oflat = ids.reshape(ids.size), normals.reshape(normals.size), object_ids.reshape(object_ids.size)
+    flat = want_normals and not smooth
+    face_chunks = N_FACE_CHUNKS if flat else 0
+    ready = not flat
+    w = np.uint64(width)
     while True:
         ch = fetch_add(counter, 0, 1)
-        if ch >= N_CHUNKS:
+        if ch >= face_chunks + N_CHUNKS:
             break
-        for j in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
+        if ch < face_chunks:
+            _face_piece(world_normals, rotation, face_normals, faces_done, ch)
+            continue
+        if not ready:  # the rows read every face's normal: all the faces' pieces first
+            _wait_for_faces(world_normals, rotation, face_normals, faces_done)
+            ready = True
+        ch -= face_chunks
+        for j in range(np.uint64(height * ch // N_CHUNKS), np.uint64(height * (ch + 1) // N_CHUNKS)):
+            lo = w * j
             # one loop per case: no test of the choices per pixel
-            if want_normals and not smooth:
-                _flat_row(ids, j, width, normals, nflat, face_normals, nan)
+            if flat:
+                _flat_row(iflat, lo, lo + w, nflat, face_normals, nan)
             elif want_normals:
-                _smooth_row(ids, j, width, normals, nflat, faces, bary, vertex_normals, rotation, nan)
+                _smooth_row(iflat, lo, lo + w, np.float64(j) + 0.5, nflat, faces, bary, vertex_normals,
+                            rotation, nan)
             if want_objects:
-                _object_row(ids, j, width, object_ids, face_object, object_first)
+                _object_row(iflat, lo, lo + w, oflat, face_object, object_first)
     return 0
 
 

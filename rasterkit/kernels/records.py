@@ -37,16 +37,29 @@ Shading = namedtuple("Shading", "mode n_faces fan_face packed vertex_colors face
 #: C) uint8; whether to write face indices (``write_ids``) into ``ids`` (H, W) int32.
 Target = namedtuple("Target", "depth keep_depth height color write_ids ids")
 
+#: Where a draw samples each pixel: ``x, y`` int64, the sample point's offset from the pixel
+#: centre in fixed point (1/256 pixel, raster x right, y down; ``0, 0`` the centre).
+Sample = namedtuple("Sample", "x y")
+
+#: The samples that :func:`rasterkit.kernels.sample_bands.draw_sample_bands` averages:
+#: ``offsets`` (n, 2) int64, each sample point's offset from the pixel centres in 1/256 pixel;
+#: ``background`` the background's packed RGB (uint32, R in the low byte); ``scale, bias`` the
+#: rounding division of the sums (:func:`rasterkit.kernels.accumulate.average_samples`);
+#: ``sums`` (n_slots, rows, W, 3) uint16, each slot's band of sums in its last BAND_HEIGHT rows.
+Samples = namedtuple("Samples", "offsets background scale bias sums")
+
 #: Clearing a band before it is drawn: when ``on``, depth +inf, ids -1 and the band's part of
 #: ``color_bytes`` (the colour buffer as 1-D uint8, empty without one) to ``pattern``, the
 #: background repeated over 24 bytes (:func:`rasterkit.kernels.clear.fill_bytes`).
 Clear = namedtuple("Clear", "on color_bytes pattern")
 
 #: What :func:`rasterkit.kernels.maps.surface_maps` makes from a render's face ids: when
-#: ``want_normals``, ``normals`` (H, W, 3) float32 from ``face_normals`` (M, 3) float32, or
-#: (``smooth``) from ``vertex_normals`` (N, 3) float64 interpolated with ``bary`` (M, 9)
-#: float64 and ``faces`` (M, 3) int64, all in world space, turned into camera space by
-#: ``rotation`` (3, 3) float64; when ``want_objects``, ``object_ids`` (H, W) int32 from
-#: ``face_object`` (M,) int32 and ``object_first`` (K,) int64, each object's first face.
-Maps = namedtuple("Maps", "want_normals normals smooth face_normals vertex_normals bary faces rotation "
-                          "want_objects object_ids face_object object_first")
+#: ``want_normals``, ``normals`` (H, W, 3) float32 from ``world_normals`` (M, 3) float32
+#: (turned into camera space in ``face_normals`` (M, 3) float32, its scratch, with
+#: ``faces_done`` (N_FACE_CHUNKS,) int64 marking the pieces done), or (``smooth``) from
+#: ``vertex_normals`` (N, 3) float64 interpolated with ``bary`` (M, 9) float64 and ``faces``
+#: (M, 3) int64, all in world space, turned into camera space by ``rotation`` (3, 3)
+#: float64; when ``want_objects``, ``object_ids`` (H, W) int32 from ``face_object`` (M,)
+#: int32 and ``object_first`` (K,) int64, each object's first face.
+Maps = namedtuple("Maps", "want_normals normals smooth world_normals face_normals faces_done vertex_normals "
+                          "bary faces rotation want_objects object_ids face_object object_first")

@@ -34,6 +34,10 @@ from rasterkit.kernels.clip import (
     FACE_NONFINITE,
     MAX_POLYGON,
     NONFINITE_BIT,
+    VIEW_BOTTOM,
+    VIEW_LEFT,
+    VIEW_RIGHT,
+    VIEW_TOP,
     classify_face,
     project_vertex,
     vertex_code,
@@ -54,6 +58,9 @@ STATUS_EMPTY = 2  # zero area after snapping, or covers no pixel centre of the i
 STATUS_OUTSIDE = 3
 STATUS_NONFINITE = 4
 N_STATUS = 5
+#: The vertex code bits of the image's sides (:mod:`rasterkit.kernels.clip`): a face wholly
+#: beside one of them is rejected, unless the boxes are padded (:func:`setup_vertices`).
+VIEW_MASK = (1 << VIEW_LEFT) | (1 << VIEW_RIGHT) | (1 << VIEW_TOP) | (1 << VIEW_BOTTOM)
 #: Faces (and vertices) are processed in this many contiguous chunks, setup and binning
 #: using the same ones. A constant, so that nothing depends on the thread count.
 N_CHUNKS = 64
@@ -84,6 +91,13 @@ def pixel_bounds(lo, hi):
 
 
 @kernel(inline="always")
+def _padded_bounds(lo, hi, pad):
+    """:func:`pixel_bounds` widened by ``pad`` pixels on each side (the sums' constant
+    parts are loop-invariant: the face loop pays nothing for the padding)."""
+    return _ceil_div(lo - (HALF + pad * ONE), ONE), (hi - (HALF - pad * ONE)) // ONE
+
+
+@kernel(inline="always")
 def signed_area2(x0, y0, x1, y1, x2, y2):
     """Twice the raster signed area of a fixed-point triangle (int64, exact)."""
     return (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
@@ -96,7 +110,7 @@ def _empty_box(t, tri_box):
 
 
 @kernel(inline="always")
-def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode, t, tri_xy, tri_z, tri_box):
+def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode, pad, t, tri_xy, tri_z, tri_box):
     """Cull and bound a fixed-point triangle into record ``t``.
 
     Parameters
@@ -108,6 +122,12 @@ def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode,
         Image size; the bounding box is clamped to it.
     cull_mode : int
         A :mod:`rasterkit.kernels.cull` mode.
+    pad : int
+        0, or 1 for records drawn at sample points other than the pixel centres: the box
+        grows by a pixel on every side (before it is clamped to the image), so that it
+        holds the pixels of every sample point up to a pixel from the centres (each
+        sample point bounds the triangle again: :func:`rasterkit.kernels.triangle_samples.moved_box`),
+        and a triangle that covers no pixel centre is kept all the same.
     t : int
         Record to write.
     tri_xy, tri_z, tri_box
@@ -124,8 +144,8 @@ def setup_triangle(x0, y0, z0, x1, y1, z1, x2, y2, z2, width, height, cull_mode,
         return STATUS_EMPTY
     if is_culled(area2, cull_mode):
         return STATUS_CULLED
-    i_lo, i_hi = pixel_bounds(min(x0, x1, x2), max(x0, x1, x2))
-    j_lo, j_hi = pixel_bounds(min(y0, y1, y2), max(y0, y1, y2))
+    i_lo, i_hi = _padded_bounds(min(x0, x1, x2), max(x0, x1, x2), pad)
+    j_lo, j_hi = _padded_bounds(min(y0, y1, y2), max(y0, y1, y2), pad)
     i_lo, i_hi = max(i_lo, 0), min(i_hi, width - 1)
     j_lo, j_hi = max(j_lo, 0), min(j_hi, height - 1)
     if i_lo > i_hi or j_lo > j_hi:
@@ -144,11 +164,11 @@ _V_CODE, _V_X, _V_Y, _V_Z = range(4)
 
 
 @kernel(refcounts=False)
-def _setup_vertex_chunk(ch, clip, width, height, corners, depths):
+def _setup_vertex_chunk(ch, clip, width, height, keep, corners, depths):
     """:func:`setup_vertices` for the vertices of chunk ``ch``."""
     start, stop = chunk_range(clip.shape[0], ch)
     for i in range(np.uint64(start), np.uint64(stop)):
-        code = vertex_code(clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3], width, height)
+        code = vertex_code(clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3], width, height) & keep
         corners[i, _V_CODE] = code
         if code & CUT_MASK or code & (NONFINITE_BIT | DEGENERATE_BIT):
             corners[i, _V_X], corners[i, _V_Y], depths[i, _V_Z] = 0, 0, 0.0
@@ -158,7 +178,7 @@ def _setup_vertex_chunk(ch, clip, width, height, corners, depths):
 
 
 @kernel
-def setup_vertices(slot, counter, clip, width, height, corners, depths):
+def setup_vertices(slot, counter, clip, width, height, pad, corners, depths):
     """Vertex pass: classify every vertex once and, where it is safe, project and snap it.
 
     A vertex is shared by about six faces of a closed mesh, so doing this per vertex and
@@ -170,6 +190,11 @@ def setup_vertices(slot, counter, clip, width, height, corners, depths):
         Homogeneous raster coordinates.
     width, height : int
         Image size.
+    pad : int
+        1 for faces drawn at other sample points than the pixel centres
+        (:func:`setup_triangle`): the codes get no bits of the image's sides (VIEW_MASK),
+        so that no face is rejected for lying beside the image, as a moved face may not
+        be (its box decides: empty, or within a pixel of the image); else 0.
     corners : (N, 4) int32
         Out, one 16-byte row per vertex (what a face reads of each corner, in one cache
         line): column ``_V_CODE`` the :func:`rasterkit.kernels.clip.vertex_code`;
@@ -186,7 +211,7 @@ def setup_vertices(slot, counter, clip, width, height, corners, depths):
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        _setup_vertex_chunk(ch, clip, width, height, corners, depths)
+        _setup_vertex_chunk(ch, clip, width, height, ~VIEW_MASK if pad else ~0, corners, depths)
 
 
 @kernel(inline="always")
@@ -203,14 +228,14 @@ def count_bands(t, tri_box, band_shift, band_counts, ch):
 
 
 @kernel(inline="always")
-def _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, tri_xy, tri_z, tri_box):
+def _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, pad, tri_xy, tri_z, tri_box):
     """Set up face ``f`` (FACE_INSIDE) into record ``f`` from the vertex pass; its status."""
     a, b, c = np.uint64(faces[f, 0]), np.uint64(faces[f, 1]), np.uint64(faces[f, 2])
     return setup_triangle(
         np.int64(corners[a, _V_X]), np.int64(corners[a, _V_Y]), depths[a, _V_Z],
         np.int64(corners[b, _V_X]), np.int64(corners[b, _V_Y]), depths[b, _V_Z],
         np.int64(corners[c, _V_X]), np.int64(corners[c, _V_Y]), depths[c, _V_Z],
-        width, height, cull_mode, f, tri_xy, tri_z, tri_box,
+        width, height, cull_mode, pad, f, tri_xy, tri_z, tri_box,
     )
 
 
@@ -248,6 +273,7 @@ def _setup_chunk(
     width,
     height,
     cull_mode,
+    pad,
     records,
     cuts,
     counts,
@@ -280,7 +306,8 @@ def _setup_chunk(
         cut_mask[f] = mask
         n_fan[f] = 0
         if cls == FACE_INSIDE:
-            outcome = _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, tri_xy, tri_z, tri_box)
+            outcome = _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, pad, tri_xy, tri_z,
+                                       tri_box)
             if outcome == STATUS_DRAWN:
                 count_bands(f, tri_box, band_shift, band_counts, ch)
                 seen[start + n_seen] = f
@@ -302,8 +329,8 @@ def _setup_chunk(
 
 
 @kernel
-def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode, records, cuts, counts, lit, listed,
-                cut):
+def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode, pad, records, cuts, counts, lit,
+                listed, cut):
     """Face pass: classify every face; set up the ones that need no cutting.
 
     Record ``f`` belongs to face ``f`` (empty unless the face is drawn uncut). Faces that
@@ -317,6 +344,8 @@ def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode,
     corners, depths
         From :func:`setup_vertices`.
     width, height, cull_mode : int
+    pad : int
+        0, or 1 to pad every box by a pixel (:func:`setup_triangle`).
     records : Records
         :class:`rasterkit.kernels.records.Records` with at least M records.
     cuts : Cuts
@@ -349,5 +378,5 @@ def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode,
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        cut[ch] = _setup_chunk(ch, faces, corners, depths, width, height, cull_mode, records, cuts, counts, lit,
-                               listed)
+        cut[ch] = _setup_chunk(ch, faces, corners, depths, width, height, cull_mode, pad, records, cuts, counts,
+                               lit, listed)

@@ -381,7 +381,7 @@ def _smooth_rgba(f, px, py, vertex_colors, faces, bary):
 
 
 @kernel(refcounts=False)
-def resolve_row(mode, lid, r, j, lo, hi, packed, vertex_colors, faces, bary, color, write_ids, ids):
+def resolve_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, faces, bary, color, write_ids, ids):
     """Colour (and id) the pixels ``lo..hi`` of image row ``j`` that a triangle won.
 
     Reads the band's visibility buffer row ``lid[r]`` (the visible face, -1 for none; in
@@ -398,6 +398,9 @@ def resolve_row(mode, lid, r, j, lo, hi, packed, vertex_colors, faces, bary, col
         Its row, and the image row.
     lo, hi : int
         Columns to look at.
+    sample_x, sample_y : float
+        Where in its pixel a pixel was sampled, from the centre (pixels): SHADE_SMOOTH
+        interpolates the colour at that point, ``(i + 0.5 + sample_x, j + 0.5 + sample_y)``.
     packed : (M,) uint32
         SHADE_FLAT: each face's colour (:func:`pack_colors`).
     vertex_colors : (N, 3) float32
@@ -408,7 +411,7 @@ def resolve_row(mode, lid, r, j, lo, hi, packed, vertex_colors, faces, bary, col
         Whether to write the face index into ``ids (H, W) int32``.
     """
     ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
-    py = j + 0.5
+    px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
     for k in range(hi - lo + 1):
         i = base + np.uint64(k)
         f = lid[ru, i]
@@ -420,6 +423,6 @@ def resolve_row(mode, lid, r, j, lo, hi, packed, vertex_colors, faces, bary, col
         elif mode == SHADE_TAGGED:
             _put(color, ju, i, np.int64(f) | 0xFF000000)
         elif mode == SHADE_SMOOTH:
-            _put(color, ju, i, _smooth_rgba(f, lo + k + 0.5, py, vertex_colors, faces, bary))
+            _put(color, ju, i, _smooth_rgba(f, px + k, py, vertex_colors, faces, bary))
         if write_ids:
             ids[ju, i] = f

@@ -33,7 +33,7 @@ from rasterkit._jit import kernel
 from rasterkit.kernels.clear import fill_bytes
 from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
-from rasterkit.kernels.setup import N_CHUNKS, chunk_range
+from rasterkit.kernels.setup import N_CHUNKS, ONE, chunk_range
 from rasterkit.kernels.triangle import raster_band
 
 #: Rows per band, ``1 << BAND_SHIFT`` (a shift: the face pass counts bands per face, and a
@@ -201,7 +201,7 @@ def _prefetch_record(t, records, shading):
 
 
 @kernel(refcounts=False)
-def draw_bands(slot, counter, band_start, items, records, shading, target, clear, lid, spans):
+def draw_bands(slot, counter, band_start, items, records, shading, target, clear, sample, lid, spans):
     """Rasterize and resolve bands, each the next one no slot has claimed yet (through
     ``counter``), until none are left; returns the number of fragments this slot
     depth-tested. A worker of :func:`rasterkit._jit.run_parallel`: slot ``slot`` draws in
@@ -232,6 +232,11 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
         :class:`rasterkit.kernels.records.Clear`: when on, each band is cleared right
         before it is drawn, while its rows are in this thread's cache anyway. A depth
         scratch (not ``keep_depth``) is cleared in any case.
+    sample : Sample
+        :class:`rasterkit.kernels.records.Sample`: where in each pixel smooth colours are
+        interpolated, ``Sample(0, 0)`` at the centre. The records are those of the same
+        sample point (:func:`rasterkit.kernels.triangle_samples.move_records` moves a setup shared
+        by the samples of a multi-sample render to each).
     lid : (n_slots, slot_rows(W), W) int32
         One visibility buffer per parallel slot (its last ``BAND_HEIGHT`` rows; the rows
         before them keep the slots apart, :data:`SLOT_GUARD_BYTES`), all -1 on entry, all
@@ -248,6 +253,7 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
     mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
     depth, keep_depth, height, color, write_ids, ids = target
     do_clear = clear.on
+    sample_x, sample_y = sample.x / ONE, sample.y / ONE  # pixels, for the smooth colours
     width = lid.shape[2]
     guard = lid.shape[1] - BAND_HEIGHT  # unused rows before each slot's band rows
     band_lid = lid[slot, guard:]
@@ -290,6 +296,8 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
                 y0 + r,
                 row_lo[r],
                 row_hi[r],
+                sample_x,
+                sample_y,
                 packed,
                 vertex_colors,
                 faces,

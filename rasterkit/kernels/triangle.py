@@ -200,7 +200,7 @@ def _depth_test_block(depth, lid, r, start, c0, s0, c1, s1, c2, s2, zs, gx, t):
 
 
 @kernel(inline="always")
-def _raster_masked(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, t, row_lo, row_hi):
+def raster_masked(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, t, row_lo, row_hi):
     """Rows ``j_lo..j_hi`` of a triangle at most BLOCK pixels wide: one block per row.
 
     The block starts at the box's left edge (shifted left at the image's right edge: the
@@ -222,7 +222,7 @@ def _raster_masked(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, g
 
 
 @kernel(inline="always")
-def _raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, t, row_lo, row_hi):
+def raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, t, row_lo, row_hi):
     """Rows ``j_lo..j_hi`` of a wide triangle: find each row's span, depth test only it."""
     gx32 = np.float32(gx)
     bounds = row_bounds(j_lo, e0, e1, e2)
@@ -274,7 +274,7 @@ def raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, lid, row_lo, row_
     """Rasterize record ``t`` into image rows ``[y0, y1)`` (one band).
 
     Triangles at most BLOCK pixels wide test a whole block per row for coverage
-    (:func:`_raster_masked`); wider ones compute each row's span (:func:`_raster_spans`).
+    (:func:`raster_masked`); wider ones compute each row's span (:func:`raster_spans`).
     Both give the same pixels and ids (depths to float32 rounding).
 
     Parameters
@@ -312,10 +312,10 @@ def raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, lid, row_lo, row_
     i_lo, i_hi = np.int64(tri_box[t, 0]), np.int64(tri_box[t, 1])
     tag = np.int32(tag)
     if i_hi - i_lo < BLOCK and depth.shape[1] >= BLOCK:
-        return _raster_masked(
+        return raster_masked(
             depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi
         )
-    return _raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi)
+    return raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi)
 
 
 @kernel

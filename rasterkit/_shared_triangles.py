@@ -1,0 +1,122 @@
+"""Triangles set up once and drawn at every sample point of a pinhole multi-sample render.
+
+The samples of a render through a pinhole (:mod:`rasterkit._accumulate`) differ only by
+where each pixel is sampled: ``P + s`` for the pixel centre ``P`` and a sub-pixel offset
+``s``. When ``s`` is a multiple of 1/256 pixel (the fixed-point grid the vertices are
+snapped to, :data:`rasterkit.kernels.setup.SUBPIXEL_BITS`), sampling at ``P + s`` is the
+same, to the bit, as drawing the scene moved by ``-s`` at the pixel centres: the snapped
+vertices move by exactly ``-256 s`` fixed-point units, and nothing else of a triangle's
+record changes (its depths, its winding, whether it is culled or of zero area, its face's
+colour). So the vertex pass, the face pass (clipping, culling, snapping, flat colours),
+the cut faces' fans, the binning, the polygon offset and the smooth colours'
+perspective-correct terms are done once, with every box padded by a pixel, and each sample
+only draws the bands: :meth:`SharedTriangles.draw` moves the records' vertices by
+``-256 s`` and bounds them again (:func:`rasterkit.kernels.triangle_samples.move_records`, a pass over
+the records) and draws them as any draw (:func:`rasterkit.kernels.tiles.draw_bands`);
+:meth:`SharedTriangles.draw_average` draws every sample of a band in turn, moving each
+record as it draws it (:func:`rasterkit.kernels.triangle_samples.raster_band_at`), and averages
+them there (:mod:`rasterkit.kernels.sample_bands`). The resolve interpolates smooth colours
+at ``P + s``. Boxes are padded by a pixel, and faces beside the image are not rejected
+(:func:`rasterkit.kernels.setup.setup_vertices`), for offsets up to a pixel.
+
+Exactly equal to a full draw of the moved vertices: every face that no clipping plane cuts
+(the cut faces' fans are cut once, where the centre sample's vertices lie: the same
+polygons, whose corners a moved draw would round differently). Smooth colours are
+evaluated at the sample point from the centre's barycentric terms, which a moved draw would
+round differently too (the same interpolation, to float64 rounding).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit._triangles import average_prepared, draw_prepared, prepare
+from rasterkit.triangles import _background, _check_buffer, _check_depth, _check_geometry, _depth_offset, _shading, \
+    _threads
+from rasterkit.options import CULL
+
+__all__ = ["SharedTriangles"]
+
+
+class SharedTriangles:
+    """Triangles set up once (as :func:`rasterkit.triangles.rasterize_triangles` would draw
+    them), for drawing at several sample points.
+
+    Parameters
+    ----------
+    clip, faces, face_colors, vertex_colors, cull, depth_offset, threads
+        As for :func:`rasterkit.triangles.rasterize_triangles`.
+    width, height : int
+        The image size.
+    color : bool
+        Whether colours are drawn (then ``face_colors`` or ``vertex_colors`` is needed).
+
+    The setup lives in this thread's scratch memory (:mod:`rasterkit._triangles`): it can
+    be drawn until the next draw of triangles of this thread (:meth:`draw` raises after that).
+    """
+
+    def __init__(self, clip, faces, *, width, height, color, face_colors=None, vertex_colors=None, cull="back",
+                 depth_offset=(0.0, 0.0), threads=None):
+        _check_depth(np.empty((height, width), np.float32))  # the size
+        _check_geometry(clip, faces)
+        if cull not in CULL:
+            raise ValueError(f"cull must be one of {sorted(CULL)}, got {cull!r}")
+        face_colors, vertex_colors, lighting = _shading(True if color else None, face_colors, vertex_colors, faces,
+                                                        clip)
+        self._threads = _threads(threads)
+        self._faces = faces
+        self._color = bool(color)
+        self._prepared = prepare(clip, faces, face_colors, vertex_colors, cull, _depth_offset(depth_offset),
+                                 width=width, height=height, color=self._color, ids=False, threads=self._threads,
+                                 lighting=lighting, padded=True)
+
+    def draw(self, color, depth, *, sample=(0, 0), clear=None) -> int:
+        """Draw the triangles sampled at ``sample`` from each pixel centre, ``(x, y)``
+        integers in 1/256 pixel, each in -256..256 (raster x right, y down); returns the
+        fragments depth-tested.
+
+        ``color`` (H, W, C) uint8 (None exactly when the setup was made without colours),
+        ``depth`` (H, W) float32 or None and ``clear`` as for
+        :func:`rasterkit.triangles.rasterize_triangles`. The image is what that function
+        draws of the vertices moved by ``-sample / 256`` pixel (see the module docstring).
+        """
+        prepared = self._prepared
+        shape = (prepared.height, prepared.width)
+        if (color is not None) != self._color:
+            raise ValueError("color must be given exactly when the triangles were set up with colours")
+        if color is not None:
+            if not (isinstance(color, np.ndarray) and color.ndim == 3 and color.shape[2] in (3, 4)):
+                raise ValueError("color must be an (H, W, 3 or 4) uint8 array")
+            _check_buffer("color", color, np.uint8, shape + (color.shape[2],))
+        elif depth is None:
+            raise ValueError("depth can be None only when color is given")
+        if depth is not None:
+            _check_buffer("depth", depth, np.float32, shape)
+        for name, buffer in (("color", color), ("depth", depth)):
+            if buffer is not None and np.may_share_memory(self._faces, buffer):
+                raise ValueError(f"faces must not share memory with {name}, the buffer drawn into")
+        x, y = sample
+        if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) and -256 <= v <= 256 for v in (x, y)):
+            raise ValueError(f"sample must be two integers in -256..256 (1/256 pixel), got {sample!r}")
+        return draw_prepared(prepared, color, depth, None, _background(clear, color), threads=self._threads,
+                             sample=(int(x), int(y)))
+
+    def draw_average(self, color, samples, *, clear) -> int:
+        """Draw the triangles at every sample point of ``samples`` ((n, 2) integers in
+        -256..256, 1/256 pixel; 1 <= n <= 256) and write the average into ``color`` (H, W,
+        3) uint8, cleared to ``clear`` (3 integers) first: what :meth:`draw` of each sample
+        into an image cleared to ``clear``, the images summed and divided with rounding
+        (:func:`rasterkit.kernels.accumulate.average_samples`), gives, to the bit, in one pass
+        over the bands (:mod:`rasterkit.kernels.sample_bands`). Returns the fragments."""
+        prepared = self._prepared
+        if not self._color or not isinstance(color, np.ndarray) or color.ndim != 3 or color.shape[2] != 3:
+            raise ValueError("draw_average draws colours into an (H, W, 3) uint8 image")
+        _check_buffer("color", color, np.uint8, (prepared.height, prepared.width, 3))
+        if np.may_share_memory(self._faces, color):
+            raise ValueError("faces must not share memory with color, the buffer drawn into")
+        offsets = np.asarray(samples)
+        if offsets.dtype.kind not in "iu" or offsets.ndim != 2 or offsets.shape[1] != 2 \
+                or not 1 <= offsets.shape[0] <= 256 or offsets.size and np.abs(offsets).max() > 256:
+            raise ValueError("samples must be (n, 2) integers in -256..256 (1/256 pixel), 1 <= n <= 256")
+        return average_prepared(prepared, color, _background(clear, color), offsets.astype(np.int64),
+                                threads=self._threads)
