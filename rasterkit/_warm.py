@@ -188,7 +188,8 @@ p 4
 
 def _helper_main(order: str) -> None:
     order = json.loads(order)
-    if order.get("obj"):
+    if order.get("obj"):  # nothing waits for it: it yields the core to anything that does
+        _lower_priority()
         _read_sample_obj()
         return
     from . import render, shapes
@@ -199,6 +200,13 @@ def _helper_main(order: str) -> None:
     fb = render(shapes.icosphere(1), camera, **order["style"])
     if order["depth"]:
         fb.depth  # noqa: B018 - reading it runs the depth pass
+
+
+def _lower_priority() -> None:
+    try:
+        os.nice(19)
+    except (AttributeError, OSError):  # not on this platform, or not allowed
+        pass
 
 
 def _read_sample_obj() -> None:
