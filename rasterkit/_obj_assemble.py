@@ -38,8 +38,12 @@ def triangulate(doc, vertices, faces: Elements, keep: np.ndarray, report):
         a, b, c = triangles.T
         valid = keep & (a != b) & (b != c) & (c != a)
         return np.ascontiguousarray(triangles[valid]), np.flatnonzero(valid)
-    triangles, counts, inexact = obj_polygons.triangulate(vertices, faces.vertex, faces.offsets,
-                                                          keep)
+    fans = np.all(faces.sizes <= 4)  # triangles and quads: most likely all fans
+    if fans:
+        triangles, counts, fans = obj_polygons.triangulate_fans(vertices, faces.vertex, faces.offsets, keep)
+        inexact = np.zeros(0, bool)
+    if not fans:
+        triangles, counts, inexact = obj_polygons.triangulate(vertices, faces.vertex, faces.offsets, keep)
     if inexact.any():
         first = faces.statements[np.argmax(inexact)]
         report.warn(doc.line(first), f"{count(np.count_nonzero(inexact), 'polygon')} too "

@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 from rasterkit.kernels.obj_ears import EAR_CLIP_LIMIT, ear_clip
 from rasterkit.kernels.obj_monotone import triangulate_monotone
-from rasterkit.kernels.obj_polygons import triangulate
+from rasterkit.kernels.obj_polygons import triangulate, triangulate_fans
 from rasterkit.obj import load_obj
 
 IRREGULAR = "too irregular to split exactly (self-intersecting?): split as a fan"
@@ -291,3 +291,41 @@ def test_huge_polygons_load_in_bounded_time_and_memory(tmp_path):
         faces, warnings = map(int, printed[name])
         assert warnings == (1 if warned else 0), name
         assert faces == triangles if triangles is not None else 0 < faces <= len(ring) - 2, name
+
+
+def test_fans_of_triangles_and_convex_quads_are_the_general_kernels_triangles():
+    """triangulate_fans (what a mesh of triangles and quads compiles first) gives the very
+    rows and counts of triangulate, repeated corners and dropped polygons included, and
+    declines any concave or non-planar quad and any polygon of more corners."""
+    rng = np.random.default_rng(11)
+    n = 60
+    vertices = list(rng.uniform(-1, 1, (n, 3)))  # the triangles' corners, shared
+    polygons = []
+    for _ in range(400):
+        if rng.random() < 0.5:  # a convex quad: four corners on a circle, in angle order
+            angles = np.sort(rng.uniform(0, 2 * np.pi, 4))
+            centre, r = rng.uniform(-1, 1, 3), rng.uniform(0.1, 1)
+            ring = np.arange(len(vertices), len(vertices) + 4)
+            vertices += [centre + r * np.array([math.cos(a), math.sin(a), 0.0]) for a in angles]
+        else:
+            ring = rng.choice(n, 3, replace=False)
+            if rng.random() < 0.1:
+                ring[1] = ring[0]  # a repeated corner: a degenerate triangle to drop
+        polygons.append(ring)
+    vertices = np.array(vertices)
+    offsets = np.cumsum([0] + [len(r) for r in polygons])
+    flat = np.concatenate(polygons).astype(np.int64)
+    keep = rng.random(len(polygons)) < 0.9
+    fans, fan_counts, ok = triangulate_fans(vertices, flat, offsets, keep)
+    assert ok
+    full, full_counts, inexact = triangulate(vertices, flat, offsets, keep)
+    assert not inexact.any()
+    np.testing.assert_array_equal(fans, full)
+    np.testing.assert_array_equal(fan_counts, full_counts)
+    assert len(fans) > 400
+    # a concave quad (a dart), a quad with a repeated corner and a pentagon: left to the
+    # general kernel
+    dart = np.array([[0, 0, 0], [2, 1, 0], [0, 2, 0], [0.5, 1, 0], [1, 1, 1]], np.float64)
+    for ring in ([0, 1, 2, 3], [0, 0, 1, 2], [0, 1, 2, 3, 4]):
+        _, _, ok = triangulate_fans(dart, np.array(ring, np.int64), np.array([0, len(ring)]), np.array([True]))
+        assert not ok

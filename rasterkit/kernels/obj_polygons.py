@@ -289,6 +289,33 @@ def triangulate(vertices, polygon_vertices, offsets, keep):
 
 
 @kernel
+def triangulate_fans(vertices, polygon_vertices, offsets, keep):
+    """:func:`triangulate` for meshes of triangles and convex quads, without compiling the
+    general splitter (about 18 s of a first run): the same ``(triangles, counts)`` and
+    ``True``, or ``False`` as soon as a kept polygon is anything else (a concave or
+    non-planar quad, more corners), and then the caller runs :func:`triangulate`."""
+    count = len(offsets) - 1
+    triangles = np.empty((offsets[count] - 2 * count, 3), np.int64)
+    counts = np.zeros(count, np.int64)
+    n = 0
+    for p in range(count):
+        if not keep[p]:
+            continue
+        o = offsets[p]
+        m = offsets[p + 1] - o
+        if not (m == 3 or (m == 4 and _convex_quad(vertices, polygon_vertices, o))):
+            return triangles[:0], counts, False
+        start = n
+        for j in range(m - 2):
+            a, b, c = polygon_vertices[o], polygon_vertices[o + j + 1], polygon_vertices[o + j + 2]
+            if a != b and b != c and c != a:
+                triangles[n, 0], triangles[n, 1], triangles[n, 2] = a, b, c
+                n += 1
+        counts[p] = n - start
+    return triangles[:n], counts, True
+
+
+@kernel
 def side_keys(polygon_vertices, offsets, keep, n_vertices):
     """Undirected sides of the kept polygons as keys lo * N + hi (lo < hi), one per side:
     p[0]-p[1], ..., p[-1]-p[0]; sides from a vertex to itself are left out.
