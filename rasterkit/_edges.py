@@ -79,11 +79,12 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
     proj, pixels = memory.proj, memory.pixels
     edges = readonly(edges)  # as a Mesh's: one compiled kernel for both
     n_bins = -(-height // _setup.ROWS_PER_BIN)
-    counts = np.zeros((_setup.VERTEX_CHUNKS, n_bins), np.int64)
+    # the work per chunk and rows: vertices projected, or (plain: the vertex pass leaves it
+    # zero) the records' pixels, counted by plain_setup
+    counts = np.zeros((max(_setup.VERTEX_CHUNKS, _setup.SETUP_CHUNKS), n_bins), np.int64)
     run_workers(_setup.project_vertices, clip, proj, pixels if plain else pixels[:0], width, height, counts, points,
               matrix, threads=threads)
     if plain:  # the work of its records (and of clearing and painting rows) in the balance
-        counts = np.zeros((_setup.SETUP_CHUNKS, n_bins), np.int64)
         run_workers(_setup.plain_setup, pixels, edges, width, height, memory.recs, memory.blocks, counts,
                     threads=threads)
     bounds = _setup.balanced_bands(_setup.band_work(counts, _setup.ROW_WORK if plain else 0, height), n_bands, height)

@@ -305,11 +305,20 @@ def raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, depth, lid, row_lo, row_
         return 0
     x0, y0_, x1 = np.int64(tri_xy[t, 0]), np.int64(tri_xy[t, 1]), np.int64(tri_xy[t, 2])
     y1_, x2, y2 = np.int64(tri_xy[t, 3]), np.int64(tri_xy[t, 4]), np.int64(tri_xy[t, 5])
+    return raster_vertices(x0, y0_, x1, y1_, x2, y2, tri_z, t, np.int64(tri_box[t, 0]), np.int64(tri_box[t, 1]),
+                           j_lo, j_hi, tag, y0, depth, lid, row_lo, row_hi)
+
+
+@kernel(inline="always")
+def raster_vertices(x0, y0_, x1, y1_, x2, y2, tri_z, t, i_lo, i_hi, j_lo, j_hi, tag, y0, depth, lid, row_lo,
+                    row_hi):
+    """:func:`raster_band` of record ``t`` with its fixed-point vertices given (the
+    record's own, or moved to a sample point) and its box ``i_lo..i_hi`` x ``j_lo..j_hi``
+    (not empty, inside the band): edge functions, depth plane, then blocks or spans."""
     e0, e1, e2 = triangle_edges(x0, y0_, x1, y1_, x2, y2)
     zc, gx, gy = depth_plane(
         x0, y0_, x1, y1_, x2, y2, float(tri_z[t, 0]), float(tri_z[t, 1]), float(tri_z[t, 2])
     )
-    i_lo, i_hi = np.int64(tri_box[t, 0]), np.int64(tri_box[t, 1])
     tag = np.int32(tag)
     if i_hi - i_lo < BLOCK and depth.shape[1] >= BLOCK:
         return raster_masked(

@@ -15,7 +15,7 @@ import numpy as np
 from rasterkit._jit import kernel
 from rasterkit.kernels.intrinsics import fetch_add
 from rasterkit.kernels.setup import N_CHUNKS, chunk_range, pixel_bounds
-from rasterkit.kernels.triangle import BLOCK, depth_plane, raster_masked, raster_spans, triangle_edges
+from rasterkit.kernels.triangle import raster_vertices
 
 
 @kernel(inline="always")
@@ -34,7 +34,8 @@ def moved_box(x0, y0, x1, y1, x2, y2, width, y_lo, y_hi):
 
 @kernel(inline="always")
 def raster_band_at(t, tag, tri_xy, tri_z, sample, y0, y1, depth, lid, row_lo, row_hi):
-    """:func:`rasterkit.kernels.triangle.raster_band` of record ``t`` sampled at ``sample`` from the pixel centres.
+    """:func:`rasterkit.kernels.triangle.raster_band` of record ``t`` sampled at ``sample``
+    from the pixel centres.
 
     Sampling each pixel at ``P + (sx, sy) / 256`` instead of its centre ``P`` is the same,
     to the bit, as drawing the record whose snapped vertices are moved by ``-(sx, sy)``
@@ -51,16 +52,8 @@ def raster_band_at(t, tag, tri_xy, tri_z, sample, y0, y1, depth, lid, row_lo, ro
                                        np.int64(y1) - 1)
     if j_lo > j_hi:
         return 0
-    e0, e1, e2 = triangle_edges(x0, y0_, x1, y1_, x2, y2)
-    zc, gx, gy = depth_plane(
-        x0, y0_, x1, y1_, x2, y2, float(tri_z[t, 0]), float(tri_z[t, 1]), float(tri_z[t, 2])
-    )
-    tag = np.int32(tag)
-    if i_hi - i_lo < BLOCK and depth.shape[1] >= BLOCK:
-        return raster_masked(
-            depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi
-        )
-    return raster_spans(depth, lid, y0, j_lo, j_hi, i_lo, i_hi, e0, e1, e2, zc, gx, gy, tag, row_lo, row_hi)
+    return raster_vertices(x0, y0_, x1, y1_, x2, y2, tri_z, t, i_lo, i_hi, j_lo, j_hi, tag, y0, depth, lid, row_lo,
+                           row_hi)
 
 
 @kernel
