@@ -150,12 +150,21 @@ INTERRUPTED = """
 import os, signal, threading, time
 from rasterkit._jit import run_parallel
 
+run_parallel(lambda slot: slot, threads=2)  # compiled and started before the Ctrl-C
+started = threading.Event()
+
 def slow(slot):
     if slot == 1:
+        started.set()
         time.sleep(1.0)
     return ("first", slot)
 
-threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT)).start()  # Ctrl-C while it waits
+def interrupt():  # Ctrl-C while the caller waits for slot 1 (not while Numba compiles)
+    started.wait(30)
+    time.sleep(0.2)
+    os.kill(os.getpid(), signal.SIGINT)
+
+threading.Thread(target=interrupt, daemon=True).start()
 try:
     run_parallel(slow, threads=2)
 except KeyboardInterrupt:
