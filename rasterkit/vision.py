@@ -60,23 +60,21 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     and, for a scene (``object_faces``: the number of faces of each object, in order),
     ``fb.object_ids``, turning ``fb.ids`` into indices within each object; from ``fb.ids``,
     the faces of ``mesh`` (world space) seen through ``matrix``."""
-    from .kernels.maps import N_FACE_CHUNKS, surface_maps
+    from .kernels.maps import surface_maps
     from .kernels.records import Maps
     from .kernels.shade import bary_matrices, vertex_normals
     from ._vertex import transform_points
 
     height, width = fb.ids.shape
-    rotation = camera.rotation()  # rows u, v, w: world -> camera
+    rotation = np.ascontiguousarray(camera.rotation())  # rows u, v, w: world -> camera
     smooth = normals == "smooth"
-    no_rows = np.zeros((0, 3), np.float32)
-    world_normals, face_normals, vertex, bary = readonly(no_rows), no_rows, np.zeros((0, 3)), np.zeros((0, 9))
+    world_normals, vertex, bary = readonly(np.zeros((0, 3), np.float32)), np.zeros((0, 3)), np.zeros((0, 9))
     if smooth:
         world = mesh.normals if mesh.normals is not None else vertex_normals(mesh.vertices, mesh.faces)
         vertex = np.ascontiguousarray(world, np.float64)
         bary = bary_matrices(transform_points(mesh.vertices, matrix), mesh.faces)
-    elif normals:  # turned into camera space by the kernel, first
+    elif normals:  # turned into camera space per pixel by the kernel
         world_normals = readonly(mesh.face_normals)  # one compiled kernel: read-only either way
-        face_normals = _memory.take((len(mesh.faces), 3), np.float32)
     out_normals = _memory.take((height, width, 3), np.float32) if normals else np.empty((0, 0, 3), np.float32)
     objects = object_faces is not None
     if objects:
@@ -86,10 +84,9 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     else:
         first, face_object = np.zeros(0, np.int64), np.zeros(0, np.int32)
     object_ids = _memory.take((height, width), np.int32) if objects else np.empty((0, 0), np.int32)
-    faces_done = np.zeros(N_FACE_CHUNKS, np.int64)
-    maps = Maps(normals is not None, out_normals, smooth, world_normals, face_normals, faces_done, vertex, bary,
-                mesh.faces, rotation, objects, object_ids, face_object, first)
-    run_workers(surface_maps, fb.ids, maps, threads=_threads(height * width + len(world_normals)))
+    maps = Maps(normals is not None, out_normals, smooth, world_normals, vertex, bary, mesh.faces, rotation,
+                objects, object_ids, face_object, first)
+    run_workers(surface_maps, fb.ids, maps, threads=_threads(height * width))
     fb.normals = out_normals if normals else None
     if objects:
         fb.object_ids, fb.object_first = object_ids, first

@@ -1,7 +1,6 @@
 """The maps kernel of rasterkit.vision (rasterkit.kernels.maps.surface_maps) against slow NumPy
 references: flat and smooth normals and object ids for id images of every kind (background
-blocks, mixed blocks, rows whose width is no multiple of the block), on one thread and two,
-and when another thread leaves a piece of the faces' normals unfinished."""
+blocks, mixed blocks, rows whose width is no multiple of the block), on one thread and two."""
 
 from __future__ import annotations
 
@@ -10,7 +9,7 @@ import pytest
 
 import rasterkit
 from rasterkit._jit import readonly, run_workers
-from rasterkit.kernels.maps import BLOCK, N_FACE_CHUNKS, surface_maps
+from rasterkit.kernels.maps import BLOCK, surface_maps
 from rasterkit.kernels.records import Maps
 
 EMPTY2 = np.empty((0, 0), np.int32)
@@ -44,7 +43,6 @@ def _rotation():
 def _maps(ids, mesh, smooth=False, objects=None, bary=None, normals=True):
     height, width = ids.shape
     out = np.full((height, width, 3), 7.0, np.float32)
-    m = len(mesh.faces)
     vertex = np.ascontiguousarray(mesh.vertices * 0.5 + 0.1) if smooth else np.zeros((0, 3))
     if objects is None:
         counts, object_ids, face_object, first = None, EMPTY2, np.zeros(0, np.int32), np.zeros(0, np.int64)
@@ -55,8 +53,7 @@ def _maps(ids, mesh, smooth=False, objects=None, bary=None, normals=True):
         object_ids = np.full((height, width), 9, np.int32)
     flat = normals and not smooth
     return Maps(normals, out if normals else np.empty((0, 0, 3), np.float32), smooth,
-                readonly(mesh.face_normals if flat else np.zeros((0, 3), np.float32)),
-                np.empty((m, 3) if flat else (0, 3), np.float32), np.zeros(N_FACE_CHUNKS, np.int64), vertex,
+                readonly(mesh.face_normals if flat else np.zeros((0, 3), np.float32)), vertex,
                 bary if smooth else np.zeros((0, 9)), mesh.faces, _rotation(), objects is not None, object_ids,
                 face_object, first)
 
@@ -81,19 +78,6 @@ def test_flat_normals_match_the_numpy_reference(width, threads):
     assert np.array_equal(np.isnan(maps.normals), np.isnan(expected))
     np.testing.assert_allclose(maps.normals, expected, rtol=0, atol=1e-6)
     assert np.isnan(maps.normals[ids == 5]).all() and np.isnan(maps.normals[ids < 0]).all()
-
-
-def test_a_piece_of_faces_left_unfinished_by_another_thread_is_made_by_the_waiting_one():
-    mesh = _mesh(m=200)
-    ids = _ids(31, 70, len(mesh.faces))
-    whole = _maps(ids, mesh)
-    run_workers(surface_maps, ids, whole, threads=1)
-    # piece 0 claimed (counter at 1) by a thread that never finishes it: the waiting thread
-    # must make it itself after FACE_WAIT steps, and get the same normals to the bit
-    maps = _maps(ids, mesh)
-    surface_maps(0, np.ones(1, np.int64), ids, maps)
-    assert np.all(maps.faces_done >= 1)
-    assert np.array_equal(maps.normals, whole.normals, equal_nan=True)
 
 
 def test_smooth_normals_match_the_numpy_reference():

@@ -7,20 +7,10 @@ Compiled only when a render asks for them: a plain render never loads this modul
 import numpy as np
 
 from rasterkit._jit import kernel
-from rasterkit.kernels.intrinsics import fetch_add, load_acquire, pause
+from rasterkit.kernels.intrinsics import fetch_add
 
 #: The rows are worked on in this many chunks, shared out among the threads.
 N_CHUNKS = 64
-
-#: The faces' camera-space normals (flat normals) are made in this many pieces first.
-N_FACE_CHUNKS = 16
-
-#: Steps (``pause`` instructions, about 25 ns each) a thread waits for another's piece of
-#: the faces' normals before it makes that piece itself: this many, plus one per
-#: ``FACES_PER_STEP`` faces of the piece (a face takes about 2 ns: about three times as long
-#: as the piece takes).
-FACE_WAIT = 1000
-FACES_PER_STEP = 4
 
 #: Pixels tested at once for a face: a block that sees none (the background, most of many
 #: frames) is written with vector stores, without a test per pixel.
@@ -56,56 +46,6 @@ def _to_camera(rotation, x, y, z):
 
 
 @kernel(inline="always")
-def _camera_normals(world, rotation, out, lo, hi):
-    """``out[lo:hi]`` (float32): the unit world-space normals ``world[lo:hi]`` (float32: a
-    Mesh's ``face_normals``, unit, zero for a degenerate face, NaN for a non-finite one)
-    turned by ``rotation`` (3, 3) float64 into camera space: a rotation keeps their length,
-    so no square root is needed; zero ones become NaN (a select, not a branch: the loop
-    is vectorised)."""
-    r00, r01, r02 = rotation[0, 0], rotation[0, 1], rotation[0, 2]
-    r10, r11, r12 = rotation[1, 0], rotation[1, 1], rotation[1, 2]
-    r20, r21, r22 = rotation[2, 0], rotation[2, 1], rotation[2, 2]
-    wflat, oflat = world.reshape(world.size), out.reshape(out.size)
-    for f in range(lo, hi):
-        k = np.uint64(3) * f
-        x, y, z = np.float64(wflat[k]), np.float64(wflat[k + np.uint64(1)]), np.float64(wflat[k + np.uint64(2)])
-        zero = (x == 0.0) & (y == 0.0) & (z == 0.0)
-        cx = r00 * x + r01 * y + r02 * z
-        cy = r10 * x + r11 * y + r12 * z
-        cz = r20 * x + r21 * y + r22 * z
-        oflat[k] = np.nan if zero else cx
-        oflat[k + np.uint64(1)] = np.nan if zero else cy
-        oflat[k + np.uint64(2)] = np.nan if zero else cz
-
-
-@kernel(inline="always")
-def _face_piece(world, rotation, out, done, piece):
-    """Piece ``piece`` of ``N_FACE_CHUNKS`` of the faces' camera-space normals, then marked
-    done: ``done[piece]`` counted up from 0."""
-    m = out.shape[0]
-    _camera_normals(world, rotation, out, np.uint64(m * piece // N_FACE_CHUNKS),
-                    np.uint64(m * (piece + 1) // N_FACE_CHUNKS))
-    fetch_add(done, piece, 1)  # sequentially consistent: publishes the normals
-
-
-@kernel(inline="always")
-def _wait_for_faces(world, rotation, out, done):
-    """Return once every piece of the faces' normals is done (``done``: (N_FACE_CHUNKS,)
-    int64, not 0 for a piece done). A piece another thread still works on is waited for a
-    moment (``FACE_WAIT`` steps, more for a large piece), then made here too: that thread
-    may have lost its core for a while (a busy machine), and both write the same values."""
-    wait = FACE_WAIT + out.shape[0] // (N_FACE_CHUNKS * FACES_PER_STEP)
-    for piece in range(N_FACE_CHUNKS):
-        steps = 0
-        while load_acquire(done, piece) == 0:
-            if steps >= wait:
-                _face_piece(world, rotation, out, done, piece)
-                break
-            pause()
-            steps += 1
-
-
-@kernel(inline="always")
 def _background(iflat, k):
     """Whether the ``BLOCK`` pixels from ``k`` of ``iflat`` (the ids, flat) all see no face:
     a maximum the compiler vectorises."""
@@ -117,20 +57,28 @@ def _background(iflat, k):
 
 
 @kernel(inline="always")
-def _flat_pixel(iflat, nflat, p, face_normals, nan):
-    """Pixel ``p`` (flat index) of flat normals: its face's camera-space normal, NaN for none."""
+def _flat_pixel(iflat, nflat, p, world_normals, r, nan):
+    """Pixel ``p`` (flat index) of flat normals: its face's unit world-space normal (a
+    Mesh's ``face_normals``, zero for a face without area) turned into camera space by the
+    rotation ``r`` (9,) float64, row by row (a rotation keeps the length: no square root);
+    NaN for no face or a zero normal."""
     f = iflat[p]
     o = np.uint64(3) * p
     if f >= 0:
-        nflat[o] = face_normals[f, 0]
-        nflat[o + np.uint64(1)] = face_normals[f, 1]
-        nflat[o + np.uint64(2)] = face_normals[f, 2]
+        x, y, z = np.float64(world_normals[f, 0]), np.float64(world_normals[f, 1]), np.float64(world_normals[f, 2])
+        zero = (x == 0.0) & (y == 0.0) & (z == 0.0)
+        cx = r[0] * x + r[1] * y + r[2] * z
+        cy = r[3] * x + r[4] * y + r[5] * z
+        cz = r[6] * x + r[7] * y + r[8] * z
+        nflat[o] = nan if zero else cx
+        nflat[o + np.uint64(1)] = nan if zero else cy
+        nflat[o + np.uint64(2)] = nan if zero else cz
     else:
         nflat[o] = nflat[o + np.uint64(1)] = nflat[o + np.uint64(2)] = nan
 
 
 @kernel(inline="always")
-def _flat_row(iflat, lo, hi, nflat, face_normals, nan):
+def _flat_row(iflat, lo, hi, nflat, world_normals, r, nan):
     """Pixels ``lo`` to ``hi`` (flat indices, one row) of flat normals, in blocks of
     ``BLOCK``: a block that sees no face is one vectorised fill of NaN."""
     k = lo
@@ -141,10 +89,10 @@ def _flat_row(iflat, lo, hi, nflat, face_normals, nan):
                 nflat[o + np.uint64(q)] = nan
         else:
             for q in range(BLOCK):
-                _flat_pixel(iflat, nflat, k + np.uint64(q), face_normals, nan)
+                _flat_pixel(iflat, nflat, k + np.uint64(q), world_normals, r, nan)
         k += np.uint64(BLOCK)
     for p in range(k, hi):
-        _flat_pixel(iflat, nflat, p, face_normals, nan)
+        _flat_pixel(iflat, nflat, p, world_normals, r, nan)
 
 
 @kernel(inline="always")
@@ -214,21 +162,19 @@ def surface_maps(slot, counter, ids, maps):
     normal and the scene object, as a :class:`rasterkit.kernels.records.Maps` asks.
 
     Normals (``maps.want_normals``) go into ``maps.normals`` (H, W, 3) float32, NaN where no
-    face is seen. Flat (``maps.smooth`` false): ``maps.face_normals`` (M, 3) float32 is
-    filled first with the world-space ``maps.world_normals`` (M, 3) float32 turned into
-    camera space (:func:`_camera_normals`), then each pixel takes its face's. Smooth:
-    ``maps.vertex_normals`` (N, 3) float64 (world space) interpolated with ``maps.bary``
-    (M, 9) and ``maps.faces`` (M, 3) int64, turned by ``maps.rotation`` (3, 3) float64
-    (world -> camera) and normalised. Objects (``maps.want_objects``): the object of face
-    ``f`` is ``maps.face_object[f]`` (M,) int32, written to ``maps.object_ids`` (H, W) int32
-    (-1 where none), and ``ids`` becomes the index within that object (minus
+    face is seen. Flat (``maps.smooth`` false): each pixel's face's world-space normal
+    ``maps.world_normals[f]`` (M, 3) float32 turned into camera space by ``maps.rotation``
+    (3, 3) float64 (world -> camera); per pixel rather than per face first: a frame sees a
+    few of a large model's faces, and a pass over all of them cost more than the pixels'
+    rotations. Smooth: ``maps.vertex_normals`` (N, 3) float64 (world space) interpolated
+    with ``maps.bary`` (M, 9) and ``maps.faces`` (M, 3) int64, turned by ``maps.rotation``
+    and normalised. Objects (``maps.want_objects``): the object of face ``f`` is
+    ``maps.face_object[f]`` (M,) int32, written to ``maps.object_ids`` (H, W) int32 (-1
+    where none), and ``ids`` becomes the index within that object (minus
     ``maps.object_first[o]``, its first face).
 
-    A worker of :func:`rasterkit._jit.run_workers`, one pass handed to the threads instead
-    of two: for flat normals the first ``N_FACE_CHUNKS`` pieces are the faces, marked done
-    in ``maps.faces_done`` ((N_FACE_CHUNKS,) int64, zeros), and a thread has all of them
-    done before its first rows (:func:`_wait_for_faces`); then ``N_CHUNKS`` pieces of rows.
-    Face indices in ``ids`` must lie in 0..M-1 (a render's ids do).
+    A worker of :func:`rasterkit._jit.run_workers` over ``N_CHUNKS`` pieces of rows. Face
+    indices in ``ids`` must lie in 0..M-1 (a render's ids do).
     """
     height, width = ids.shape
     nan = np.float32(np.nan)
@@ -236,30 +182,21 @@ def surface_maps(slot, counter, ids, maps):
     # would count a reference (an atomic operation) on the array
     want_normals, smooth, want_objects = maps.want_normals, maps.smooth, maps.want_objects
     normals, faces, bary = maps.normals, maps.faces, maps.bary
-    vertex_normals, face_normals, rotation = maps.vertex_normals, maps.face_normals, maps.rotation
-    world_normals, faces_done = maps.world_normals, maps.faces_done
+    vertex_normals, world_normals, rotation = maps.vertex_normals, maps.world_normals, maps.rotation
     object_ids, face_object, object_first = maps.object_ids, maps.face_object, maps.object_first
     iflat, nflat, oflat = ids.reshape(ids.size), normals.reshape(normals.size), object_ids.reshape(object_ids.size)
+    r = rotation.reshape(9)
     flat = want_normals and not smooth
-    face_chunks = N_FACE_CHUNKS if flat else 0
-    ready = not flat
     w = np.uint64(width)
     while True:
         ch = fetch_add(counter, 0, 1)
-        if ch >= face_chunks + N_CHUNKS:
+        if ch >= N_CHUNKS:
             break
-        if ch < face_chunks:
-            _face_piece(world_normals, rotation, face_normals, faces_done, ch)
-            continue
-        if not ready:  # the rows read every face's normal: all the faces' pieces first
-            _wait_for_faces(world_normals, rotation, face_normals, faces_done)
-            ready = True
-        ch -= face_chunks
         for j in range(np.uint64(height * ch // N_CHUNKS), np.uint64(height * (ch + 1) // N_CHUNKS)):
             lo = w * j
             # one loop per case: no test of the choices per pixel
             if flat:
-                _flat_row(iflat, lo, lo + w, nflat, face_normals, nan)
+                _flat_row(iflat, lo, lo + w, nflat, world_normals, r, nan)
             elif want_normals:
                 _smooth_row(iflat, lo, lo + w, np.float64(j) + 0.5, nflat, faces, bary, vertex_normals,
                             rotation, nan)

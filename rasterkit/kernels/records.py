@@ -54,12 +54,11 @@ Samples = namedtuple("Samples", "offsets background scale bias sums")
 Clear = namedtuple("Clear", "on color_bytes pattern")
 
 #: What :func:`rasterkit.kernels.maps.surface_maps` makes from a render's face ids: when
-#: ``want_normals``, ``normals`` (H, W, 3) float32 from ``world_normals`` (M, 3) float32
-#: (turned into camera space in ``face_normals`` (M, 3) float32, its scratch, with
-#: ``faces_done`` (N_FACE_CHUNKS,) int64 marking the pieces done), or (``smooth``) from
-#: ``vertex_normals`` (N, 3) float64 interpolated with ``bary`` (M, 9) float64 and ``faces``
-#: (M, 3) int64, all in world space, turned into camera space by ``rotation`` (3, 3)
-#: float64; when ``want_objects``, ``object_ids`` (H, W) int32 from ``face_object`` (M,)
-#: int32 and ``object_first`` (K,) int64, each object's first face.
-Maps = namedtuple("Maps", "want_normals normals smooth world_normals face_normals faces_done vertex_normals "
+#: ``want_normals``, ``normals`` (H, W, 3) float32 from ``world_normals`` (M, 3) float32, or
+#: (``smooth``) from ``vertex_normals`` (N, 3) float64 interpolated with ``bary`` (M, 9)
+#: float64 and ``faces`` (M, 3) int64, all in world space, turned into camera space by
+#: ``rotation`` (3, 3) float64 (C-contiguous); when ``want_objects``, ``object_ids`` (H, W)
+#: int32 from ``face_object`` (M,) int32 and ``object_first`` (K,) int64, each object's
+#: first face.
+Maps = namedtuple("Maps", "want_normals normals smooth world_normals vertex_normals "
                           "bary faces rotation want_objects object_ids face_object object_first")
