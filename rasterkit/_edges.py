@@ -20,6 +20,10 @@ from rasterkit.kernels import edges_wu as _wu
 #: thread costs about 15 microseconds a pass.
 _PARALLEL_EDGES = 2048
 
+#: Plain wireframes of at least this many edges are drawn in a spatial order
+#: (:func:`spatial_edges`); below it a band reads few blocks anyway.
+SPATIAL_ORDER_EDGES = 16 * _setup.BLOCK
+
 _NO_DEPTH = np.empty((0, 0), np.float32)
 _NO_BACKGROUND = np.empty(0, np.uint8)
 _NO_POINTS = readonly(np.empty((0, 3), np.float64))
@@ -27,14 +31,33 @@ _NO_MATRIX = readonly(np.eye(4))
 
 
 
+def spatial_edges(vertices, edges) -> np.ndarray:
+    """``edges`` (E, 2) int64 reordered by the cells of a coarse grid over the finite
+    ``vertices`` (N, 3) float64 (:mod:`rasterkit.kernels.edge_order`), read-only."""
+    from rasterkit.kernels.edge_order import GRID_BITS, spatial_order
+
+    finite = vertices[np.all(np.isfinite(vertices), axis=1)]
+    lo = finite.min(axis=0) if len(finite) else np.zeros(3)
+    extent = finite.max(axis=0) - lo if len(finite) else np.ones(3)
+    with np.errstate(over="ignore", divide="ignore"):
+        scale = np.where(extent > 0, (1 << GRID_BITS) / extent, 0.0)
+    scale = np.where(np.isfinite(scale), scale, 0.0)  # an extent below ~1e-308: one cell
+    out = np.empty_like(edges)
+    spatial_order(vertices, edges, np.ascontiguousarray(lo, np.float64), np.ascontiguousarray(scale), out)
+    return readonly(out)
+
+
 def scratch_bytes(n_vertices, n_edges, n_pixels, mode, transform=False) -> int:
-    """Bytes of the scratch arrays of a :func:`draw_edges` call (:func:`scratch`, and the
-    vertices made in the vertex pass with ``transform``), for
+    """Bytes of the scratch arrays of a :func:`draw_edges` call (:func:`scratch`, the
+    vertices made in the vertex pass with ``transform`` and a plain draw's edges in a
+    spatial order, :func:`spatial_edges`), for
     :func:`rasterkit.limits.check_memory`."""
     plain = mode == _kernels.MODE_PLAIN
     per_vertex = 32 + (8 if plain else 0) + (32 if transform else 0)
     per_edge = 4 * _setup.REC_FIELDS if plain else 0
     blocks = 4 * _setup.BLOCK_FIELDS * _setup.n_blocks(n_edges) if plain else 0
+    if plain and n_edges >= SPATIAL_ORDER_EDGES:  # the edges in a spatial order (kept), the cells
+        per_edge, per_vertex = per_edge + 16, per_vertex + 4
     return n_vertices * per_vertex + n_edges * per_edge + blocks + (n_pixels if plain else 0)
 
 

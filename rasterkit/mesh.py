@@ -239,6 +239,14 @@ class Mesh:
         return sides(self)
 
     @cached_property
+    def _spatial_edges(self) -> np.ndarray:
+        """The edges in a spatial order (:func:`rasterkit._edges.spatial_edges`), in which
+        the plain wireframe draws them (the same pixels); worked out on first use and kept."""
+        from ._edges import spatial_edges
+        self.check_intact()
+        return spatial_edges(self.vertices, self.edges)
+
+    @cached_property
     def face_normals(self) -> np.ndarray:
         """(M, 3) float32, immutable: unit face normals (right-hand rule: counter-clockwise
         seen from the front points out), zero for a degenerate face, NaN for a face with a

@@ -390,7 +390,7 @@ def _base_colors(mesh: Mesh, options: _Options, per_face: bool):
 def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, options: _Options,
                 depth_test: bool, clear: bool, transform=None) -> None:
     # imported here: a solid render (and the command line drawing one) loads no edge kernels
-    from ._edges import draw_edges
+    from ._edges import SPATIAL_ORDER_EDGES, draw_edges
     from .kernels import edges as edge_kernels
 
     mode = edge_kernels.MODE_PLAIN
@@ -402,4 +402,7 @@ def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, options: _
     rgba = np.ascontiguousarray(options.line_color[:channels])
     background = np.ascontiguousarray(fb.background[:channels]) if clear else None
     depth = fb.depth if depth_test else np.empty((0, 0), np.float32)
-    draw_edges(fb.color, depth, clip, mesh.edges, rgba, mode, LINE_DEPTH_BIAS, background, transform=transform)
+    # plain edges in a spatial order: the same pixels, fewer edges read per band
+    spatial = mode == edge_kernels.MODE_PLAIN and len(mesh.edges) >= SPATIAL_ORDER_EDGES
+    edges = mesh._spatial_edges if spatial else mesh.edges
+    draw_edges(fb.color, depth, clip, edges, rgba, mode, LINE_DEPTH_BIAS, background, transform=transform)

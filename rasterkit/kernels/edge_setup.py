@@ -145,9 +145,11 @@ _PACKED_LIMIT = 1 << 15
 #: for balancing the bands.
 _EDGE_WORK = 4
 #: Work of one image row in the plain path, in pixel steps: clearing its colour and mask
-#: bytes and painting the marked pixels (measured on ogre at 1920x1080: about 0.8 us a row,
-#: against 1.1 ms for its 1.45 million pixel steps; a band of rows with no edges is not free).
-ROW_WORK = 800
+#: bytes and painting the marked pixels (a band of rows with no edges is not free). Fitted
+#: on the two bands' times at 1920x1080 (bunny, ogre, sportsCar and armadillo, perspective
+#: and isometric; edges in a spatial order): 300 left the slower band 0-4 % above the mean,
+#: 800 up to 11 %, 100 up to 9 %.
+ROW_WORK = 300
 SETUP_CHUNKS = 16
 #: Records of each chunk that :func:`plain_setup` counts for the balance at most (about; it
 #: samples beyond).
