@@ -34,16 +34,10 @@ _NO_MATRIX = readonly(np.eye(4))
 def spatial_edges(vertices, edges) -> np.ndarray:
     """``edges`` (E, 2) int64 reordered by the cells of a coarse grid over the finite
     ``vertices`` (N, 3) float64 (:mod:`rasterkit.kernels.edge_order`), read-only."""
-    from rasterkit.kernels.edge_order import GRID_BITS, spatial_order
+    from rasterkit.kernels.edge_order import spatial_order
 
-    finite = vertices[np.all(np.isfinite(vertices), axis=1)]
-    lo = finite.min(axis=0) if len(finite) else np.zeros(3)
-    extent = finite.max(axis=0) - lo if len(finite) else np.ones(3)
-    with np.errstate(over="ignore", divide="ignore"):
-        scale = np.where(extent > 0, (1 << GRID_BITS) / extent, 0.0)
-    scale = np.where(np.isfinite(scale), scale, 0.0)  # an extent below ~1e-308: one cell
     out = np.empty_like(edges)
-    spatial_order(vertices, edges, np.ascontiguousarray(lo, np.float64), np.ascontiguousarray(scale), out)
+    spatial_order(vertices, edges, out)
     return readonly(out)
 
 

@@ -49,12 +49,36 @@ def _cell(vertices, i, lo, scale):
     return code
 
 
+@kernel(inline="always")
+def _grid(vertices):
+    """``(lo, scale)`` (3,) float64 each: the finite vertices' lowest corner and the cells
+    per unit along each axis (0 for an axis without extent: one cell)."""
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    for i in range(vertices.shape[0]):
+        x, y, z = vertices[i, 0], vertices[i, 1], vertices[i, 2]
+        if np.isfinite(x) and np.isfinite(y) and np.isfinite(z):
+            lo[0], hi[0] = min(lo[0], x), max(hi[0], x)
+            lo[1], hi[1] = min(lo[1], y), max(hi[1], y)
+            lo[2], hi[2] = min(lo[2], z), max(hi[2], z)
+    scale = np.zeros(3)
+    for axis in range(3):
+        extent = hi[axis] - lo[axis]
+        if extent > 0.0:
+            s = (1 << GRID_BITS) / extent
+            scale[axis] = s if s < np.inf else 0.0  # an extent below ~1e-308: one cell
+        else:
+            lo[axis] = 0.0
+    return lo, scale
+
+
 @kernel
-def spatial_order(vertices, edges, lo, scale, out):
+def spatial_order(vertices, edges, out):
     """``out`` (E, 2) int64: the rows of ``edges`` (E, 2) int64 (indices into ``vertices``
-    (N, 3) float64) ordered by the grid cell of their first vertex (cell coordinates
-    ``(v - lo) * scale``, floored, per axis; ``lo``, ``scale`` (3,) float64), in Morton order,
-    keeping the given order within a cell (a stable counting sort)."""
+    (N, 3) float64) ordered by the cell of their first vertex in a grid of ``1 << GRID_BITS``
+    cells a side over the finite vertices, in Morton order, keeping the given order within a
+    cell (a stable counting sort)."""
+    lo, scale = _grid(vertices)
     n_cells = 1 << (3 * GRID_BITS)
     cells = np.empty(vertices.shape[0], np.int32)
     for i in range(vertices.shape[0]):
