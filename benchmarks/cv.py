@@ -2,9 +2,9 @@
 plain solid frame.
 
 The ``rasterkit`` side is one ``rasterkit.render(mesh, camera, "solid", ids=True,
-normals=True)`` followed by ``fb.camera_depth()``: colour, face ids, camera-space normals
-(:mod:`rasterkit.vision`) and the metric depth (the depth pass the solid frame defers, then
-its inversion). The other side, ``plain solid``, is ``rasterkit.render(mesh, camera,
+normals=True, camera_depth=True)`` followed by ``fb.camera_depth()``: colour, face ids,
+camera-space normals and the metric depth (:mod:`rasterkit.vision`), made band by band by the
+drawing threads. The other side, ``plain solid``, is ``rasterkit.render(mesh, camera,
 "solid")`` alone: the ratio is what the maps cost on top of the image.
 """
 
@@ -26,7 +26,7 @@ TARGET = Target("colour + depth + normals + ids <= 1.5x a plain solid frame", 1.
 
 def vision_frame(mesh, camera):
     """Colour, ids, normals and metric depth of one frame."""
-    fb = rasterkit.render(mesh, camera, "solid", ids=True, normals=True)
+    fb = rasterkit.render(mesh, camera, "solid", ids=True, normals=True, camera_depth=True)
     return fb, fb.camera_depth()
 
 

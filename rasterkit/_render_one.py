@@ -70,7 +70,8 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
     if options.turntable:  # streamed: one frame in memory at a time
         save_animation(_turntable(mesh, camera, center, options.turntable, style), output)
         return len(mesh.faces)
-    fb = render(mesh, camera, **style, normals=bool(options.normals), ids=bool(options.ids))
+    fb = render(mesh, camera, **style, normals=bool(options.normals), ids=bool(options.ids),
+                camera_depth=bool(options.depth))
     if options.depth:
         fb.save_depth(options.depth)
     if options.normals:

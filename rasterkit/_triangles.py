@@ -308,11 +308,12 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
     return Prepared(records, band_start, items, shading, width, height, bool(padded), ws.generation, stats)
 
 
-def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads, sample=(0, 0)) -> int:
+def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads, sample=(0, 0), maps=None) -> int:
     """Draw ``prepared`` into ``color``, ``depth`` and ``ids`` (as :func:`draw_triangles`,
     which made the draw's ``prepared`` with the same ones wanted), sampling each pixel at
-    ``sample``, an offset from its centre in 1/256 pixel (``(0, 0)`` unless padded); returns
-    the number of fragments."""
+    ``sample``, an offset from its centre in 1/256 pixel (``(0, 0)`` unless padded), and
+    make a vision render's ``maps`` (a :class:`rasterkit.kernels.records.Maps`, or None)
+    band by band; returns the number of fragments."""
     ws = WORKSPACE
     if prepared.generation != ws.generation:
         raise RuntimeError("the triangles were set up before another draw of this thread (or in another thread)")
@@ -338,7 +339,8 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
     clear = _clear_spec(background, color)
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     return int(sum(run_workers(draw_bands, prepared.band_start, prepared.items, records, prepared.shading,
-                               target, clear, sample, ws.visibility(threads, width), spans, threads=threads)))
+                               target, clear, sample, ws.visibility(threads, width), spans, maps,
+                               threads=threads)))
 
 
 def average_prepared(prepared: Prepared, color, background, offsets, *, threads) -> int:
@@ -365,7 +367,7 @@ def average_prepared(prepared: Prepared, color, background, offsets, *, threads)
 
 
 def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,
-                   threads, lighting=None) -> dict:
+                   threads, lighting=None, maps=None) -> dict:
     """Draw the triangles ``faces`` (M, 3) int64 of the vertices ``clip`` (N, 4) float64
     (homogeneous raster space) as :func:`rasterkit.triangles.rasterize_triangles` describes.
 
@@ -374,11 +376,11 @@ def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, c
     packed (M,) uint32) or ``lighting`` (a :class:`Lighting`, colours made by the face
     pass). ``cull`` is a name of :data:`CULL_CODES`, ``background`` (C,) uint8 or None,
     ``offset`` ``(factor, units)`` floats; ``threads`` draw the bands (the setup passes of
-    a few faces run on one). Returns the counts of
+    a few faces run on one); ``maps``: as :func:`draw_prepared`. Returns the counts of
     :class:`rasterkit.triangles.TriangleStats`, by field name.
     """
     height, width = (depth if depth is not None else color).shape[:2]
     prepared = prepare(clip, faces, face_colors, vertex_colors, cull, offset, width=width, height=height,
                        color=color is not None, ids=ids is not None, threads=threads, lighting=lighting)
-    fragments = draw_prepared(prepared, color, depth, ids, background, threads=threads)
+    fragments = draw_prepared(prepared, color, depth, ids, background, threads=threads, maps=maps)
     return dict(prepared.stats, fragments=fragments)

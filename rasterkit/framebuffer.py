@@ -93,6 +93,7 @@ class Framebuffer:
         self.ids = _memory.take((height, width), np.int32) if ids else None
         self.object_ids = self.normals = self.camera = None
         self.object_first = None  # (K,) int64: each scene object's first face, with object_ids
+        self._camera_depth = None  # (metric depth, its camera), made by a render (keep_camera_depth)
         if cleared:
             self.clear()
 
@@ -126,6 +127,7 @@ class Framebuffer:
             raise ValueError(f"depth must be a ({self.height}, {self.width}) float32 array")
         self._depth = value
         self._depth_source = None
+        self._camera_depth = None
 
     def uncleared_depth(self) -> np.ndarray:
         """The depth buffer, for a renderer that writes every pixel of it (it clears the
@@ -161,7 +163,7 @@ class Framebuffer:
         source : callable
             ``source(depth)``: draws into the (H, W) float32 buffer, cleared to +inf.
         """
-        self._depth = None
+        self._depth = self._camera_depth = None
         self._depth_source = (source, (self.height, self.width))  # drawn for this size only
 
     @property
@@ -171,7 +173,7 @@ class Framebuffer:
     def clear(self) -> None:
         """Colour to the background, depth to +inf, ids to -1."""
         self.color[...] = self.background[: self.color.shape[2]]
-        self._depth_source = None
+        self._depth_source = self._camera_depth = None
         if self._depth is not None:
             self._depth.fill(FARTHEST)
         if self.ids is not None:
@@ -182,11 +184,22 @@ class Framebuffer:
     def camera_depth(self) -> np.ndarray:
         """Depth along the camera's optical axis, world units: (H, W) float32, 0 where nothing
         was drawn (pyrender's convention); the exact inverse of :attr:`depth` for the camera
-        of the render (:mod:`rasterkit.vision`). Raises ``ValueError`` for a framebuffer that
-        no render drew."""
+        of the render (:mod:`rasterkit.vision`). A render with ``camera_depth=True`` made it
+        while drawing: that array is returned (the same one each call, until the depth
+        buffer is cleared or replaced); otherwise it is made here. Raises ``ValueError`` for
+        a framebuffer that no render drew."""
         from .vision import camera_depth
 
-        return camera_depth(self.depth, self._camera("camera_depth"))
+        camera = self._camera("camera_depth")
+        kept = self._camera_depth
+        if kept is not None and kept[1] is camera and kept[0].shape == (self.height, self.width):
+            return kept[0]
+        return camera_depth(self.depth, camera)
+
+    def keep_camera_depth(self, metric: np.ndarray) -> None:
+        """Keep ``metric`` (H, W) float32, the metric depth that a render made of this
+        framebuffer's depth while drawing, for :meth:`camera_depth` (for the camera set now)."""
+        self._camera_depth = (metric, self.camera)
 
     def visible_faces(self) -> tuple[np.ndarray, np.ndarray]:
         """``(face_ids, pixel_counts)``, int64 arrays: the faces seen (ascending) and the

@@ -14,19 +14,18 @@ from functools import partial
 
 import numpy as np
 
-from ._arrays import unit_vector
 from .camera import Camera
 from .colors import ColorLike, parse_color
 from . import _accumulate, _triangles
 from .framebuffer import Framebuffer, buffer_bytes
 from ._jit import get_threads
 from .limits import check_memory
-from .kernels import shade as shade_kernels
 from ._vertex import transform_points
 from .mesh import Mesh, as_mesh
 from .options import CULL, MODES, SHADING, check_choice
 from .scene import Scene
-from .triangles import FlatLambert, rasterize_triangles
+from ._shading import AMBIENT, light_direction, shade
+from .triangles import _rasterize, rasterize_triangles
 
 __all__ = ["LINE_DEPTH_BIAS", "MODES", "POLYGON_OFFSET", "render"]
 
@@ -41,10 +40,6 @@ depth slope per pixel plus ``units``. An edge's depth is sampled on the line, up
 pixel from the pixel centre where its face's depth was sampled; the slope term covers that
 difference even on faces seen almost edge-on, which a constant bias cannot."""
 
-AMBIENT = 0.25
-"""Fraction of the surface colour that unlit faces keep."""
-
-
 @dataclass(frozen=True)
 class _Options:
     mode: str
@@ -56,13 +51,15 @@ class _Options:
     light: np.ndarray  # (3,) unit world-space direction towards the light
     keep_depth: bool = False  # solid: draw the depth buffer in the colour pass, not when read
     points: object = None  # rasterkit.points.Points, drawn last as depth-tested splats
+    maps: object = None  # a vision render's Maps (rasterkit.vision.maps_record), made by the band worker
 
 
 def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str = "back",
            shading: str = "flat", color: ColorLike = "lightgray",
            line_color: ColorLike = "black", background: ColorLike | None = None,
            light=None, aa: bool = False, ids: bool = False, samples: int = 1,
-           vignette: float = 0.0, normals: bool = False, points=None, point_size: int = 1,
+           vignette: float = 0.0, normals: bool = False, camera_depth: bool = False, points=None,
+           point_size: int = 1,
            point_color: ColorLike = "black", edges: str = "all",
            crease_angle: float = 30.0) -> Framebuffer:
     """Render a mesh or a scene seen by a camera into a new :class:`Framebuffer`.
@@ -130,6 +127,14 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         shading, interpolated (perspective-correct) from the vertex normals with smooth
         shading; the geometric normal, also on back faces drawn with ``cull="none"``.
         With ``samples > 1``, the centre sample's (:mod:`rasterkit.vision`).
+    camera_depth : bool
+        Also make the metric depth that ``fb.camera_depth()`` returns while drawing, each
+        band of rows while it is in the drawing thread's cache, instead of in a pass of its
+        own when first asked for; a solid render's depth buffer is then made only when
+        :attr:`~rasterkit.Framebuffer.depth` is read. The values are the same either way.
+        Only a one-sample render of faces without points makes it so (the others make it
+        when asked, as without this option); the normals and scene object ids of such a
+        render are made band by band in any case.
     points : (K, 3) array_like of float, optional
         A point cloud, world space, drawn after the faces and edges as squares of
         ``point_size`` pixels (1 to 64) centred on each point, depth-tested against the faces
@@ -160,6 +165,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
             mesh, ideal, mode, cull=cull, shading=shading, color=color, line_color=line_color,
             background=background, light=light, aa=aa, ids=ids, samples=samples, vignette=vignette,
             normals=normals, points=points, point_size=point_size, point_color=point_color))
+        # (the distorted depth is resampled from the undistorted one: camera_depth is made when asked)
     if points is not None:  # imported here, as the other extras: a plain render loads none
         from .points import check_points
 
@@ -178,14 +184,18 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     if not isinstance(camera, Camera):
         raise TypeError(f"camera must be a rasterkit.Camera, got {type(camera).__name__}")
     mesh = _with_edges(mesh, camera, edges, crease_angle, mode)
-    light = _light_direction(light, camera)
+    light = light_direction(light, camera)
     background = "white" if background is None else background
     options = _Options(check_choice("mode", mode, MODES), check_choice("cull", cull, CULL),
                        check_choice("shading", shading, SHADING), parse_color(color),
                        parse_color(line_color), bool(aa), light)
     samples, vignette = _accumulate.check(samples, vignette)
-    normals = bool(normals)
-    if (ids or normals) and samples == 1 and vignette == 0.0 or points is not None:
+    normals, camera_depth = bool(normals), bool(camera_depth)
+    one_sample = samples == 1 and vignette == 0.0
+    # the maps made by the band worker: a one-sample render of faces, nothing drawn after
+    in_bands = (normals or object_faces is not None or camera_depth) and one_sample \
+        and options.mode != "wire" and points is None
+    if (ids or normals) and one_sample and not (camera_depth and in_bands) or points is not None:
         # a vision frame (its depth is wanted too), or points to test against the depth: a
         # deferred depth pass would draw again
         options = replace(options, keep_depth=True, points=points)
@@ -193,8 +203,15 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
     check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids or normals)
                  + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette,
                                            len(mesh.faces) if options.mode != "wire" else 0)
-                 + _maps_bytes(mesh, camera.width * camera.height, normals, object_faces is not None),
+                 + _maps_bytes(mesh, camera.width * camera.height, normals, object_faces is not None,
+                               camera_depth and in_bands),
                  f"a {camera.width}x{camera.height} {options.mode} render of {len(mesh.faces)} faces")
+    if in_bands:  # imported here: a plain render loads none of it
+        from .vision import maps_record
+
+        options = replace(options, maps=maps_record(camera.height, camera.width, mesh, camera,
+                                                    camera.world_to_raster(), options.shading if normals else None,
+                                                    object_faces, camera_depth))
     if samples == 1 and vignette == 0.0:
         fb = _frame(mesh, camera, options, background, ids or normals)
     else:
@@ -203,21 +220,24 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
                                         partial(_shared_setup, mesh, camera, options),
                                         partial(_frame, mesh, camera, options, background))
     fb.camera = camera
-    if normals or object_faces is not None:  # imported here: a plain render loads none of it
+    if in_bands:
+        from .vision import finish_maps
+
+        finish_maps(fb, options.maps)
+    elif normals or object_faces is not None:
         from .vision import fill_maps
 
         fill_maps(fb, mesh, camera, camera.world_to_raster(), options.shading if normals else None, object_faces)
-        if not ids:
-            fb.ids = None
+    if (normals or object_faces is not None) and not ids:
+        fb.ids = None
     return fb
 
 
-def _maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool) -> int:
-    """Bytes of the normal and object-id images and their per-vertex and per-face terms."""
-    if not (normals or objects):
-        return 0
+def _maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool, metric: bool) -> int:
+    """Bytes of the normal, object-id and metric depth images and their per-vertex and
+    per-face terms."""
     return (12 * pixels + len(mesh.vertices) * 80 + len(mesh.faces) * 84 if normals else 0) + \
-        (4 * pixels + len(mesh.faces) * 4 if objects else 0)
+        (4 * pixels + len(mesh.faces) * 4 if objects else 0) + (4 * pixels if metric else 0)
 
 
 def _with_edges(mesh: Mesh, camera: Camera, edges: str, crease_angle, mode: str) -> Mesh:
@@ -273,7 +293,7 @@ def _shared_setup(mesh: Mesh, camera: Camera, options: _Options):
 
     clip = transform_points(mesh.vertices, camera.world_to_raster())
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
-    face_colors, vertex_colors = _shade(mesh, options) if options.mode != "hidden" else (None, None)
+    face_colors, vertex_colors = shade(mesh, options) if options.mode != "hidden" else (None, None)
     setup = SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=options.mode != "hidden",
                             face_colors=face_colors, vertex_colors=vertex_colors, cull=options.cull,
                             depth_offset=offset)
@@ -317,74 +337,24 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, option
         return
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     if options.mode == "hidden":  # the colour buffer is cleared by the edge pass
-        rasterize_triangles(None, fb.uncleared_depth(), clip, mesh.faces, ids=fb.ids,
-                            cull=options.cull, clear=(), depth_offset=offset)
+        _rasterize(None, fb.uncleared_depth(), clip, mesh.faces, None, None, fb.ids, options.cull, (), offset, None,
+                   maps=options.maps)
         return
-    face_colors, vertex_colors = _shade(mesh, options)
+    face_colors, vertex_colors = shade(mesh, options)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
     if options.mode == "solid" and not options.keep_depth:  # nothing drawn after: depth only if read
         depth = None
         fb.defer_depth(partial(_depth_pass, clip, mesh.faces, options.cull))
     else:
         depth = fb.uncleared_depth()
-    rasterize_triangles(fb.color, depth, clip, mesh.faces, face_colors=face_colors,
-                        vertex_colors=vertex_colors, ids=fb.ids, cull=options.cull,
-                        clear=background, depth_offset=offset)
+    _rasterize(fb.color, depth, clip, mesh.faces, face_colors, vertex_colors, fb.ids, options.cull, background, offset,
+               None, maps=options.maps)
 
 
 def _depth_pass(clip, faces, cull, depth):
     """The depth buffer of a solid render, made when it is first read: the same triangles,
     depth only (the depths are those the colour pass tested, to the bit)."""
     rasterize_triangles(None, depth, clip, faces, cull=cull, clear=())
-
-
-def _shade(mesh: Mesh, options: _Options):
-    """Lambert colours lit by a distant light: per face (a :class:`FlatLambert` that the
-    rasterizer evaluates) or per vertex ((N, 3) float32 0..255).
-
-    The light has one direction for every face, so the triangles of one flat polygon get one
-    colour.
-    """
-    two_sided = options.cull == "none"
-    towards_light = options.light
-    if options.shading == "flat":
-        if mesh.face_colors is not None:  # scaled in the kernel: no (M, 3) product per frame
-            base, scale = mesh.face_colors, np.float32(255)
-        else:
-            base, scale = _base_colors(mesh, options, per_face=True), np.float32(1)
-        # Computed by the face setup, for the faces that are drawn only.
-        return FlatLambert(mesh.face_normals, base, towards_light, AMBIENT, two_sided, scale), None
-    # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
-    # normals too, so they cannot spoil their neighbours' vertex normals. (A Mesh's faces
-    # index its vertices: checked when it was made, and its arrays are immutable.)
-    faces = mesh.faces
-    if not np.isfinite(mesh.vertices).all():
-        faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
-    normals = mesh.normals if mesh.normals is not None else shade_kernels.vertex_normals(mesh.vertices, faces)
-    base = _base_colors(mesh, options, per_face=False)
-    return None, _lambert(normals, base, towards_light, two_sided)
-
-
-def _light_direction(light, camera: Camera) -> np.ndarray:
-    """Unit direction towards the light; None is the headlight (from the target to the eye)."""
-    if light is None:
-        return camera.backward()
-    return unit_vector(light, "light")
-
-
-def _lambert(normals, base, light, two_sided):
-    no_points = np.zeros((0, 3))  # read only by positional lights
-    normals = np.nan_to_num(np.ascontiguousarray(normals, np.float64), nan=0.0, posinf=0.0, neginf=0.0)
-    return shade_kernels.lambert(normals, base, light, no_points, False, AMBIENT, two_sided)
-
-
-def _base_colors(mesh: Mesh, options: _Options, per_face: bool):
-    """Surface colours 0..255 float32: the mesh's vertex colours (averaged over each face
-    when ``per_face``) or ``color``. (Face colours are scaled by the flat-shading kernel.)"""
-    if mesh.vertex_colors is not None:
-        rgb = mesh.vertex_colors * np.float32(255)
-        return np.ascontiguousarray(rgb[mesh.faces].mean(axis=1, dtype=np.float32)) if per_face else rgb
-    return options.color[None, :3].astype(np.float32)
 
 
 def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, options: _Options,

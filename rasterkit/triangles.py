@@ -308,6 +308,14 @@ def rasterize_triangles(
     thread count. Per-face scratch arrays are kept between calls (per Python thread), so
     that repeated draws do not pay for fresh memory.
     """
+    return TriangleStats(**_rasterize(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, clear,
+                                      depth_offset, threads))
+
+
+def _rasterize(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, clear, depth_offset, threads,
+               maps=None) -> dict:
+    """:func:`rasterize_triangles`'s checks and draw, returning its counts by name; ``maps``:
+    a vision render's (:func:`rasterkit._triangles.draw_prepared`), for :func:`rasterkit.render`."""
     if depth is not None:
         _check_depth(depth)
         height, width = depth.shape
@@ -333,9 +341,8 @@ def rasterize_triangles(
     face_colors, vertex_colors, lighting = _shading(color, face_colors, vertex_colors, faces, clip)
     offset = _depth_offset(depth_offset)
     background = _background(clear, color)
-    counts = draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset,
-                            threads=_threads(threads), lighting=lighting)
-    return TriangleStats(**counts)
+    return draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset,
+                          threads=_threads(threads), lighting=lighting, maps=maps)
 
 
 def _depth_offset(value):

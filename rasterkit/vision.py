@@ -27,7 +27,8 @@ from . import _memory, _png
 from ._atomic import atomic_write
 from ._jit import readonly, run_workers
 
-__all__ = ["camera_depth", "fill_maps", "save_depth", "save_ids", "save_normals", "visible_faces"]
+__all__ = ["camera_depth", "fill_maps", "finish_maps", "maps_record", "save_depth", "save_ids", "save_normals",
+           "visible_faces"]
 
 #: Scale of a 16-bit depth PNG: the value is the depth times this, rounded (millimetres
 #: when the world unit is the metre); 0 where nothing was drawn, 65535 at 65.535 m and beyond.
@@ -55,17 +56,17 @@ def camera_depth(depth: np.ndarray, camera) -> np.ndarray:
     return out
 
 
-def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> None:
-    """Fill ``fb.normals`` (``normals``: 'flat' per face, 'smooth' interpolated, None: not)
-    and, for a scene (``object_faces``: the number of faces of each object, in order),
-    ``fb.object_ids``, turning ``fb.ids`` into indices within each object; from ``fb.ids``,
-    the faces of ``mesh`` (world space) seen through ``matrix``."""
-    from .kernels.maps import surface_maps
+def maps_record(height: int, width: int, mesh, camera, matrix, normals: str | None, object_faces,
+                want_depth: bool = False):
+    """The :class:`rasterkit.kernels.records.Maps` of an (H, W) render of ``mesh`` (world
+    space) seen through ``matrix`` (world -> raster) by ``camera``, with its output arrays:
+    normals (``normals``: 'flat' per face, 'smooth' interpolated, None: not), object ids for
+    a scene (``object_faces``: the number of faces of each object, in order; None: not) and
+    (``want_depth``) the metric depth."""
     from .kernels.records import Maps
     from .kernels.shade import bary_matrices, vertex_normals
     from ._vertex import transform_points
 
-    height, width = fb.ids.shape
     rotation = np.ascontiguousarray(camera.rotation())  # rows u, v, w: world -> camera
     smooth = normals == "smooth"
     world_normals, vertex, bary = readonly(np.zeros((0, 3), np.float32)), np.zeros((0, 3)), np.zeros((0, 9))
@@ -84,12 +85,35 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     else:
         first, face_object = np.zeros(0, np.int64), np.zeros(0, np.int32)
     object_ids = _memory.take((height, width), np.int32) if objects else np.empty((0, 0), np.int32)
-    maps = Maps(normals is not None, out_normals, smooth, world_normals, vertex, bary, mesh.faces, rotation,
-                objects, object_ids, face_object, first)
+    metric = _memory.take((height, width), np.float32) if want_depth else np.empty((0, 0), np.float32)
+    return Maps(normals is not None, out_normals, smooth, world_normals, vertex, bary, mesh.faces, rotation,
+                objects, object_ids, face_object, first, bool(want_depth), metric, float(camera.near),
+                float(camera.far), camera.kind == "perspective")
+
+
+def finish_maps(fb, maps) -> None:
+    """Hand ``maps`` (:func:`maps_record`, made) to ``fb``: ``fb.normals``, for a scene
+    ``fb.object_ids`` (``fb.ids`` are indices within each object by now), and the metric
+    depth that :meth:`rasterkit.Framebuffer.camera_depth` returns."""
+    fb.normals = maps.normals if maps.want_normals else None
+    if maps.want_objects:
+        fb.object_ids, fb.object_first = maps.object_ids, maps.object_first
+    if maps.want_depth:
+        fb.keep_camera_depth(maps.metric)
+
+
+def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> None:
+    """Fill ``fb.normals`` (``normals``: 'flat' per face, 'smooth' interpolated, None: not)
+    and, for a scene (``object_faces``: the number of faces of each object, in order),
+    ``fb.object_ids``, turning ``fb.ids`` into indices within each object; from ``fb.ids``,
+    the faces of ``mesh`` (world space) seen through ``matrix``: a pass of its own, for the
+    renders whose band worker does not make them (:func:`rasterkit.kernels.maps.band_maps`)."""
+    from .kernels.maps import surface_maps
+
+    height, width = fb.ids.shape
+    maps = maps_record(height, width, mesh, camera, matrix, normals, object_faces)
     run_workers(surface_maps, fb.ids, maps, threads=_threads(height * width))
-    fb.normals = out_normals if normals else None
-    if objects:
-        fb.object_ids, fb.object_first = object_ids, first
+    finish_maps(fb, maps)
 
 
 def visible_faces(ids: np.ndarray, object_ids, object_first) -> tuple[np.ndarray, np.ndarray]:

@@ -165,7 +165,7 @@ def test_a_worker_that_dies_costs_only_its_model(models, tmp_path):
     out = tmp_path / "out"
     result = {}
     thread = threading.Thread(target=lambda: result.update(
-        s=rasterkit.render_many(copies, out, jobs=2, size=(640, 480), samples=32)))
+        s=rasterkit.render_many(copies, out, jobs=2, size=(640, 480), samples=128)))  # long enough to be caught
     thread.start()
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and len(read_manifest(out / "manifest.jsonl") if (out / "manifest.jsonl").exists() else []) < 1:

@@ -260,13 +260,16 @@ def test_cli_renders_an_opencv_camera_with_depth_normals_and_ids(tmp_path):
     assert main(["render", "--demo", "-o", str(out), "--camera-opencv", str(cam)]) == 2
 
 
-def test_a_plain_render_loads_none_of_the_vision_code():
+def test_a_plain_render_loads_none_of_the_vision_passes_and_compiles_no_maps():
     import subprocess
     import sys
 
     code = ("import sys, rasterkit; from rasterkit import Camera, shapes; "
+            "from rasterkit.kernels.tiles import draw_bands; "
             "fb = rasterkit.render(shapes.cube(), Camera.look_at((0, 0, 5), (0, 0, 0), width=32, height=24), 'solid'); "
             "fb.depth; print(sorted(m for m in sys.modules if m.split('.')[-1] in "
-            "('maps', 'vision', 'points', 'distortion')))")
+            "('maps', 'vision', 'points', 'distortion'))); "
+            "print([str(s[-1]) for s in draw_bands.signatures])")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "[]"
+    # the band worker was compiled without the maps (its last argument None: pruned)
+    assert out.stdout.split("\n")[:2] == ["[]", "['none']"]

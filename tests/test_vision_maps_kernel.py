@@ -9,7 +9,8 @@ import pytest
 
 import rasterkit
 from rasterkit._jit import readonly, run_workers
-from rasterkit.kernels.maps import BLOCK, surface_maps
+from rasterkit.kernels.map_rows import BLOCK
+from rasterkit.kernels.maps import surface_maps
 from rasterkit.kernels.records import Maps
 
 EMPTY2 = np.empty((0, 0), np.int32)
@@ -55,7 +56,7 @@ def _maps(ids, mesh, smooth=False, objects=None, bary=None, normals=True):
     return Maps(normals, out if normals else np.empty((0, 0, 3), np.float32), smooth,
                 readonly(mesh.face_normals if flat else np.zeros((0, 3), np.float32)), vertex,
                 bary if smooth else np.zeros((0, 9)), mesh.faces, _rotation(), objects is not None, object_ids,
-                face_object, first)
+                face_object, first, False, np.empty((0, 0), np.float32), 0.1, 100.0, True)
 
 
 def _flat_reference(ids, mesh):

@@ -59,6 +59,10 @@ Clear = namedtuple("Clear", "on color_bytes pattern")
 #: float64 and ``faces`` (M, 3) int64, all in world space, turned into camera space by
 #: ``rotation`` (3, 3) float64 (C-contiguous); when ``want_objects``, ``object_ids`` (H, W)
 #: int32 from ``face_object`` (M,) int32 and ``object_first`` (K,) int64, each object's
-#: first face.
+#: first face; when ``want_depth`` (made by the band worker only,
+#: :func:`rasterkit.kernels.maps.band_maps`), ``metric`` (H, W) float32, the distance along
+#: the optical axis of each depth, for a camera with planes ``near``, ``far`` (floats),
+#: ``perspective`` or not.
 Maps = namedtuple("Maps", "want_normals normals smooth world_normals vertex_normals "
-                          "bary faces rotation want_objects object_ids face_object object_first")
+                          "bary faces rotation want_objects object_ids face_object object_first "
+                          "want_depth metric near far perspective")

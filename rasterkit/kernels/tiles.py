@@ -32,6 +32,7 @@ import numpy as np
 from rasterkit._jit import kernel
 from rasterkit.kernels.clear import fill_bytes
 from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
+from rasterkit.kernels.map_rows import band_maps
 from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
 from rasterkit.kernels.setup import N_CHUNKS, ONE, chunk_range
 from rasterkit.kernels.triangle import raster_band
@@ -201,7 +202,7 @@ def _prefetch_record(t, records, shading):
 
 
 @kernel(refcounts=False)
-def draw_bands(slot, counter, band_start, items, records, shading, target, clear, sample, lid, spans):
+def draw_bands(slot, counter, band_start, items, records, shading, target, clear, sample, lid, spans, maps):
     """Rasterize and resolve bands, each the next one no slot has claimed yet (through
     ``counter``), until none are left; returns the number of fragments this slot
     depth-tested. A worker of :func:`rasterkit._jit.run_parallel`: slot ``slot`` draws in
@@ -245,16 +246,18 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
         them that run.
     spans : (n_slots, 2, BAND_HEIGHT) int64
         Scratch: per slot, the columns each band row may have been written in.
+    maps : Maps or None
+        A vision render's maps (:class:`rasterkit.kernels.records.Maps`): normals, object
+        ids and metric depth of each band's rows, made right after its resolve while the
+        band is in this thread's cache (:func:`rasterkit.kernels.map_rows.band_maps`). None
+        for other renders, which compile without that call (Numba prunes the branches of
+        an argument typed None).
 
     Compiled without reference counting (nothing is allocated here, and the counts cost
     atomic operations in the per-record loop).
     """
-    tri_xy, tri_z, tri_box = records
-    mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
-    depth, keep_depth, height, color, write_ids, ids = target
+    depth, keep_depth, height, _, _, ids = target
     do_clear = clear.on
-    sample_x, sample_y = sample.x / ONE, sample.y / ONE  # pixels, for the smooth colours
-    width = lid.shape[2]
     guard = lid.shape[1] - BAND_HEIGHT  # unused rows before each slot's band rows
     band_lid = lid[slot, guard:]
     scratch_row = np.int64(slot) * lid.shape[1] + guard  # this slot's depth scratch rows
@@ -272,38 +275,43 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
             if keep_depth:
                 _clear_depth(band_depth)
             _clear_band(y0, y1, target, clear)
-        if band_start[b] == band_start[b + 1]:
-            continue
-        if not keep_depth:
-            _clear_depth(band_depth)
-        for r in range(BAND_HEIGHT):
-            row_lo[r], row_hi[r] = width, -1
-        end = band_start[b + 1]
-        for k in range(band_start[b], end):
-            if k + PREFETCH_AHEAD < end:
-                _prefetch_record(items[k + PREFETCH_AHEAD], records, shading)
-            t = items[k]
-            face = t if t < n_faces else fan_face[t - n_faces]
-            # what the visibility buffer holds: the face, or (SHADE_TAGGED) its colour, so
-            # the resolve need not look each pixel's colour up
-            tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
-            fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
-        for r in range(y1 - y0):
-            resolve_row(
-                mode,
-                band_lid,
-                r,
-                y0 + r,
-                row_lo[r],
-                row_hi[r],
-                sample_x,
-                sample_y,
-                packed,
-                vertex_colors,
-                faces,
-                bary,
-                color,
-                write_ids,
-                ids,
-            )
+        drawn = band_start[b] != band_start[b + 1]
+        if drawn:
+            if not keep_depth:
+                _clear_depth(band_depth)
+            fragments += _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, band_lid,
+                                    band_depth, row_lo, row_hi)
+        if maps is not None:
+            band_maps(ids, y0, y1, maps, band_depth, drawn)
+    return fragments
+
+
+@kernel(refcounts=False)
+def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, band_lid, band_depth, row_lo, row_hi):
+    """Rasterize the records of bin ``b`` into rows ``y0 .. y1 - 1`` (``band_lid``,
+    ``band_depth``: the band's visibility and depth rows, the depth cleared) and resolve them
+    (:func:`draw_bands`' arguments); returns the number of fragments depth-tested. Compiled
+    on its own: :func:`draw_bands` with and without a vision render's maps is two small
+    loops around this one function, so the maps do not compile the band's drawing again."""
+    tri_xy, tri_z, tri_box = records
+    mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
+    _, _, _, color, write_ids, ids = target
+    sample_x, sample_y = sample.x / ONE, sample.y / ONE  # pixels, for the smooth colours
+    width = band_lid.shape[1]
+    for r in range(BAND_HEIGHT):
+        row_lo[r], row_hi[r] = width, -1
+    fragments = 0
+    end = band_start[b + 1]
+    for k in range(band_start[b], end):
+        if k + PREFETCH_AHEAD < end:
+            _prefetch_record(items[k + PREFETCH_AHEAD], records, shading)
+        t = items[k]
+        face = t if t < n_faces else fan_face[t - n_faces]
+        # what the visibility buffer holds: the face, or (SHADE_TAGGED) its colour, so
+        # the resolve need not look each pixel's colour up
+        tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
+        fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
+    for r in range(y1 - y0):
+        resolve_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed, vertex_colors,
+                    faces, bary, color, write_ids, ids)
     return fragments
