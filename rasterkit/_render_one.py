@@ -47,8 +47,9 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
     _check_svg_options(options, svg)
     if not svg:
         _warm.start(dict(mode=options.mode, cull=options.cull, shading=options.shading,
-                         background=options.background, aa=options.aa),
-                    depth=bool(options.depth), loading=source is not None)
+                         background=options.background, aa=options.aa, ids=bool(options.ids),
+                         normals=bool(options.normals), camera_depth=bool(options.depth)),
+                    depth=False, loading=source is not None)
     elif options.mode == "hidden":  # the SVG's depth pass: the triangles' band worker, with face ids
         _warm.start(dict(mode="hidden", cull="back", shading="flat", background="white", aa=False, ids=True),
                     depth=False, loading=source is not None)

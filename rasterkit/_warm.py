@@ -72,7 +72,9 @@ def _cached(dispatcher) -> bool:
 
 def start(style: dict, depth: bool, loading: bool) -> None:
     """Start the helper for a render with ``style`` (``mode``, ``cull``, ``shading``,
-    ``background``, ``aa``) when its band worker is not cached; ``depth``: the depth
+    ``background``, ``aa``, and the vision maps asked for: ``ids``, ``normals``,
+    ``camera_depth``, which the band worker makes too) when its band worker is not cached
+    (any variant: a first vision render after plain ones compiles its variant here); ``depth``: the depth
     buffer is read too; ``loading``: a model file is read (its parser may compile
     meanwhile). A wireframe of the built-in model leaves too little to do here while the
     helper works to make up for starting it: no helper then."""
