@@ -77,24 +77,6 @@ def _flat_pixel(iflat, nflat, p, world_normals, r, nan):
 
 
 @kernel(inline="always")
-def _flat_row(iflat, lo, hi, nflat, world_normals, r, nan):
-    """Pixels ``lo`` to ``hi`` (flat indices, one row) of flat normals, in blocks of
-    ``BLOCK``: a block that sees no face is one vectorised fill of NaN."""
-    k = lo
-    while k + np.uint64(BLOCK) <= hi:
-        if _background(iflat, k):
-            o = np.uint64(3) * k
-            for q in range(3 * BLOCK):
-                nflat[o + np.uint64(q)] = nan
-        else:
-            for q in range(BLOCK):
-                _flat_pixel(iflat, nflat, k + np.uint64(q), world_normals, r, nan)
-        k += np.uint64(BLOCK)
-    for p in range(k, hi):
-        _flat_pixel(iflat, nflat, p, world_normals, r, nan)
-
-
-@kernel(inline="always")
 def _smooth_pixel(iflat, nflat, p, px, py, faces, bary, vertex_normals, rotation, nan):
     """Pixel ``p`` (flat index; raster centre (px, py)) of smooth normals."""
     f = iflat[p]
@@ -108,9 +90,20 @@ def _smooth_pixel(iflat, nflat, p, px, py, faces, bary, vertex_normals, rotation
 
 
 @kernel(inline="always")
-def _smooth_row(iflat, lo, hi, py, nflat, faces, bary, vertex_normals, rotation, nan):
-    """Pixels ``lo`` to ``hi`` (flat indices) of row ``py - 0.5``: vertex normals interpolated
-    at each pixel centre, in blocks like :func:`_flat_row`."""
+def _normal_pixel(smooth, iflat, nflat, p, px, py, world_normals, r, faces, bary, vertex_normals, rotation, nan):
+    """Pixel ``p`` (raster centre (px, py)) of smooth or flat normals."""
+    if smooth:
+        _smooth_pixel(iflat, nflat, p, px, py, faces, bary, vertex_normals, rotation, nan)
+    else:
+        _flat_pixel(iflat, nflat, p, world_normals, r, nan)
+
+
+@kernel(inline="always")
+def _normals_row(smooth, iflat, lo, hi, py, nflat, world_normals, r, faces, bary, vertex_normals, rotation, nan):
+    """Pixels ``lo`` to ``hi`` (flat indices) of row ``py - 0.5`` of normals, smooth (the
+    vertex normals interpolated at each pixel centre) or flat (each face's), in blocks of
+    ``BLOCK``: a block that sees no face is one vectorised fill of NaN. (``smooth`` is the
+    same for the whole row: LLVM takes the test out of the loop.)"""
     k = lo
     while k + np.uint64(BLOCK) <= hi:
         if _background(iflat, k):
@@ -120,11 +113,12 @@ def _smooth_row(iflat, lo, hi, py, nflat, faces, bary, vertex_normals, rotation,
         else:
             for q in range(BLOCK):
                 p = k + np.uint64(q)
-                _smooth_pixel(iflat, nflat, p, np.float64(p - lo) + 0.5, py, faces, bary, vertex_normals,
-                              rotation, nan)
+                _normal_pixel(smooth, iflat, nflat, p, np.float64(p - lo) + 0.5, py, world_normals, r, faces, bary,
+                              vertex_normals, rotation, nan)
         k += np.uint64(BLOCK)
     for p in range(k, hi):
-        _smooth_pixel(iflat, nflat, p, np.float64(p - lo) + 0.5, py, faces, bary, vertex_normals, rotation, nan)
+        _normal_pixel(smooth, iflat, nflat, p, np.float64(p - lo) + 0.5, py, world_normals, r, faces, bary,
+                      vertex_normals, rotation, nan)
 
 
 @kernel(inline="always")
@@ -141,7 +135,7 @@ def _object_pixel(iflat, oflat, p, face_object, object_first):
 
 @kernel(inline="always")
 def _object_row(iflat, lo, hi, oflat, face_object, object_first):
-    """Pixels ``lo`` to ``hi`` of object ids, in blocks like :func:`_flat_row`."""
+    """Pixels ``lo`` to ``hi`` of object ids, in blocks like :func:`_normals_row`."""
     k = lo
     while k + np.uint64(BLOCK) <= hi:
         if _background(iflat, k):
@@ -167,16 +161,14 @@ def map_fields(maps):
 @kernel(inline="always")
 def surface_row(iflat, j, w, fields, nan):
     """Row ``j`` (``w`` pixels) of the normals and object ids that ``fields`` (:func:`map_fields`)
-    ask for, from the face ids ``iflat`` (flat); one loop per case: no test of the choices
-    per pixel."""
+    ask for, from the face ids ``iflat`` (flat)."""
     (flat, want_normals, want_objects, normals, world_normals, rotation, faces, bary, vertex_normals,
      object_ids, face_object, object_first) = fields
     nflat, oflat = normals.reshape(normals.size), object_ids.reshape(object_ids.size)
     lo = w * j
-    if flat:
-        _flat_row(iflat, lo, lo + w, nflat, world_normals, rotation.reshape(9), nan)
-    elif want_normals:
-        _smooth_row(iflat, lo, lo + w, np.float64(j) + 0.5, nflat, faces, bary, vertex_normals, rotation, nan)
+    if want_normals:
+        _normals_row(not flat, iflat, lo, lo + w, np.float64(j) + 0.5, nflat, world_normals, rotation.reshape(9),
+                     faces, bary, vertex_normals, rotation, nan)
     if want_objects:
         _object_row(iflat, lo, lo + w, oflat, face_object, object_first)
 
