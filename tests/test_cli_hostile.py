@@ -245,11 +245,18 @@ def test_an_escaped_warning_is_one_line_naming_the_model(tmp_path):
 # --- SIGTERM and Ctrl-C mid-write --------------------------------------------------------------
 
 
+def _default_signals():
+    """In the child: SIGINT and SIGTERM as an interactive shell starts a command (a test run
+    as a background job inherits SIGINT ignored, which the command line keeps ignored)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
 def _stop_mid_write(argv, folder: Path, sig) -> tuple[int, list[str]]:
     """Start the command line, wait until its temporary file has data, send ``sig``."""
     child = subprocess.Popen([sys.executable, "-m", "rasterkit", *map(str, argv)], stdin=subprocess.DEVNULL,
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                             env={**os.environ, "PYTHONPATH": str(ROOT)})
+                             env={**os.environ, "PYTHONPATH": str(ROOT)}, preexec_fn=_default_signals)
     try:
         deadline = time.monotonic() + 120
         while not any(p.stat().st_size > 1000 for p in _temporary_files(folder)):
@@ -294,6 +301,8 @@ def test_signal_handlers_are_restored_and_an_ignored_signal_stays_ignored(tmp_pa
     assert main(["render", "--demo", "-o", str(tmp_path / "x.png"), "--size", "8x8"]) == 0
     assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before
     previous = signal.signal(signal.SIGTERM, signal.SIG_IGN)  # as nohup or a background job
+    # Ctrl-C as an interactive shell leaves it (a background job's shell ignores it)
+    previous_int = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         with _stop_signals():
             assert signal.getsignal(signal.SIGTERM) is signal.SIG_IGN
@@ -301,6 +310,7 @@ def test_signal_handlers_are_restored_and_an_ignored_signal_stays_ignored(tmp_pa
         assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     finally:
         signal.signal(signal.SIGTERM, previous)
+        signal.signal(signal.SIGINT, previous_int)
 
 
 # --- turntables: streamed, and the frames are the renders -------------------------------------------

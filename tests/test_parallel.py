@@ -150,6 +150,7 @@ INTERRUPTED = """
 import os, signal, threading, time
 from rasterkit._jit import run_parallel
 
+signal.signal(signal.SIGINT, signal.default_int_handler)  # also when started as a background job
 run_parallel(lambda slot: slot, threads=2)  # compiled and started before the Ctrl-C
 started = threading.Event()
 
