@@ -47,9 +47,10 @@ def scratch_bytes(n_vertices, n_edges, n_pixels, mode, transform=False) -> int:
     spatial order, :func:`spatial_edges`), for
     :func:`rasterkit.limits.check_memory`."""
     plain = mode == _kernels.MODE_PLAIN
-    per_vertex = 32 + (8 if plain else 0) + (32 if transform else 0)
-    per_edge = 4 * _setup.REC_FIELDS if plain else 0
-    blocks = 4 * _setup.BLOCK_FIELDS * _setup.n_blocks(n_edges) if plain else 0
+    recorded = _recorded(mode)
+    per_vertex = 32 + (8 if recorded else 0) + (32 if transform else 0)
+    per_edge = (4 * _setup.REC_FIELDS if recorded else 0) + (0 if plain or not recorded else 8 * _setup.TERM_FIELDS)
+    blocks = 4 * _setup.BLOCK_FIELDS * _setup.n_blocks(n_edges) if recorded else 0
     if plain and n_edges >= SPATIAL_ORDER_EDGES:  # the edges in a spatial order (kept), the cells
         per_edge, per_vertex = per_edge + 16, per_vertex + 4
     return n_vertices * per_vertex + n_edges * per_edge + blocks + (n_pixels if plain else 0)
@@ -60,11 +61,18 @@ def scratch(n_vertices, n_edges, n_pixels, mode, take=_memory.take):
     0 for none), from recycled memory unless ``take`` says otherwise (``np.empty`` for fresh
     arrays)."""
     plain = mode == _kernels.MODE_PLAIN
+    recorded = _recorded(mode)
     return _kernels.EdgeScratch(take((n_vertices, 4), np.float64),
-                                take((n_vertices if plain else 0,), np.int64),
-                                take((_setup.REC_FIELDS, n_edges if plain else 0), np.int32),
-                                take((_setup.BLOCK_FIELDS, _setup.n_blocks(n_edges) if plain else 0), np.int32),
-                                take((n_pixels if plain else 0,), np.uint8))
+                                take((n_vertices if recorded else 0,), np.int64),
+                                take((_setup.REC_FIELDS, n_edges if recorded else 0), np.int32),
+                                take((_setup.BLOCK_FIELDS, _setup.n_blocks(n_edges) if recorded else 0), np.int32),
+                                take((n_pixels if plain else 0,), np.uint8),
+                                take((_setup.TERM_FIELDS, n_edges if recorded and not plain else 0), np.float64))
+
+
+def _recorded(mode) -> bool:
+    """Whether edges of ``mode`` get records (plain, and depth-tested without Wu's lines)."""
+    return not mode & _kernels.MODE_ANTIALIAS
 
 
 def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None, *, n_bands=None,
@@ -99,11 +107,14 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
     # the work per chunk and rows: vertices projected, or (plain: the vertex pass leaves it
     # zero) the records' pixels, counted by plain_setup
     counts = np.zeros((max(_setup.VERTEX_CHUNKS, _setup.SETUP_CHUNKS), n_bins), np.int64)
-    run_workers(_setup.project_vertices, clip, proj, pixels if plain else pixels[:0], width, height, counts, points,
-              matrix, threads=threads)
-    if plain:  # the work of its records (and of clearing and painting rows) in the balance
+    recorded = _recorded(mode)
+    run_workers(_setup.project_vertices, clip, proj, pixels if recorded else pixels[:0], width, height, counts,
+                points, matrix, threads=threads)
+    if recorded:  # the work of its records (and of clearing and painting rows) in the balance
         run_workers(_setup.plain_setup, pixels, edges, width, height, memory.recs, memory.blocks, counts,
                     threads=threads)
+        if not plain:
+            run_workers(_setup.depth_terms, proj, edges, memory.recs, memory.terms, threads=threads)
     bounds = _setup.balanced_bands(_setup.band_work(counts, _setup.ROW_WORK if plain else 0, height), n_bands, height)
     if plain:  # a kernel of its own: a wireframe compiles nothing of the other modes
         dropped = run_workers(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,

@@ -25,7 +25,7 @@ from rasterkit._jit import kernel
 from rasterkit.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
 from rasterkit.kernels.clip import project_segment
 from rasterkit.kernels.edge_setup import (BLOCK, BLOCK_GENERAL, BLOCK_HI, BLOCK_LO, REC_PIX, REC_ROWS,
-                                          REC_STEPS)
+                                          REC_STEPS, TERM_DU, TERM_GZ, TERM_U0, TERM_U0F, TERM_Z0)
 from rasterkit.kernels.intrinsics import fetch_add
 from rasterkit.kernels.line import minor_steps, put_pixel, step_clipped, step_line, step_mask, step_range, tie_offset
 from rasterkit.kernels.paint import paint_marked, paint_tables
@@ -37,11 +37,12 @@ MODE_ANTIALIAS = 2
 DROPPED_BAND = 0
 
 #: The scratch arrays of a draw (:func:`rasterkit._edges.scratch`): ``proj`` (N, 4) float64
-#: from :func:`rasterkit.kernels.edge_setup.project_vertices`; for plain edges ``pixels``
-#: (N,) int64, ``recs`` (REC_FIELDS, E) int32 and ``blocks`` (BLOCK_FIELDS, B) int32 from
-#: :func:`rasterkit.kernels.edge_setup.plain_setup`, and ``mask`` (H * W,) uint8, the bands'
-#: byte masks (empty arrays in the other modes).
-EdgeScratch = namedtuple("EdgeScratch", "proj pixels recs blocks mask")
+#: from :func:`rasterkit.kernels.edge_setup.project_vertices`; for plain and depth-tested
+#: edges ``pixels`` (N,) int64, ``recs`` (REC_FIELDS, E) int32 and ``blocks`` (BLOCK_FIELDS,
+#: B) int32 from :func:`rasterkit.kernels.edge_setup.plain_setup`; for plain edges ``mask``
+#: (H * W,) uint8, the bands' byte masks; for depth-tested ones ``terms`` (TERM_FIELDS, E)
+#: float64 from :func:`rasterkit.kernels.edge_setup.depth_terms` (empty arrays otherwise).
+EdgeScratch = namedtuple("EdgeScratch", "proj pixels recs blocks mask terms")
 
 
 @kernel(inline="always")
@@ -214,16 +215,56 @@ def _band_wire(cflat, width, channels, rgba, clip, proj, edges, recs, blocks, yl
 
 
 @kernel(refcounts=False)
-def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, ylo, yhi, bias):
+def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, blocks, terms, ylo, yhi, bias):
     """Depth-tested edges' parts in rows ``ylo .. yhi`` (Bresenham); returns the number of
-    dropped edges."""
+    dropped edges. With records (``recs`` and ``blocks`` of
+    :func:`rasterkit.kernels.edge_setup.plain_setup`, ``terms`` of its ``depth_terms``) an
+    edge inside the image is stepped from its record with its depth terms, the blocks
+    outside the band skipped, as :func:`_band_wire` does; the others (all of them without
+    records) take the general path."""
     dropped = 0
-    for e in range(edges.shape[0]):
-        status, seg = band_segment(clip, proj, edges, e, ylo, yhi)
-        dropped += status < 0
-        if status > 0:
-            _draw_bresenham_tested(cflat, dflat, width, channels, rgba, seg, ylo, yhi, bias)
+    m = edges.shape[0]
+    if recs.shape[1] != m:  # no records: every edge by the general path
+        for e in range(m):
+            dropped += _tested_segment(cflat, dflat, width, channels, rgba, clip, proj, edges, e, ylo, yhi, bias)
+        return dropped
+    for b in range(blocks.shape[1]):
+        plain = blocks[BLOCK_GENERAL, b] == 0
+        lo, hi = blocks[BLOCK_LO, b], blocks[BLOCK_HI, b]
+        if plain and (hi < ylo or lo > yhi):
+            continue
+        inside = plain and lo >= ylo and hi <= yhi
+        for e in range(b * BLOCK, min((b + 1) * BLOCK, m)):
+            if not inside:
+                rows = recs[REC_ROWS, e]
+                if rows < 0:
+                    dropped += _tested_segment(cflat, dflat, width, channels, rgba, clip, proj, edges, e, ylo, yhi,
+                                               bias)
+                    continue
+                if (rows >> 16) < ylo or (rows & 0xFFFF) > yhi:
+                    continue
+            pix, count, r, two_a, two_n, ustride, vstride = _record_steps(width, recs, e)
+            # the pixels of the band only (all of them for a record wholly inside it)
+            plo, phi = ylo * width, (yhi + 1) * width
+            u = np.int64(terms[TERM_U0, e])
+            u0f, du, z0, gz = terms[TERM_U0F, e], terms[TERM_DU, e], terms[TERM_Z0, e], terms[TERM_GZ, e]
+            for t in range(count):
+                if plo <= pix < phi and depth_at(u + t, u0f, du, z0, gz) - bias <= dflat[pix]:
+                    put_pixel(cflat, pix, channels, rgba)
+                r += two_a
+                step = r >= two_n
+                r -= two_n if step else 0
+                pix += ustride + (vstride if step else 0)
     return dropped
+
+
+@kernel(inline="always")
+def _tested_segment(cflat, dflat, width, channels, rgba, clip, proj, edges, e, ylo, yhi, bias):
+    """Edge ``e`` by the general path with the depth test; 1 when it is dropped."""
+    status, seg = band_segment(clip, proj, edges, e, ylo, yhi)
+    if status > 0:
+        _draw_bresenham_tested(cflat, dflat, width, channels, rgba, seg, ylo, yhi, bias)
+    return 1 if status < 0 else 0
 
 
 @kernel(inline="always")
@@ -358,7 +399,8 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
         band, ylo, yhi = next_band(counter, bounds, cflat, row_bytes, clear, pattern)
         if band < 0:
             break
-        lost = _band_depth_tested(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, ylo, yhi, bias)
+        lost = _band_depth_tested(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, scratch.recs,
+                                  scratch.blocks, scratch.terms, ylo, yhi, bias)
         if band == DROPPED_BAND:
             dropped = lost
     return dropped
