@@ -221,19 +221,6 @@ def step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstri
 
 
 @kernel(inline="always")
-def step_clipped(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride, lo, hi):
-    """:func:`step_line` writing only the pixels with an index in ``lo .. hi - 1`` (a band's
-    rows): the other steps are taken without a store."""
-    for _ in range(count):
-        if lo <= pix < hi:
-            put_pixel(cflat, pix, channels, rgba)
-        r += two_a
-        step = r >= two_n
-        r -= two_n if step else 0
-        pix += ustride + (vstride if step else 0)
-
-
-@kernel(inline="always")
 def step_mask(mask, value, pix, count, r, two_a, two_n, ustride, vstride):
     """:func:`step_line` into a one-byte-per-pixel buffer (a band's mask): ``value`` into
     each pixel; lines of up to 4 and 8 pixels by :func:`_short_steps`."""
