@@ -31,14 +31,80 @@ _NO_MATRIX = readonly(np.eye(4))
 
 
 
-def spatial_edges(vertices, edges) -> np.ndarray:
-    """``edges`` (E, 2) int64 reordered by the cells of a coarse grid over the finite
-    ``vertices`` (N, 3) float64 (:mod:`rasterkit.kernels.edge_order`), read-only."""
-    from rasterkit.kernels.edge_order import spatial_order
+#: Cells per axis of the grid of :func:`spatial_edges`: ``1 << GRID_BITS`` (16: 4096 cells,
+#: a few dozen edges each in a model of a hundred thousand; finer grids measured no faster).
+GRID_BITS = 4
+#: Each 4-bit cell coordinate's bits three places apart (a Morton code of three of them).
+_SPREAD = np.array([sum(((q >> bit) & 1) << (3 * bit) for bit in range(GRID_BITS)) for q in range(1 << GRID_BITS)],
+                   np.uint16)
+#: Blocks of edges sampled by :func:`_scattered`, and the share of the model's extent (along
+#: every axis) from which a block counts as scattered (a scanned model's random order: about
+#: 0.9; a modeller's export or a grid's rows: 0.0-0.3).
+_SAMPLED_BLOCKS, _SCATTERED = 16, 0.5
 
-    out = np.empty_like(edges)
-    spatial_order(vertices, edges, out)
-    return readonly(out)
+
+def spatial_edges(vertices, edges) -> np.ndarray:
+    """``edges`` (E, 2) int64 in a spatial order, read-only, for the plain wireframe
+    (:mod:`rasterkit.kernels.edges`: each block of ``BLOCK`` consecutive edges is summarised by
+    the rows it spans, and a band skips the blocks outside it, which pays when consecutive
+    edges lie together). A mesh's edges follow its vertex order; when that order is
+    scattered (:func:`_scattered`: a scanned model stored in no spatial order, such as the
+    Stanford bunny), the edges are sorted, stably, by the Morton code of the cell of their
+    first vertex in a 16^3 grid over the finite vertices (NaN and infinite coordinates count
+    as the grid's first or last cell); otherwise they are returned as they are. All of a
+    wireframe's edges get one colour: the order changes no pixel. NumPy only (2 ms for the
+    bunny's 104k edges, once per Mesh): a compiled sort took 0.8 s to compile on a first run."""
+    finite = _finite_rows(vertices)
+    if len(edges) == 0 or len(finite) == 0 or not _scattered(vertices, edges, finite):
+        return edges
+    lo, hi = _bounds(finite)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        extent = hi - lo
+        scale = np.where(extent > 0, (1 << GRID_BITS) / extent, 0.0)  # an axis without extent: one cell
+        x = (vertices - np.nan_to_num(lo)) * np.nan_to_num(scale, posinf=0.0)
+    top = (1 << GRID_BITS) - 1
+    q = np.clip(np.nan_to_num(x, nan=0.0, posinf=top, neginf=0.0), 0, top).astype(np.intp)
+    cell = _SPREAD[q[:, 0]] | (_SPREAD[q[:, 1]] << 1) | (_SPREAD[q[:, 2]] << 2)
+    order = np.argsort(cell[edges[:, 0]], kind="stable")  # 16-bit keys: a radix sort
+    rows = np.ascontiguousarray(edges).view(np.dtype((np.void, 16))).reshape(-1)  # a row as one item
+    return readonly(rows[order].view(np.int64).reshape(-1, 2))
+
+
+def _finite_rows(vertices) -> np.ndarray:
+    """The vertices without a NaN or infinite coordinate (all of them, not copied, in the
+    usual case; a coordinate sum beyond float64 counts as not finite: only the grid's bounds
+    depend on it)."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        finite = np.isfinite(vertices[:, 0] + vertices[:, 1] + vertices[:, 2])  # columns: ten times
+    return vertices if finite.all() else vertices[finite]                      # NumPy's axis=1 sum
+
+
+def _bounds(points) -> tuple[np.ndarray, np.ndarray]:
+    """The lowest and highest corner of (N >= 1, 3) ``points``, column by column (NumPy's
+    ``min(axis=0)`` over rows of three takes 4 ms for 160k points, this 0.3)."""
+    return (np.array([points[:, k].min() for k in range(3)]),
+            np.array([points[:, k].max() for k in range(3)]))
+
+
+def _scattered(vertices, edges, finite) -> bool:
+    """Whether consecutive edges lie apart: the finite first vertices of sampled blocks of
+    ``BLOCK`` edges span on average more than ``_SCATTERED`` of the model's extent along
+    each of its axes (those that have an extent); ``finite``: :func:`_finite_rows`."""
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        low, high = _bounds(finite)
+        whole = high - low
+        shares = []
+        for start in np.linspace(0, max(len(edges) - _setup.BLOCK, 0), _SAMPLED_BLOCKS).astype(np.int64):
+            ends = vertices[edges[start:start + _setup.BLOCK, 0]]
+            ends = _finite_rows(ends)
+            if len(ends) == 0:
+                continue
+            low, high = _bounds(ends)
+            share = (high - low) / whole
+            share = share[np.isfinite(share)]  # axes without extent, or beyond float64
+            if share.size:
+                shares.append(share.min())  # a block along a row of a grid is not scattered
+    return bool(shares and np.mean(shares) > _SCATTERED)
 
 
 def scratch_bytes(n_vertices, n_edges, n_pixels, mode, transform=False) -> int:
@@ -51,8 +117,8 @@ def scratch_bytes(n_vertices, n_edges, n_pixels, mode, transform=False) -> int:
     per_vertex = 32 + (8 if recorded else 0) + (32 if transform else 0)
     per_edge = (4 * _setup.REC_FIELDS if recorded else 0) + (0 if plain or not recorded else 8 * _setup.TERM_FIELDS)
     blocks = 4 * _setup.BLOCK_FIELDS * _setup.n_blocks(n_edges) if recorded else 0
-    if plain and n_edges >= SPATIAL_ORDER_EDGES:  # the edges in a spatial order (kept), the cells
-        per_edge, per_vertex = per_edge + 16, per_vertex + 4
+    if plain and n_edges >= SPATIAL_ORDER_EDGES:  # the edges in a spatial order (kept) and their sort
+        per_edge, per_vertex = per_edge + 40, per_vertex + 56
     return n_vertices * per_vertex + n_edges * per_edge + blocks + (n_pixels if plain else 0)
 
 

@@ -1,5 +1,6 @@
-"""The spatial order of a plain wireframe's edges (rasterkit.kernels.edge_order): a stable
-sort by grid cell against a slow NumPy reference, and the same image as the given order."""
+"""The spatial order of a plain wireframe's edges (rasterkit._edges.spatial_edges): a stable
+sort by grid cell against a slow reference when the given order is scattered, the given order
+kept when it is not, and the same image either way."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import pytest
 
 import rasterkit
 from rasterkit import _edges, shapes
-from rasterkit.kernels.edge_order import GRID_BITS
+from rasterkit._edges import GRID_BITS
 
 
 def _reference(vertices, edges):
@@ -45,6 +46,13 @@ def test_the_order_is_a_stable_sort_by_grid_cell():
     got = _edges.spatial_edges(mesh.vertices, mesh.edges)
     assert np.array_equal(got, _reference(mesh.vertices, mesh.edges))
     assert not got.flags.writeable
+
+
+def test_a_spatially_coherent_order_is_kept():
+    mesh = shapes.torus(1.0, 0.4, 200, 60)  # ring after ring: neighbouring vertices, neighbouring edges
+    shuffled = _shuffled(mesh)
+    assert _edges.spatial_edges(mesh.vertices, mesh.edges) is mesh.edges
+    assert _edges.spatial_edges(shuffled.vertices, shuffled.edges) is not shuffled.edges
 
 
 def test_non_finite_and_flat_vertices_get_cells_too():
