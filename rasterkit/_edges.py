@@ -115,7 +115,7 @@ def scratch_bytes(n_vertices, n_edges, n_pixels, mode, transform=False) -> int:
     plain = mode == _kernels.MODE_PLAIN
     recorded = _recorded(mode)
     per_vertex = 32 + (8 if recorded else 0) + (32 if transform else 0)
-    per_edge = (4 * _setup.REC_FIELDS if recorded else 0) + (0 if plain or not recorded else 8 * _setup.TERM_FIELDS)
+    per_edge = 4 * _setup.REC_FIELDS if recorded else 0
     blocks = 4 * _setup.BLOCK_FIELDS * _setup.n_blocks(n_edges) if recorded else 0
     if plain and n_edges >= SPATIAL_ORDER_EDGES:  # the edges in a spatial order (kept) and their sort
         per_edge, per_vertex = per_edge + 40, per_vertex + 56
@@ -132,8 +132,7 @@ def scratch(n_vertices, n_edges, n_pixels, mode, take=_memory.take):
                                 take((n_vertices if recorded else 0,), np.int64),
                                 take((_setup.REC_FIELDS, n_edges if recorded else 0), np.int32),
                                 take((_setup.BLOCK_FIELDS, _setup.n_blocks(n_edges) if recorded else 0), np.int32),
-                                take((n_pixels if plain else 0,), np.uint8),
-                                take((_setup.TERM_FIELDS, n_edges if recorded and not plain else 0), np.float64))
+                                take((n_pixels if plain else 0,), np.uint8))
 
 
 def _recorded(mode) -> bool:
@@ -179,8 +178,6 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
     if recorded:  # the work of its records (and of clearing and painting rows) in the balance
         run_workers(_setup.plain_setup, pixels, edges, width, height, memory.recs, memory.blocks, counts,
                     threads=threads)
-        if not plain:
-            run_workers(_setup.depth_terms, proj, edges, memory.recs, memory.terms, threads=threads)
     bounds = _setup.balanced_bands(_setup.band_work(counts, _setup.ROW_WORK if plain else 0, height), n_bands, height)
     if plain:  # a kernel of its own: a wireframe compiles nothing of the other modes
         dropped = run_workers(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,

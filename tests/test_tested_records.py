@@ -1,5 +1,5 @@
-"""Depth-tested edges stepped from their records (rasterkit.kernels.edge_setup.depth_terms,
-rasterkit.kernels.edges._band_depth_tested) against the general path alone, which clips and
+"""Depth-tested edges stepped from their records (rasterkit.kernels.edges._band_depth_tested,
+_depth_terms) against the general path alone, which clips and
 sets up every edge in every band: the same pixels, to the bit, for edges in every direction,
 edges within one pixel whose real ends point the other way than their integer ones, edges
 crossing the bands' edges, and edges leaving the image."""
@@ -27,8 +27,7 @@ def _general_only(clip, edges, depth, bias, bounds):
     run_workers(edge_setup.project_vertices, clip, proj, np.empty(0, np.int64), W, H, counts, _edges._NO_POINTS,
                 _edges._NO_MATRIX, threads=1)
     none = EdgeScratch(proj, np.empty(0, np.int64), np.empty((edge_setup.REC_FIELDS, 0), np.int32),
-                       np.empty((edge_setup.BLOCK_FIELDS, 0), np.int32), np.empty(0, np.uint8),
-                       np.empty((edge_setup.TERM_FIELDS, 0)))
+                       np.empty((edge_setup.BLOCK_FIELDS, 0), np.int32), np.empty(0, np.uint8))
     run_workers(edge_kernels.draw_edge_bands, color, depth, clip, edges, RGBA, MODE_DEPTH_TEST, bias,
                 np.asarray(bounds, np.int64), np.zeros(3, np.uint8), none, threads=1)
     return color

@@ -211,66 +211,6 @@ def plain_setup(slot, counter, pixels, edges, width, height, recs, blocks, work)
         _count_work(recs, first * BLOCK, min(last * BLOCK, m), work[ch])
 
 
-#: Rows of the depth terms of :func:`depth_terms`, each (E,) float64: the first pixel's major
-#: coordinate (an integer), the start's real major coordinate, the real major length, the
-#: start's depth and the depth's slope per unit of the major axis.
-TERM_U0, TERM_U0F, TERM_DU, TERM_Z0, TERM_GZ = range(5)
-TERM_FIELDS = 5
-
-
-@kernel
-def depth_terms(slot, counter, proj, edges, recs, terms):
-    """The depth terms (``terms``, (TERM_FIELDS, E) float64) of the edges that have a record
-    of :func:`plain_setup` (rows >= 0; the others' terms are meaningless), for depth-tested
-    edges stepped from their records: what :func:`rasterkit.kernels.edges._bresenham_start`
-    works out per band from the ends ``proj`` (:func:`project_vertices`), the same
-    operations on the same values, so the depth tested at each pixel is the same to the bit.
-    The direction of the depth terms is decided on the real ends, as there; it differs from
-    the record's (integer) one only for an edge within one pixel, whose single pixel is the
-    same either way. In blocks of ``BLOCK`` edges: the ends gathered first, then the
-    arithmetic without a branch (vectorised). A worker like :func:`plain_setup`."""
-    m = edges.shape[0]
-    nb = (m + BLOCK - 1) // BLOCK
-    ends = np.empty((7, BLOCK))
-    while True:  # claim the next piece until none is left
-        ch = fetch_add(counter, 0, 1)
-        if ch >= SETUP_CHUNKS:
-            break
-        for b in range(nb * ch // SETUP_CHUNKS, nb * (ch + 1) // SETUP_CHUNKS):
-            start = b * BLOCK
-            count = min(BLOCK, m - start)
-            for k in range(count):
-                i, j = edges[start + k, 0], edges[start + k, 1]
-                ends[0, k], ends[1, k], ends[2, k] = proj[i, 0], proj[i, 1], proj[i, 2]
-                ends[3, k], ends[4, k], ends[5, k] = proj[j, 0], proj[j, 1], proj[j, 2]
-                ends[6, k] = (np.int64(recs[REC_STEPS, start + k]) >> 30) & 1
-            _terms_block(ends, count, terms, start)
-
-
-@kernel(inline="always")
-def _terms_block(ends, count, terms, offset):
-    """:func:`depth_terms` of edges ``offset .. offset + count - 1`` from their gathered ends
-    (rows x0, y0, z0, x1, y1, z1 and the steep bit), with selects for branches."""
-    for k in range(np.uint64(count)):
-        x0, y0, z0, x1, y1, z1 = ends[0, k], ends[1, k], ends[2, k], ends[3, k], ends[4, k], ends[5, k]
-        steep = ends[6, k] != 0.0
-        a0 = y0 if steep else x0  # the ends' major coordinates
-        a1 = y1 if steep else x1
-        swap = a1 < a0
-        u0f = a1 if swap else a0
-        u1f = a0 if swap else a1
-        zs = z1 if swap else z0
-        ze = z0 if swap else z1
-        du = u1f - u0f
-        gz = (ze - zs) / du
-        u = np.uint64(offset) + k
-        terms[TERM_U0, u] = math.floor(u0f)
-        terms[TERM_U0F, u] = u0f
-        terms[TERM_DU, u] = du
-        terms[TERM_Z0, u] = zs
-        terms[TERM_GZ, u] = gz if du > 0.0 else 0.0
-
-
 @kernel
 def _setup_block(first, second, count, width, pix, steps, rows, offset):
     """Records ``offset .. offset + count - 1`` of :func:`plain_setup` from the end pixels

@@ -25,7 +25,7 @@ from rasterkit._jit import kernel
 from rasterkit.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
 from rasterkit.kernels.clip import project_segment
 from rasterkit.kernels.edge_setup import (BLOCK, BLOCK_GENERAL, BLOCK_HI, BLOCK_LO, REC_PIX, REC_ROWS,
-                                          REC_STEPS, TERM_DU, TERM_GZ, TERM_U0, TERM_U0F, TERM_Z0)
+                                          REC_STEPS)
 from rasterkit.kernels.intrinsics import fetch_add
 from rasterkit.kernels.line import minor_steps, put_pixel, step_line, step_mask, step_range, tie_offset
 from rasterkit.kernels.paint import paint_marked, paint_tables
@@ -40,9 +40,8 @@ DROPPED_BAND = 0
 #: from :func:`rasterkit.kernels.edge_setup.project_vertices`; for plain and depth-tested
 #: edges ``pixels`` (N,) int64, ``recs`` (REC_FIELDS, E) int32 and ``blocks`` (BLOCK_FIELDS,
 #: B) int32 from :func:`rasterkit.kernels.edge_setup.plain_setup`; for plain edges ``mask``
-#: (H * W,) uint8, the bands' byte masks; for depth-tested ones ``terms`` (TERM_FIELDS, E)
-#: float64 from :func:`rasterkit.kernels.edge_setup.depth_terms` (empty arrays otherwise).
-EdgeScratch = namedtuple("EdgeScratch", "proj pixels recs blocks mask terms")
+#: (H * W,) uint8, the bands' byte masks (empty arrays otherwise).
+EdgeScratch = namedtuple("EdgeScratch", "proj pixels recs blocks mask")
 
 
 @kernel(inline="always")
@@ -212,11 +211,11 @@ def _band_wire(cflat, width, channels, rgba, clip, proj, edges, recs, blocks, yl
 
 
 @kernel(refcounts=False)
-def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, blocks, terms, ylo, yhi, bias):
+def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi, bias):
     """Depth-tested edges' parts in rows ``ylo .. yhi`` (Bresenham); returns the number of
     dropped edges. With records (``recs`` and ``blocks`` of
-    :func:`rasterkit.kernels.edge_setup.plain_setup`, ``terms`` of its ``depth_terms``) an
-    edge inside the image is stepped from its record with its depth terms, the blocks
+    :func:`rasterkit.kernels.edge_setup.plain_setup`) an edge inside the image is stepped
+    from its record with its depth terms (:func:`_depth_terms`), the blocks
     outside the band skipped, as :func:`_band_wire` does; the others (all of them without
     records) take the general path."""
     dropped = 0
@@ -241,10 +240,9 @@ def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, r
                 if (rows >> 16) < ylo or (rows & 0xFFFF) > yhi:
                     continue
             pix, count, r, two_a, two_n, ustride, vstride = _record_steps(width, recs, e)
+            u, u0f, du, z0, gz = _depth_terms(proj, edges, recs, e)
             # the pixels of the band only (all of them for a record wholly inside it)
             plo, phi = ylo * width, (yhi + 1) * width
-            u = np.int64(terms[TERM_U0, e])
-            u0f, du, z0, gz = terms[TERM_U0F, e], terms[TERM_DU, e], terms[TERM_Z0, e], terms[TERM_GZ, e]
             for t in range(count):
                 if plo <= pix < phi and depth_at(u + t, u0f, du, z0, gz) - bias <= dflat[pix]:
                     put_pixel(cflat, pix, channels, rgba)
@@ -253,6 +251,25 @@ def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, r
                 r -= two_n if step else 0
                 pix += ustride + (vstride if step else 0)
     return dropped
+
+
+@kernel(inline="always")
+def _depth_terms(proj, edges, recs, e):
+    """``(u0, u0f, du, z0, gz)`` of record ``e`` (:func:`_bresenham_start`'s depth terms):
+    the same operations on the same ends ``proj``, so the depth tested at each pixel is the
+    same to the bit. The direction is decided on the real ends, as there; it differs from
+    the record's (integer) one only for an edge within one pixel, whose single pixel is the
+    same either way. (Made here, once per edge and band that draws it, not in a pass of its
+    own: as fast, and nothing more to compile and keep.)"""
+    i, j = edges[e, 0], edges[e, 1]
+    steep = ((np.int64(recs[REC_STEPS, e]) >> 30) & 1) == 1
+    axis = 1 if steep else 0
+    swap = proj[j, axis] < proj[i, axis]
+    start, end = (j, i) if swap else (i, j)
+    u0f, u1f = proj[start, axis], proj[end, axis]
+    z0, z1 = proj[start, 2], proj[end, 2]
+    du = u1f - u0f
+    return np.int64(math.floor(u0f)), u0f, du, z0, (z1 - z0) / du if du > 0.0 else 0.0
 
 
 @kernel(refcounts=False)
@@ -398,7 +415,7 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
         if band < 0:
             break
         lost = _band_depth_tested(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, scratch.recs,
-                                  scratch.blocks, scratch.terms, ylo, yhi, bias)
+                                  scratch.blocks, ylo, yhi, bias)
         if band == DROPPED_BAND:
             dropped = lost
     return dropped
