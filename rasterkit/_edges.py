@@ -14,6 +14,7 @@ from rasterkit import _jit, _memory
 from rasterkit._jit import readonly, run_workers
 from rasterkit.kernels import edge_setup as _setup
 from rasterkit.kernels import edges as _kernels
+from rasterkit.kernels import edges_tested as _tested
 from rasterkit.kernels import edges_wu as _wu
 
 #: Fewer edges than this are drawn by the calling thread alone: handing work to another
@@ -144,7 +145,7 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
                threads=None, memory=None, transform=None) -> int:
     """Draw the edges ``edges`` (E, 2) int64 of the vertices ``clip`` (N, 4) float64
     (homogeneous raster space) into ``color`` (H, W, C) uint8 with ``rgba`` (C,) uint8, as
-    :func:`rasterkit.kernels.edges.draw_edge_bands` describes; ``depth`` (H, W) float32 is
+    :func:`rasterkit.kernels.edges_tested.draw_edge_bands` describes; ``depth`` (H, W) float32 is
     read in ``MODE_DEPTH_TEST`` only (anything, e.g. an empty array, otherwise).
     ``background`` (C,) uint8 clears the colour buffer first.
 
@@ -183,7 +184,7 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
         dropped = run_workers(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,
                             threads=threads)
     else:
-        worker = _wu.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _kernels.draw_edge_bands
+        worker = _wu.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _tested.draw_edge_bands
         dropped = run_workers(worker, color, depth if depth is not None else _NO_DEPTH, clip, edges, rgba, mode, bias,
                             bounds, background, memory, threads=threads)
     return max(dropped)

@@ -1,4 +1,4 @@
-"""Depth-tested edges stepped from their records (rasterkit.kernels.edges._band_depth_tested,
+"""Depth-tested edges stepped from their records (rasterkit.kernels.edges_tested._band_depth_tested,
 _depth_terms) against the general path alone, which clips and
 sets up every edge in every band: the same pixels, to the bit, for edges in every direction,
 edges within one pixel whose real ends point the other way than their integer ones, edges
@@ -11,7 +11,7 @@ import pytest
 
 from rasterkit import _edges
 from rasterkit._jit import run_workers
-from rasterkit.kernels import edge_setup, edges as edge_kernels
+from rasterkit.kernels import edge_setup, edges_tested
 from rasterkit.kernels.edges import MODE_DEPTH_TEST, EdgeScratch
 
 H, W = 61, 83
@@ -28,7 +28,7 @@ def _general_only(clip, edges, depth, bias, bounds):
                 _edges._NO_MATRIX, threads=1)
     none = EdgeScratch(proj, np.empty(0, np.int64), np.empty((edge_setup.REC_FIELDS, 0), np.int32),
                        np.empty((edge_setup.BLOCK_FIELDS, 0), np.int32), np.empty(0, np.uint8))
-    run_workers(edge_kernels.draw_edge_bands, color, depth, clip, edges, RGBA, MODE_DEPTH_TEST, bias,
+    run_workers(edges_tested.draw_edge_bands, color, depth, clip, edges, RGBA, MODE_DEPTH_TEST, bias,
                 np.asarray(bounds, np.int64), np.zeros(3, np.uint8), none, threads=1)
     return color
 

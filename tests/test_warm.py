@@ -106,7 +106,7 @@ def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path)
     # The setup, binning and edge workers went through run_parallel's hook: not compiled.
     for module, function in [("setup", "setup_faces"), ("setup", "setup_vertices"), ("setup", "_setup_chunk"),
                              ("tiles", "bin_records"), ("fans", "setup_cut_faces"),
-                             ("edges", "draw_edge_bands"), ("edges", "draw_wire_bands")]:
+                             ("edges_tested", "draw_edge_bands"), ("edges", "draw_wire_bands")]:
         assert not _kernel_indexes(cache, module, function), _indexes(cache)
     assert not [name for name in _indexes(cache) if "setup_" in name], _indexes(cache)
 

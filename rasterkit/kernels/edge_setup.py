@@ -168,7 +168,7 @@ def plain_setup(slot, counter, pixels, edges, width, height, recs, blocks, work)
     An edge whose two ends have a pixel in ``pixels`` (:func:`project_vertices`) lies
     inside the image with its whole integer line; its record (column ``e`` of ``recs``,
     (REC_FIELDS, E) int32) gets the loop state that the general path
-    (:func:`rasterkit.kernels.edges._bresenham_start`) would start from: the first pixel
+    (:func:`rasterkit.kernels.edges.bresenham_start`) would start from: the first pixel
     (index into the flattened image), ``n`` and ``a = |dv|`` with
     two bits (steep; minor steps go negative), and the rows ``jlo <= jhi`` it spans.
     Every other edge gets rows -1 and is drawn by the general path. ``blocks``

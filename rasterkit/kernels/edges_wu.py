@@ -90,7 +90,7 @@ def _band_antialiased(cflat, dflat, width, channels, rgba, clip, proj, edges, yl
 @kernel
 def draw_antialiased_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, bounds, background,
                            scratch):
-    """:func:`rasterkit.kernels.edges.draw_edge_bands` for anti-aliased edges (``MODE_ANTIALIAS``, depth-tested
+    """:func:`rasterkit.kernels.edges_tested.draw_edge_bands` for anti-aliased edges (``MODE_ANTIALIAS``, depth-tested
     with ``MODE_DEPTH_TEST``): Xiaolin Wu's lines, compiled apart so that the other modes
     compile none of them."""
     proj = scratch.proj
