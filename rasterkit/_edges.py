@@ -75,9 +75,9 @@ def _finite_rows(vertices) -> np.ndarray:
     """The vertices without a NaN or infinite coordinate (all of them, not copied, in the
     usual case; a coordinate sum beyond float64 counts as not finite: only the grid's bounds
     depend on it)."""
-    with np.errstate(invalid="ignore", over="ignore"):
-        finite = np.isfinite(vertices[:, 0] + vertices[:, 1] + vertices[:, 2])  # columns: ten times
-    return vertices if finite.all() else vertices[finite]                      # NumPy's axis=1 sum
+    with np.errstate(invalid="ignore", over="ignore"):  # columns: ten times NumPy's axis=1 sum
+        finite = np.isfinite(vertices[:, 0] + vertices[:, 1] + vertices[:, 2])
+    return vertices if finite.all() else vertices[finite]
 
 
 def _bounds(points) -> tuple[np.ndarray, np.ndarray]:

@@ -212,7 +212,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         options = replace(options, maps=maps_record(camera.height, camera.width, mesh, camera,
                                                     camera.world_to_raster(), options.shading if normals else None,
                                                     object_faces, camera_depth))
-    if samples == 1 and vignette == 0.0:
+    if one_sample:
         fb = _frame(mesh, camera, options, background, ids or normals)
     else:
         fb = _accumulate.render_samples(camera, samples, vignette, background, ids or normals,

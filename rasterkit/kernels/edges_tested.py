@@ -39,17 +39,13 @@ def _draw_bresenham_tested(cflat, dflat, width, channels, rgba, seg, ylo, yhi, b
 @kernel(refcounts=False)
 def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi, bias):
     """Depth-tested edges' parts in rows ``ylo .. yhi`` (Bresenham); returns the number of
-    dropped edges. With records (``recs`` and ``blocks`` of
+    dropped edges. From the records (``recs`` and ``blocks`` of
     :func:`rasterkit.kernels.edge_setup.plain_setup`) an edge inside the image is stepped
-    from its record with its depth terms (:func:`_depth_terms`), the blocks
-    outside the band skipped, as :func:`_band_wire` does; the others (all of them without
-    records) take the general path."""
+    from its record with its depth terms (:func:`_depth_terms`), the blocks outside the band
+    skipped, as :func:`rasterkit.kernels.edges._band_wire` does; the others (rows -1) take
+    the general path."""
     dropped = 0
     m = edges.shape[0]
-    if recs.shape[1] != m:  # no records: every edge by the general path
-        for e in range(m):
-            dropped += _tested_segment(cflat, dflat, width, channels, rgba, clip, proj, edges, e, ylo, yhi, bias)
-        return dropped
     for b in range(blocks.shape[1]):
         outside, inside = block_in_band(blocks, b, ylo, yhi)
         if outside:
