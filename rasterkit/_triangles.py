@@ -164,6 +164,9 @@ _NO_NORMALS = readonly(np.zeros((0, 3), np.float32))
 _NO_BASE = readonly(np.zeros((1, 3), np.float32))
 _NO_LIGHT = readonly(np.zeros(3))
 _NO_BYTES = np.empty(0, np.uint8)
+#: The vertex pass's (points, matrix) when ``clip`` is given (read-only, as a Mesh's
+#: vertices: one compiled signature for both)
+_NO_TRANSFORM = (readonly(np.zeros((0, 3))), readonly(np.zeros((4, 4))))
 _NO_PATTERN = readonly(np.empty(0, np.uint8))
 
 
@@ -201,9 +204,10 @@ def _pattern(background: bytes) -> np.ndarray:
 
 
 
-def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads):
+def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads, transform=None):
     """Vertex pass, face pass and (when needed) the cut faces' fans; binning counted.
-    ``pad``: the boxes' padding (:func:`rasterkit.kernels.setup.setup_triangle`).
+    ``pad``: the boxes' padding (:func:`rasterkit.kernels.setup.setup_triangle`);
+    ``transform``: None, or ``(points, matrix)`` that the vertex pass makes ``clip`` from.
 
     Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts, listed)`` for
     :func:`rasterkit.kernels.tiles.bin_records` and the resolve; ``counts`` (N_STATUS + 1,)
@@ -212,7 +216,8 @@ def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads):
     n, m = clip.shape[0], faces.shape[0]
     corners = ws.reserve("corners", (n, 4), np.int32)
     depths = corners.view(np.float32)  # the same rows: z as float32
-    run_workers(setup_vertices, clip, width, height, pad, corners, depths, threads=threads)
+    points, matrix = _NO_TRANSFORM if transform is None else (readonly(transform[0]), readonly(transform[1]))
+    run_workers(setup_vertices, clip, width, height, pad, corners, depths, points, matrix, threads=threads)
     tri_xy, tri_z, tri_box = _records(ws, m)
     cut_mask, n_fan = ws.reserve("cut_mask", (m,), np.int8), ws.reserve("n_fan", (m,), np.int8)
     band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
@@ -265,11 +270,13 @@ class Prepared(NamedTuple):
 
 
 def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, height, color, ids, threads,
-            lighting=None, padded=False) -> Prepared:
+            lighting=None, padded=False, transform=None) -> Prepared:
     """Vertex pass, face pass, fans, bins, polygon offset and the smooth colours' terms of
     a :func:`draw_triangles` (its arguments; ``color`` and ``ids``: whether colours and
     face ids will be drawn). ``padded``: boxes padded by a pixel, for drawing at sample
-    points other than the pixel centres."""
+    points other than the pixel centres. ``transform``: None, or ``(points, matrix)``
+    ((N, 3) and (4, 4) float64, C-contiguous) that the vertex pass turns into ``clip``
+    (N, 4), written here."""
     ws = WORKSPACE
     faces = readonly(faces)  # as a Mesh's: one compiled kernel for both
     m = faces.shape[0]
@@ -283,7 +290,7 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
     setup_threads = 1 if m < _PARALLEL_FACES else threads
     ws.generation += 1
     records, n_fan, fan_start, fan_face, band_counts, counts, listed = _set_up(
-        ws, clip, faces, width, height, CULL_CODES[cull], int(padded), lit, setup_threads
+        ws, clip, faces, width, height, CULL_CODES[cull], int(padded), lit, setup_threads, transform
     )
     band_start = bin_cursors(band_counts)
     items = ws.reserve("items", (int(band_start[-1]),), np.int32)
@@ -369,7 +376,7 @@ def average_prepared(prepared: Prepared, color, background, offsets, *, threads)
 
 
 def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,
-                   threads, lighting=None, maps=None) -> dict:
+                   threads, lighting=None, maps=None, transform=None) -> dict:
     """Draw the triangles ``faces`` (M, 3) int64 of the vertices ``clip`` (N, 4) float64
     (homogeneous raster space) as :func:`rasterkit.triangles.rasterize_triangles` describes.
 
@@ -378,11 +385,13 @@ def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, c
     packed (M,) uint32) or ``lighting`` (a :class:`Lighting`, colours made by the face
     pass). ``cull`` is a name of :data:`CULL_CODES`, ``background`` (C,) uint8 or None,
     ``offset`` ``(factor, units)`` floats; ``threads`` draw the bands (the setup passes of
-    a few faces run on one); ``maps``: as :func:`draw_prepared`. Returns the counts of
+    a few faces run on one); ``maps``: as :func:`draw_prepared`; ``transform``: as
+    :func:`prepare`. Returns the counts of
     :class:`rasterkit.triangles.TriangleStats`, by field name.
     """
     height, width = (depth if depth is not None else color).shape[:2]
     prepared = prepare(clip, faces, face_colors, vertex_colors, cull, offset, width=width, height=height,
-                       color=color is not None, ids=ids is not None, threads=threads, lighting=lighting)
+                       color=color is not None, ids=ids is not None, threads=threads, lighting=lighting,
+                       transform=transform)
     fragments = draw_prepared(prepared, color, depth, ids, background, threads=threads, maps=maps)
     return dict(prepared.stats, fragments=fragments)

@@ -273,8 +273,12 @@ def _draw_frame(mesh: Mesh, options: _Options, fb: Framebuffer, matrix: np.ndarr
         _draw_edges(fb, mesh, None, options, depth_test=False, clear=True,
                     transform=(mesh.vertices, matrix))
     else:
-        clip = None if shared is not None and options.mode == "solid" else transform_points(mesh.vertices, matrix)
-        _draw_triangles(fb, mesh, clip, options, shared)
+        if shared is not None:  # set up once: the edges alone need the vertices transformed
+            clip = None if options.mode == "solid" else transform_points(mesh.vertices, matrix)
+            transform = None
+        else:  # the triangles' vertex pass transforms them (one pass over the vertices less)
+            clip, transform = np.empty((len(mesh.vertices), 4)), (mesh.vertices, matrix)
+        _draw_triangles(fb, mesh, clip, options, shared, transform)
         if options.mode != "solid":
             _draw_edges(fb, mesh, clip, options, depth_test=True, clear=options.mode == "hidden")
     if options.points is not None:
@@ -326,8 +330,10 @@ def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha:
     return total
 
 
-def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, options: _Options, shared=None) -> None:
-    """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer."""
+def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, options: _Options, shared=None,
+                    transform=None) -> None:
+    """Solid modes shade and draw the faces; hidden-line mode only fills the depth buffer.
+    ``transform``: ``(vertices, matrix)`` that the vertex pass writes into ``clip``."""
     if shared is not None:  # a sample of a pinhole render: the faces are set up
         triangles, sample = shared
         hidden = options.mode == "hidden"
@@ -338,7 +344,7 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, option
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     if options.mode == "hidden":  # the colour buffer is cleared by the edge pass
         _rasterize(None, fb.uncleared_depth(), clip, mesh.faces, None, None, fb.ids, options.cull, (), offset, None,
-                   maps=options.maps)
+                   maps=options.maps, transform=transform)
         return
     face_colors, vertex_colors = shade(mesh, options)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
@@ -348,7 +354,7 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, option
     else:
         depth = fb.uncleared_depth()
     _rasterize(fb.color, depth, clip, mesh.faces, face_colors, vertex_colors, fb.ids, options.cull, background, offset,
-               None, maps=options.maps)
+               None, maps=options.maps, transform=transform)
 
 
 def _depth_pass(clip, faces, cull, depth):

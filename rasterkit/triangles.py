@@ -313,9 +313,11 @@ def rasterize_triangles(
 
 
 def _rasterize(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, clear, depth_offset, threads,
-               maps=None) -> dict:
-    """:func:`rasterize_triangles`'s checks and draw, returning its counts by name; ``maps``:
-    a vision render's (:func:`rasterkit._triangles.draw_prepared`), for :func:`rasterkit.render`."""
+               maps=None, transform=None) -> dict:
+    """:func:`rasterize_triangles`'s checks and draw, returning its counts by name, for
+    :func:`rasterkit.render`: ``maps``, a vision render's
+    (:func:`rasterkit._triangles.draw_prepared`); ``transform``, ``(points, matrix)``
+    that the vertex pass makes ``clip`` from (:func:`rasterkit._triangles.prepare`)."""
     if depth is not None:
         _check_depth(depth)
         height, width = depth.shape
@@ -342,7 +344,7 @@ def _rasterize(color, depth, clip, faces, face_colors, vertex_colors, ids, cull,
     offset = _depth_offset(depth_offset)
     background = _background(clear, color)
     return draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset,
-                          threads=_threads(threads), lighting=lighting, maps=maps)
+                          threads=_threads(threads), lighting=lighting, maps=maps, transform=transform)
 
 
 def _depth_offset(value):

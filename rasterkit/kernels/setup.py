@@ -45,6 +45,7 @@ from rasterkit.kernels.clip import (
 from rasterkit.kernels.cull import is_culled
 from rasterkit.kernels.intrinsics import fetch_add, prefetch_row
 from rasterkit.kernels.shade import flat_colors
+from rasterkit.kernels.vertex import transform_row
 
 SUBPIXEL_BITS = 8
 ONE = 1 << SUBPIXEL_BITS
@@ -164,10 +165,13 @@ _V_CODE, _V_X, _V_Y, _V_Z = range(4)
 
 
 @kernel(refcounts=False)
-def _setup_vertex_chunk(ch, clip, width, height, keep, corners, depths):
+def _setup_vertex_chunk(ch, clip, width, height, keep, corners, depths, points, matrix):
     """:func:`setup_vertices` for the vertices of chunk ``ch``."""
     start, stop = chunk_range(clip.shape[0], ch)
+    transform = points.shape[0] > 0
     for i in range(np.uint64(start), np.uint64(stop)):
+        if transform:
+            transform_row(points, matrix, clip, i)
         code = vertex_code(clip[i, 0], clip[i, 1], clip[i, 2], clip[i, 3], width, height) & keep
         corners[i, _V_CODE] = code
         if code & CUT_MASK or code & (NONFINITE_BIT | DEGENERATE_BIT):
@@ -178,8 +182,9 @@ def _setup_vertex_chunk(ch, clip, width, height, keep, corners, depths):
 
 
 @kernel
-def setup_vertices(slot, counter, clip, width, height, pad, corners, depths):
-    """Vertex pass: classify every vertex once and, where it is safe, project and snap it.
+def setup_vertices(slot, counter, clip, width, height, pad, corners, depths, points, matrix):
+    """Vertex pass: classify every vertex once and, where it is safe, project and snap it;
+    with ``points``, transform them into ``clip`` first.
 
     A vertex is shared by about six faces of a closed mesh, so doing this per vertex and
     not per face corner saves most of the setup work.
@@ -187,7 +192,7 @@ def setup_vertices(slot, counter, clip, width, height, pad, corners, depths):
     Parameters
     ----------
     clip : (N, 4) float64
-        Homogeneous raster coordinates.
+        Homogeneous raster coordinates: in, or out when ``points`` are given.
     width, height : int
         Image size.
     pad : int
@@ -203,6 +208,11 @@ def setup_vertices(slot, counter, clip, width, height, pad, corners, depths):
     depths : (N, 4) float32
         The same memory as ``corners`` seen as float32: out, column ``_V_Z`` the depth
         ``zh / w`` of the same vertices.
+    points, matrix : (N, 3) and (4, 4) float64
+        Object-space points and the object -> raster matrix: ``clip[i]`` is made here as
+        :func:`rasterkit.kernels.vertex.transform_row` makes it (one pass over the
+        vertices and one hand-off less than a transform of its own); ``points`` (0, 3):
+        ``clip`` is given.
 
     A worker of :func:`rasterkit._jit.run_parallel`: ``slot`` is unused, the N_CHUNKS
     chunks are claimed through ``counter``.
@@ -211,7 +221,7 @@ def setup_vertices(slot, counter, clip, width, height, pad, corners, depths):
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        _setup_vertex_chunk(ch, clip, width, height, ~VIEW_MASK if pad else ~0, corners, depths)
+        _setup_vertex_chunk(ch, clip, width, height, ~VIEW_MASK if pad else ~0, corners, depths, points, matrix)
 
 
 @kernel(inline="always")
