@@ -67,6 +67,18 @@ def clip_edge(p, q):
     arithmetic). Returns ``None`` when nothing is left, else ``(a, b, moved)``: the exact
     raster-space ends ``(x, y, z)`` and, per end, whether it differs from the input vertex.
     """
+    kept = _clip_homogeneous(p, q)
+    if kept is None:
+        return None
+    a, b, moved = kept
+    if not (a[3] > 0 and b[3] > 0):
+        return None
+    return tuple(c / a[3] for c in a[:3]), tuple(c / b[3] for c in b[:3]), moved
+
+
+def _clip_homogeneous(p, q):
+    """The Liang-Barsky part of :func:`clip_edge`: ``(a, b, moved)`` with the ends still
+    homogeneous (exact), or None."""
     p, q = [Fraction(c) for c in p], [Fraction(c) for c in q]
     g = Fraction(GUARD_BAND)
 
@@ -86,9 +98,7 @@ def clip_edge(p, q):
         return None
     a = [pi + t0 * (qi - pi) for pi, qi in zip(p, q)]
     b = [pi + t1 * (qi - pi) for pi, qi in zip(p, q)]
-    if not (a[3] > 0 and b[3] > 0):
-        return None
-    return tuple(c / a[3] for c in a[:3]), tuple(c / b[3] for c in b[:3]), (t0 > 0, t1 < 1)
+    return a, b, (t0 > 0, t1 < 1)
 
 
 def is_usable(v) -> bool:
@@ -202,6 +212,12 @@ def ambiguous_edge(p, q, antialias: bool = False) -> bool:
     """
     if not (is_usable(p) and is_usable(q)):
         return False
+    kept = _clip_homogeneous(p, q)
+    if kept is not None and (kept[0][3] == 0 or kept[1][3] == 0):
+        # what is left reaches the eye's plane (w = 0), where the divide is undefined: all of
+        # it may be one point (an end on the near plane at the eye's x, y), which the exact
+        # clip drops and the kernel's float clip may keep as a pixel
+        return True
     clipped = clip_edge(p, q)
     if clipped is None:
         return False

@@ -547,3 +547,14 @@ def test_lines_accepts_pairs_floats_rgba_and_skips_nan():
         rasterkit.draw.lines(np.zeros((8, 8, 3), np.uint8), [[0, 0, 1]])
     with pytest.raises(ValueError):
         rasterkit.draw.lines(np.zeros((8, 8, 3), np.uint8)[:, ::2], [[0, 0, 1, 1]])
+
+
+def test_an_edge_whose_visible_part_reaches_the_eyes_plane_is_left_to_the_kernel():
+    """Found by the property test above: an end on the near plane at the eye's x, y and one
+    behind the eye keep, exactly, one point and the eye's plane (w = 0), which the exact clip
+    drops and the kernel's float clip keeps as a pixel; the comparison leaves such edges out,
+    and only such."""
+    p, behind = np.array([0.0, 0.0, 0.0, 1.0]), np.array([0.0, 0.0, 0.0, -0.5])
+    assert ambiguous_edge(p, behind)
+    assert not ambiguous_edge(p, np.array([3.0, 2.0, 0.5, 1.0]))
+    assert not ambiguous_edge(np.array([3.3, 2.2, 0.5, 1.0]), np.array([3.3, 2.2, 0.5, -1.0]))  # cut at w = 0.5
