@@ -21,7 +21,9 @@ What the samples share
     offset, which is exactly the draw of the vertices moved by the offset. A solid RGB
     render without points draws every sample of a band in turn and averages them there, in
     one pass over the bands, with no frame per sample at all
-    (:mod:`rasterkit.kernels.sample_bands`). The hidden and solid+wire modes draw each sample
+    (:mod:`rasterkit.kernels.sample_bands`), and makes the pixels where the samples saw one
+    face and the background, or that one face's outline crosses, exact: the face's share of
+    the pixel (:mod:`rasterkit.kernels.coverage`); so does a transparent one (its alpha). The hidden and solid+wire modes draw each sample
     into one reused scratch framebuffer (the faces from the shared setup, the edges and
     points through the sample's matrix: they are not shared) and add its colours into the
     sums (:mod:`rasterkit.kernels.accumulate`); so do wireframes (no faces to share) and RGBA
@@ -47,6 +49,12 @@ from .framebuffer import Framebuffer, buffer_bytes
 from .samples import _check as _check_samples, lens_points, pixel_offsets
 
 __all__ = ["check", "extra_bytes", "grid_offsets", "pinhole", "render_samples"]
+
+
+#: Whether a pinhole render's one-pass average makes the pixels where the samples saw one
+#: face and the background exact (:meth:`SharedTriangles.draw_average`). Tests that compare
+#: it with the frame-per-sample path, which has no such step, turn it off.
+EXACT_COVERAGE = True
 
 
 def check(samples, vignette) -> tuple[int, float]:
@@ -120,8 +128,9 @@ def _average(fb: Framebuffer, camera, samples: int, background, draw, share) -> 
         offsets = grid_offsets(samples)
         matrices = sample_matrices(camera, offsets / 256.0, np.zeros((samples, 2)))
         setup, whole = share()
-        if whole and color.shape[2] == 3:
-            setup.draw_average(color, offsets, clear=tuple(int(c) for c in fb.background[:3]))
+        clear = tuple(int(c) for c in fb.background[: color.shape[2]])
+        if whole and (color.shape[2] == 3 or EXACT_COVERAGE and clear == (0, 0, 0, 0)):
+            setup.draw_average(color, offsets, clear=clear, exact=EXACT_COVERAGE)
             return
         draws = [partial(draw, matrix=m, shared=None if setup is None else (setup, (int(x), int(y))))
                  for m, (x, y) in zip(matrices, offsets.tolist())]

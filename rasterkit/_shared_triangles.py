@@ -50,13 +50,16 @@ class SharedTriangles:
         The image size.
     color : bool
         Whether colours are drawn (then ``face_colors`` or ``vertex_colors`` is needed).
+    neighbours : (M, 3) int32, optional
+        :func:`rasterkit.mesh.side_neighbours` of ``faces`` (a Mesh keeps them), for
+        :meth:`draw_average`; worked out there when not given.
 
     The setup lives in this thread's scratch memory (:mod:`rasterkit._triangles`): it can
     be drawn until the next draw of triangles of this thread (:meth:`draw` raises after that).
     """
 
     def __init__(self, clip, faces, *, width, height, color, face_colors=None, vertex_colors=None, cull="back",
-                 depth_offset=(0.0, 0.0), threads=None):
+                 depth_offset=(0.0, 0.0), threads=None, neighbours=None):
         _check_depth(np.empty((height, width), np.float32))  # the size
         _check_geometry(clip, faces)
         if cull not in CULL:
@@ -65,6 +68,11 @@ class SharedTriangles:
                                                         clip)
         self._threads = _threads(threads)
         self._faces = faces
+        if neighbours is not None and (not isinstance(neighbours, np.ndarray) or neighbours.dtype != np.int32
+                                       or neighbours.shape != faces.shape or neighbours.size
+                                       and not -1 <= neighbours.min() <= neighbours.max() < len(faces)):
+            raise ValueError("neighbours must be the faces' side_neighbours: (M, 3) int32 in -1..M-1")
+        self._neighbours = neighbours
         self._color = bool(color)
         self._prepared = prepare(clip, faces, face_colors, vertex_colors, cull, _depth_offset(depth_offset),
                                  width=width, height=height, color=self._color, ids=False, threads=self._threads,
@@ -101,17 +109,29 @@ class SharedTriangles:
         return draw_prepared(prepared, color, depth, None, _background(clear, color), threads=self._threads,
                              sample=(int(x), int(y)))
 
-    def draw_average(self, color, samples, *, clear) -> int:
+    def draw_average(self, color, samples, *, clear, exact=True) -> int:
         """Draw the triangles at every sample point of ``samples`` ((n, 2) integers in
         -256..256, 1/256 pixel; 1 <= n <= 256) and write the average into ``color`` (H, W,
         3) uint8, cleared to ``clear`` (3 integers) first: what :meth:`draw` of each sample
         into an image cleared to ``clear``, the images summed and divided with rounding
         (:func:`rasterkit.kernels.accumulate.average_samples`), gives, to the bit, in one pass
-        over the bands (:mod:`rasterkit.kernels.sample_bands`). Returns the fragments."""
+        over the bands (:mod:`rasterkit.kernels.sample_bands`). Returns the fragments.
+
+        With ``exact`` (the default), a pixel whose samples saw one face (not cut by a
+        clipping plane) and the background, or that holds a corner of one face and
+        nothing else, is instead the background plus the face's exact share of the pixel
+        times the face's colour (the mean of its samples) minus the background: "which
+        part of the pixel" (:mod:`rasterkit.kernels.coverage`). Then ``color`` may also be
+        (H, W, 4) with ``clear`` (0, 0, 0, 0): straight colours, the covered share as alpha
+        (as :func:`rasterkit.kernels.accumulate.average_samples_rgba` makes a transparent
+        render's average, those pixels exact)."""
         prepared = self._prepared
-        if not self._color or not isinstance(color, np.ndarray) or color.ndim != 3 or color.shape[2] != 3:
-            raise ValueError("draw_average draws colours into an (H, W, 3) uint8 image")
-        _check_buffer("color", color, np.uint8, (prepared.height, prepared.width, 3))
+        channels = 4 if exact else 3
+        if not self._color or not isinstance(color, np.ndarray) or color.ndim != 3 or color.shape[2] not in (3, channels):
+            raise ValueError("draw_average draws colours into an (H, W, 3) uint8 image (or, exact, (H, W, 4))")
+        _check_buffer("color", color, np.uint8, (prepared.height, prepared.width, color.shape[2]))
+        if color.shape[2] == 4 and tuple(clear) != (0, 0, 0, 0):
+            raise ValueError("an (H, W, 4) average is drawn on a transparent background: clear must be (0, 0, 0, 0)")
         if np.may_share_memory(self._faces, color):
             raise ValueError("faces must not share memory with color, the buffer drawn into")
         offsets = np.asarray(samples)
@@ -119,4 +139,4 @@ class SharedTriangles:
                 or not 1 <= offsets.shape[0] <= 256 or offsets.size and np.abs(offsets).max() > 256:
             raise ValueError("samples must be (n, 2) integers in -256..256 (1/256 pixel), 1 <= n <= 256")
         return average_prepared(prepared, color, _background(clear, color), offsets.astype(np.int64),
-                                threads=self._threads)
+                                threads=self._threads, exact=bool(exact), neighbours=self._neighbours)

@@ -27,6 +27,7 @@ import numpy as np
 
 from rasterkit._jit import readonly, run_workers
 from rasterkit.limits import check_memory
+from rasterkit.mesh import side_neighbours
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.kernels.fans import count_fans, setup_cut_faces
@@ -167,6 +168,7 @@ _NO_BYTES = np.empty(0, np.uint8)
 #: The vertex pass's (points, matrix) when ``clip`` is given (read-only, as a Mesh's
 #: vertices: one compiled signature for both)
 _NO_TRANSFORM = (readonly(np.zeros((0, 3))), readonly(np.zeros((4, 4))))
+_NO_NEIGHBOURS = readonly(np.zeros((0, 3), np.int32))
 _NO_PATTERN = readonly(np.empty(0, np.uint8))
 
 
@@ -209,9 +211,10 @@ def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads, transf
     ``pad``: the boxes' padding (:func:`rasterkit.kernels.setup.setup_triangle`);
     ``transform``: None, or ``(points, matrix)`` that the vertex pass makes ``clip`` from.
 
-    Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts, listed)`` for
-    :func:`rasterkit.kernels.tiles.bin_records` and the resolve; ``counts`` (N_STATUS + 1,)
-    are the faces per STATUS_* and, last, the faces cut with something left.
+    Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts, listed, corners)``
+    for :func:`rasterkit.kernels.tiles.bin_records` and the resolve; ``counts`` (N_STATUS + 1,)
+    are the faces per STATUS_* and, last, the faces cut with something left; ``corners``
+    the vertex pass's rows.
     """
     n, m = clip.shape[0], faces.shape[0]
     corners = ws.reserve("corners", (n, 4), np.int32)
@@ -242,7 +245,8 @@ def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads, transf
         fan_face = ws.reserve("fan_face", (int(fans.sum()),), np.int32)
         run_workers(setup_cut_faces, clip, faces, width, height, cull_mode, pad, fan_start, fan_face,
                     Records(tri_xy, tri_z, tri_box), cuts, counts, threads=threads)
-    return Records(tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, tally[:, :N_STATUS + 1].sum(axis=0), listed
+    counts = tally[:, :N_STATUS + 1].sum(axis=0)
+    return Records(tri_xy, tri_z, tri_box), n_fan, fan_start, fan_face, band_counts, counts, listed, corners
 
 
 def _flat_colors(ws, m, face_colors, lighting):
@@ -267,6 +271,7 @@ class Prepared(NamedTuple):
     padded: bool
     generation: int  # the workspace's at prepare: checked by draw_prepared
     stats: dict  # the counts of rasterkit.triangles.TriangleStats but fragments
+    corners: np.ndarray  # the vertex pass's (rasterkit.kernels.setup.setup_vertices)
 
 
 def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, height, color, ids, threads,
@@ -289,7 +294,7 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
     lit = _lit(lighting, packed if lighting is not None else np.empty(0, np.uint32))
     setup_threads = 1 if m < _PARALLEL_FACES else threads
     ws.generation += 1
-    records, n_fan, fan_start, fan_face, band_counts, counts, listed = _set_up(
+    records, n_fan, fan_start, fan_face, band_counts, counts, listed, corners = _set_up(
         ws, clip, faces, width, height, CULL_CODES[cull], int(padded), lit, setup_threads, transform
     )
     band_start = bin_cursors(band_counts)
@@ -314,7 +319,7 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
         clipped=int(counts[N_STATUS]),
         triangles=int(drawn.sum()),
     )
-    return Prepared(records, band_start, items, shading, width, height, bool(padded), ws.generation, stats)
+    return Prepared(records, band_start, items, shading, width, height, bool(padded), ws.generation, stats, corners)
 
 
 def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads, sample=(0, 0), maps=None) -> int:
@@ -352,12 +357,19 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
                                threads=threads)))
 
 
-def average_prepared(prepared: Prepared, color, background, offsets, *, threads) -> int:
+def average_prepared(prepared: Prepared, color, background, offsets, *, threads, exact=True, neighbours=None) -> int:
     """Draw ``prepared`` (padded, flat or smooth colours) at every sample point ``offsets``
     (n, 2) int64 (1/256 pixel, each in -256..256) and write their average into ``color``
-    (H, W, 3) uint8 on a ``background`` (3,) uint8, as :func:`draw_prepared` of each sample,
+    (H, W, 3) uint8 on a ``background`` (3,) uint8 (or, with ``exact``, (H, W, 4) on a
+    transparent black one, as :func:`rasterkit.kernels.accumulate.average_samples_rgba`
+    averages), as :func:`draw_prepared` of each sample,
     summed and divided by :func:`rasterkit.kernels.accumulate.average_samples` would, to the
-    bit (:mod:`rasterkit.kernels.sample_bands`); returns the number of fragments."""
+    bit (:mod:`rasterkit.kernels.sample_bands`); returns the number of fragments. With
+    ``exact``, the pixels whose samples saw one uncut face and the background (or that hold
+    a corner of one face and nothing else) get instead the background plus the face's exact
+    share of the pixel times its colour minus the background; ``neighbours``: the faces'
+    :func:`rasterkit.mesh.side_neighbours` (made here when None), whose sides between two
+    drawn faces cross no pixel of that kind and are not looked at."""
     from rasterkit.kernels.sample_bands import draw_sample_bands  # multi-sample renders only
 
     ws = WORKSPACE
@@ -367,11 +379,26 @@ def average_prepared(prepared: Prepared, color, background, offsets, *, threads)
     band_depth = ws.reserve("band_depth", (threads * slot_rows(width), width), np.float32)
     guard = -(-SLOT_GUARD_BYTES // (6 * width))  # rows of sums between two slots' bands
     sums = ws.reserve("sample_sums", (threads, BAND_HEIGHT + guard, width, 3), np.uint16)
+    if color.shape[2] == 4 and not (exact and int(background[3]) == 0 and not background[:3].any()):
+        raise ValueError("an RGBA average needs exact and a transparent black background")
     rgb = int(background[0]) | int(background[1]) << 8 | int(background[2]) << 16
-    samples = Samples(np.ascontiguousarray(offsets, np.int64), np.uint32(rgb), 1.0 / n, (n // 2 + 0.5) / n, sums)
+    shading = prepared.shading
+    if exact:  # each pixel's faces: the visibility rows hold faces, not colours
+        rows = BAND_HEIGHT + -(-SLOT_GUARD_BYTES // (4 * width))
+        first = ws.reserve("sample_first", (threads, rows, width), np.int32)
+        state = ws.reserve("sample_state", (threads, rows, width), np.int32)
+        if shading.mode == SHADE_TAGGED:
+            shading = shading._replace(mode=SHADE_FLAT)
+        if neighbours is None:
+            neighbours = side_neighbours(shading.faces, prepared.corners.shape[0])
+    else:
+        first = state = np.zeros((threads, 0, 0), np.int32)
+        neighbours = _NO_NEIGHBOURS
+    samples = Samples(np.ascontiguousarray(offsets, np.int64), np.uint32(rgb), 1.0 / n, (n // 2 + 0.5) / n, sums,
+                      bool(exact), first, state, prepared.corners, readonly(neighbours))
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     return int(sum(run_workers(draw_sample_bands, prepared.band_start, prepared.items, prepared.records,
-                               prepared.shading, band_depth, color, _clear_spec(background, color), samples,
+                               shading, band_depth, color, _clear_spec(background, color), samples,
                                ws.visibility(threads, width), spans, threads=threads)))
 
 

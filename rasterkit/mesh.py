@@ -73,6 +73,28 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
     return np.stack([codes // n, codes % n], axis=1)
 
 
+def side_neighbours(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(M, 3) int32: for side ``c`` of each face (corners ``c`` and ``c + 1``), the other
+    face with the same two vertices when exactly two faces have that side, else -1 (an
+    open border, a side of three faces or more, or a side whose corners are one vertex)."""
+    m = len(faces)
+    a = faces.reshape(-1)
+    b = faces[:, [1, 2, 0]].reshape(-1)
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    keys = lo * max(int(n_vertices), 1) + hi
+    keys[lo == hi] = -1 - np.arange(np.count_nonzero(lo == hi))  # each its own: no neighbour
+    order = np.argsort(keys, kind="stable")
+    same = keys[order][1:] == keys[order][:-1]
+    pair = same.copy()  # a run of exactly two equal keys
+    pair[1:] &= ~same[:-1]
+    pair[:-1] &= ~same[1:]
+    i = np.flatnonzero(pair)
+    out = np.full(3 * m, -1, np.int32)
+    out[order[i]] = order[i + 1] // 3
+    out[order[i + 1]] = order[i] // 3
+    return out.reshape(m, 3)
+
+
 def _array(a, dtype, shape_tail, name, n_rows=None):
     arr = np.ascontiguousarray(real_array(a, name, dtype))
     if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
@@ -245,6 +267,13 @@ class Mesh:
         from ._edges import spatial_edges
         self.check_intact()
         return spatial_edges(self.vertices, self.edges)
+
+    @cached_property
+    def _side_neighbours(self) -> np.ndarray:
+        """:func:`side_neighbours` of the faces, worked out on first use and kept (a
+        multi-sample render finds the sides on the outline with them)."""
+        self.check_intact()
+        return seal(side_neighbours(self.faces, len(self.vertices)))
 
     @cached_property
     def face_normals(self) -> np.ndarray:

@@ -101,8 +101,10 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         Samples per pixel, 1 to 256, averaged (rounded to the nearest level). Each sample
         sees the scene at a fixed sub-pixel offset, tuned for coverage (:mod:`rasterkit.samples`):
         anti-aliasing of faces, edges and lines. Through a pinhole the offsets (whole 1/256
-        pixels) and the faces' setup are shared by all samples (:mod:`rasterkit._accumulate`).
-        A camera with an ``aperture`` also moves each sample's eye across its lens, keeping
+        pixels) and the faces' setup are shared by all samples (:mod:`rasterkit._accumulate`);
+        in a solid render, a pixel where the samples saw one face and the background (or
+        that one face's outline crosses) gets that face's exact share of the pixel, the
+        triangle clipped to the pixel square (:mod:`rasterkit.kernels.coverage`). A camera with an ``aperture`` also moves each sample's eye across its lens, keeping
         the focus plane in place: depth of field (:mod:`rasterkit.camera.lens`), a whole
         frame per sample. 1 is one sample at the pixel centre through the pinhole (the
         aperture is then unused). The depth buffer
@@ -298,10 +300,11 @@ def _shared_setup(mesh: Mesh, camera: Camera, options: _Options):
     clip = transform_points(mesh.vertices, camera.world_to_raster())
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     face_colors, vertex_colors = shade(mesh, options) if options.mode != "hidden" else (None, None)
+    whole = options.mode == "solid" and options.points is None  # then averaged in one pass, exact on outlines
     setup = SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=options.mode != "hidden",
                             face_colors=face_colors, vertex_colors=vertex_colors, cull=options.cull,
-                            depth_offset=offset)
-    return setup, options.mode == "solid" and options.points is None
+                            depth_offset=offset, neighbours=mesh._side_neighbours if whole else None)
+    return setup, whole
 
 
 def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha: bool, ids: bool) -> int:

@@ -94,3 +94,36 @@ def test_bounding_sphere_holds_every_vertex_and_ignores_nan():
     centre, radius = mesh.bounding_sphere()
     assert np.allclose(centre, [1, 2, 0])
     assert np.all(np.linalg.norm(v[:3] - centre, axis=1) <= radius + 1e-12)
+
+
+def test_side_neighbours_pair_the_faces_of_each_side_shared_by_exactly_two():
+    """Against a brute-force count of the faces of each undirected side: a closed mesh's
+    sides all pair up (each face's neighbour has the side back); an open border, a side of
+    three faces and a side whose two corners are one vertex have none."""
+    from rasterkit.mesh import side_neighbours
+
+    def brute(faces):
+        sides = {}
+        for f, face in enumerate(faces.tolist()):
+            for c in range(3):
+                a, b = face[c], face[(c + 1) % 3]
+                if a != b:
+                    sides.setdefault(frozenset((a, b)), []).append(f)
+        out = np.full(faces.shape, -1)
+        for f, face in enumerate(faces.tolist()):
+            for c in range(3):
+                a, b = face[c], face[(c + 1) % 3]
+                owners = sides.get(frozenset((a, b)), [])
+                if a != b and len(owners) == 2:
+                    out[f, c] = owners[0] if owners[1] == f else owners[1]
+        return out
+
+    sphere = shapes.icosphere(2)
+    assert np.array_equal(side_neighbours(sphere.faces, len(sphere.vertices)), brute(sphere.faces))
+    assert (sphere._side_neighbours >= 0).all() and not sphere._side_neighbours.flags.writeable
+    fan = np.array([[0, 1, 2], [0, 2, 3], [0, 2, 4], [5, 5, 6], [2, 1, 7]])  # side 0-2 thrice
+    assert np.array_equal(side_neighbours(fan, 8), brute(fan))
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        faces = rng.integers(0, 7, (12, 3))
+        assert np.array_equal(side_neighbours(faces, 7), brute(faces))

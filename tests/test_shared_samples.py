@@ -153,10 +153,16 @@ def test_the_one_pass_average_is_the_sum_of_the_samples(smooth):
         shared.draw(color, None, sample=tuple(sample), clear=(250, 3, 128))
         total += color
     average = np.empty((H, W, 3), np.uint8)
-    shared.draw_average(average, samples, clear=(250, 3, 128))
+    shared.draw_average(average, samples, clear=(250, 3, 128), exact=False)
     n = len(samples)
     assert np.array_equal(average, (total + n // 2) // n)
     assert len(np.unique(average)) > 20
+    # exact: only pixels that the samples found partly covered, or that hold a corner, change
+    exact = np.empty((H, W, 3), np.uint8)
+    shared.draw_average(exact, samples, clear=(250, 3, 128))
+    changed = (exact != average).any(axis=2)
+    assert changed.any()
+    assert not (changed & _uniform_and_off_the_sides(samples, clip, faces)).any()
 
 
 def _parallel_scene():
@@ -166,8 +172,35 @@ def _parallel_scene():
     return mesh, camera
 
 
+def _uniform_and_off_the_sides(samples, clip, faces):
+    """Pixels whose samples all saw the same face (or none), each sample's ids drawn by a
+    full draw of the moved faces, and that no side of a face crosses (points every 1/1024
+    pixel along each side, and 1/256 pixel either way)."""
+    ids = []
+    for sample in samples:
+        ids_image = np.empty((H, W), np.int32)
+        rasterize_triangles(np.empty((H, W, 3), np.uint8), None, _moved(clip, tuple(sample)), faces,
+                            face_colors=np.zeros((len(faces), 3), np.float32), ids=ids_image, clear=(0, 0, 0),
+                            cull="back")
+        ids.append(ids_image)
+    ids = np.array(ids)
+    xy = clip[:, :2] / clip[:, 3:]
+    lo = np.stack(np.meshgrid(np.arange(W), np.arange(H)), axis=-1) - 1 / 256  # each pixel's square, grown
+    hi = lo + 1 + 2 / 256
+    crossed = np.zeros((H, W), bool)
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        for p, q in zip(xy[faces[:, a]], xy[faces[:, b]]):  # Liang-Barsky against every square
+            d = q - p
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t_lo, t_hi = (lo - p) / d, (hi - p) / d
+            enter = np.where(d == 0, np.where((lo <= p) & (p <= hi), -np.inf, np.inf), np.minimum(t_lo, t_hi))
+            leave = np.where(d == 0, np.where((lo <= p) & (p <= hi), np.inf, -np.inf), np.maximum(t_lo, t_hi))
+            crossed |= np.maximum(enter.max(axis=-1), 0.0) <= np.minimum(leave.min(axis=-1), 1.0)
+    return (ids == ids[0]).all(axis=0) & ~crossed
+
+
 @pytest.mark.parametrize("samples", [4, 16])
-def test_a_pinhole_render_averages_full_draws_at_the_rounded_sample_offsets(samples):
+def test_a_pinhole_render_averages_full_draws_at_the_rounded_sample_offsets(monkeypatch, samples):
     mesh, camera = _parallel_scene()
     from rasterkit._vertex import transform_points
 
@@ -181,6 +214,9 @@ def test_a_pinhole_render_averages_full_draws_at_the_rounded_sample_offsets(samp
         color = np.empty((H, W, 3), np.uint8)
         rasterize_triangles(color, None, _moved(clip, (sx, sy)), mesh.faces, face_colors=lambert, clear=(255, 255, 255))
         total += color
+    from rasterkit import _accumulate
+
+    monkeypatch.setattr(_accumulate, "EXACT_COVERAGE", False)  # the frames have no exact step
     fb = rasterkit.render(mesh, camera, "solid", samples=samples)
     assert np.array_equal(fb.color, (total + samples // 2) // samples)
     assert 0 < np.mean((fb.color != 255).any(axis=2)) < 1
@@ -226,6 +262,7 @@ def test_shared_renders_match_a_frame_per_sample_at_the_same_offsets(monkeypatch
         depth = np.empty((110, 150), np.float32)
         assert rasterize_triangles(None, depth, clip, mesh.faces, cull="none", clear=()).clipped > 10
     options = dict(samples=16, background=background, shading="smooth", cull="none")
+    monkeypatch.setattr(_accumulate, "EXACT_COVERAGE", False)  # the frames have no exact step
     shared = rasterkit.render(mesh, camera, mode, **options).color
     rounded = np.rint(pixel_offsets(16) * 256) / 256
     monkeypatch.setattr(_accumulate, "pinhole", lambda camera: False)

@@ -45,8 +45,13 @@ Sample = namedtuple("Sample", "x y")
 #: ``offsets`` (n, 2) int64, each sample point's offset from the pixel centres in 1/256 pixel;
 #: ``background`` the background's packed RGB (uint32, R in the low byte); ``scale, bias`` the
 #: rounding division of the sums (:func:`rasterkit.kernels.accumulate.average_samples`);
-#: ``sums`` (n_slots, rows, W, 3) uint16, each slot's band of sums in its last BAND_HEIGHT rows.
-Samples = namedtuple("Samples", "offsets background scale bias sums")
+#: ``sums`` (n_slots, rows, W, 3) uint16, each slot's band of sums in its last BAND_HEIGHT rows;
+#: ``exact``: the pixels whose samples saw one face and the background made exact, with
+#: ``first`` and ``state`` (n_slots, rows, W) int32 the same way per slot (each pixel's first
+#: face, and its samples and flags: :func:`rasterkit.kernels.sample_bands._note_face`), and
+#: ``corners`` (N, 4) int32 the vertex pass's rows and ``neighbours`` (M, 3) int32 the faces'
+#: :func:`rasterkit.mesh.side_neighbours` for finding the outlines.
+Samples = namedtuple("Samples", "offsets background scale bias sums exact first state corners neighbours")
 
 #: Clearing a band before it is drawn: when ``on``, depth +inf, ids -1 and the band's part of
 #: ``color_bytes`` (the colour buffer as 1-D uint8, empty without one) to ``pattern``, the
