@@ -30,7 +30,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit._triangles import average_prepared, draw_prepared, prepare
+from rasterkit._jit import readonly, run_workers
+from rasterkit._triangles import WORKSPACE, Prepared, clear_spec, draw_prepared, prepare
+from rasterkit.kernels.records import Samples
+from rasterkit.kernels.shade import SHADE_FLAT, SHADE_TAGGED
+from rasterkit.kernels.tiles import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
+from rasterkit.mesh import side_neighbours
 from rasterkit.triangles import _background, _check_buffer, _check_depth, _check_geometry, _depth_offset, _shading, \
     _threads
 from rasterkit.options import CULL
@@ -138,5 +143,53 @@ class SharedTriangles:
         if offsets.dtype.kind not in "iu" or offsets.ndim != 2 or offsets.shape[1] != 2 \
                 or not 1 <= offsets.shape[0] <= 256 or offsets.size and np.abs(offsets).max() > 256:
             raise ValueError("samples must be (n, 2) integers in -256..256 (1/256 pixel), 1 <= n <= 256")
-        return average_prepared(prepared, color, _background(clear, color), offsets.astype(np.int64),
+        return _average(prepared, color, _background(clear, color), offsets.astype(np.int64),
                                 threads=self._threads, exact=bool(exact), neighbours=self._neighbours)
+
+
+_NO_NEIGHBOURS = readonly(np.zeros((0, 3), np.int32))
+
+
+def _average(prepared: Prepared, color, background, offsets, *, threads, exact=True, neighbours=None) -> int:
+    """Draw ``prepared`` (padded, flat or smooth colours) at every sample point ``offsets``
+    (n, 2) int64 (1/256 pixel, each in -256..256) and write their average into ``color``
+    (H, W, 3) uint8 on a ``background`` (3,) uint8 (or, with ``exact``, (H, W, 4) on a
+    transparent black one, as :func:`rasterkit.kernels.accumulate.average_samples_rgba`
+    averages), as :func:`rasterkit._triangles.draw_prepared` of each sample,
+    summed and divided by :func:`rasterkit.kernels.accumulate.average_samples` would, to the
+    bit (:mod:`rasterkit.kernels.sample_bands`); returns the number of fragments. With
+    ``exact``, the pixels whose samples saw one uncut face and the background (or that hold
+    a corner of one face and nothing else) get instead the background plus the face's exact
+    share of the pixel times its colour minus the background; ``neighbours``: the faces'
+    :func:`rasterkit.mesh.side_neighbours` (made here when None), whose sides between two
+    drawn faces cross no pixel of that kind and are not looked at."""
+    from rasterkit.kernels.sample_bands import draw_sample_bands  # multi-sample renders only
+
+    ws = WORKSPACE
+    if prepared.generation != ws.generation or not prepared.padded:
+        raise RuntimeError("the triangles were not set up for samples, or before another draw of this thread")
+    n, width = offsets.shape[0], prepared.width
+    band_depth = ws.reserve("band_depth", (threads * slot_rows(width), width), np.float32)
+    guard = -(-SLOT_GUARD_BYTES // (6 * width))  # rows of sums between two slots' bands
+    sums = ws.reserve("sample_sums", (threads, BAND_HEIGHT + guard, width, 3), np.uint16)
+    if color.shape[2] == 4 and not (exact and int(background[3]) == 0 and not background[:3].any()):
+        raise ValueError("an RGBA average needs exact and a transparent black background")
+    rgb = int(background[0]) | int(background[1]) << 8 | int(background[2]) << 16
+    shading = prepared.shading
+    if exact:  # each pixel's faces: the visibility rows hold faces, not colours
+        rows = BAND_HEIGHT + -(-SLOT_GUARD_BYTES // (4 * width))
+        first = ws.reserve("sample_first", (threads, rows, width), np.int32)
+        state = ws.reserve("sample_state", (threads, rows, width), np.int32)
+        if shading.mode == SHADE_TAGGED:
+            shading = shading._replace(mode=SHADE_FLAT)
+        if neighbours is None:
+            neighbours = side_neighbours(shading.faces, prepared.corners.shape[0])
+    else:
+        first = state = np.zeros((threads, 0, 0), np.int32)
+        neighbours = _NO_NEIGHBOURS
+    samples = Samples(np.ascontiguousarray(offsets, np.int64), np.uint32(rgb), 1.0 / n, (n // 2 + 0.5) / n, sums,
+                      bool(exact), first, state, prepared.corners, readonly(neighbours))
+    spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
+    return int(sum(run_workers(draw_sample_bands, prepared.band_start, prepared.items, prepared.records,
+                               shading, band_depth, color, clear_spec(background, color), samples,
+                               ws.visibility(threads, width), spans, threads=threads)))

@@ -13,7 +13,7 @@ A draw is :func:`prepare` (everything up to the bins) then :func:`draw_prepared`
 the samples of a pinhole multi-sample render share one :func:`prepare` with padded boxes,
 each drawn by :func:`draw_prepared` at its sample point (the records moved there first,
 :func:`rasterkit.kernels.triangle_samples.move_records`), or all averaged in one pass over the
-bands by :func:`average_prepared`.
+bands (:mod:`rasterkit._shared_triangles`).
 """
 
 from __future__ import annotations
@@ -27,11 +27,10 @@ import numpy as np
 
 from rasterkit._jit import readonly, run_workers
 from rasterkit.limits import check_memory
-from rasterkit.mesh import side_neighbours
 from rasterkit.kernels.clear import PATTERN_BYTES
 from rasterkit.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.kernels.fans import count_fans, setup_cut_faces
-from rasterkit.kernels.records import Clear, Counts, Cuts, Lit, Records, Sample, Samples, Shading, Target
+from rasterkit.kernels.records import Clear, Counts, Cuts, Lit, Records, Sample, Shading, Target
 from rasterkit.kernels.setup import (
     MAX_FAN,
     N_CHUNKS,
@@ -48,7 +47,6 @@ from rasterkit.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, SHADE_
 from rasterkit.kernels.tiles import (
     BAND_HEIGHT,
     BAND_SHIFT,
-    SLOT_GUARD_BYTES,
     bin_cursors,
     bin_records,
     draw_bands,
@@ -168,7 +166,6 @@ _NO_BYTES = np.empty(0, np.uint8)
 #: The vertex pass's (points, matrix) when ``clip`` is given (read-only, as a Mesh's
 #: vertices: one compiled signature for both)
 _NO_TRANSFORM = (readonly(np.zeros((0, 3))), readonly(np.zeros((4, 4))))
-_NO_NEIGHBOURS = readonly(np.zeros((0, 3), np.int32))
 _NO_PATTERN = readonly(np.empty(0, np.uint8))
 
 
@@ -190,7 +187,7 @@ def _records(ws, rows, keep=0):
     )
 
 
-def _clear_spec(background, color):
+def clear_spec(background, color):
     """The :class:`rasterkit.kernels.records.Clear` of a draw."""
     if background is None or color is None:
         return Clear(background is not None, _NO_BYTES, _NO_PATTERN)
@@ -350,56 +347,11 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
         target = Target(band_depth, False, height, color_target, ids is not None, ids_target)
     else:
         target = Target(depth, True, height, color_target, ids is not None, ids_target)
-    clear = _clear_spec(background, color)
+    clear = clear_spec(background, color)
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     return int(sum(run_workers(draw_bands, prepared.band_start, prepared.items, records, prepared.shading,
                                target, clear, sample, ws.visibility(threads, width), spans, maps,
                                threads=threads)))
-
-
-def average_prepared(prepared: Prepared, color, background, offsets, *, threads, exact=True, neighbours=None) -> int:
-    """Draw ``prepared`` (padded, flat or smooth colours) at every sample point ``offsets``
-    (n, 2) int64 (1/256 pixel, each in -256..256) and write their average into ``color``
-    (H, W, 3) uint8 on a ``background`` (3,) uint8 (or, with ``exact``, (H, W, 4) on a
-    transparent black one, as :func:`rasterkit.kernels.accumulate.average_samples_rgba`
-    averages), as :func:`draw_prepared` of each sample,
-    summed and divided by :func:`rasterkit.kernels.accumulate.average_samples` would, to the
-    bit (:mod:`rasterkit.kernels.sample_bands`); returns the number of fragments. With
-    ``exact``, the pixels whose samples saw one uncut face and the background (or that hold
-    a corner of one face and nothing else) get instead the background plus the face's exact
-    share of the pixel times its colour minus the background; ``neighbours``: the faces'
-    :func:`rasterkit.mesh.side_neighbours` (made here when None), whose sides between two
-    drawn faces cross no pixel of that kind and are not looked at."""
-    from rasterkit.kernels.sample_bands import draw_sample_bands  # multi-sample renders only
-
-    ws = WORKSPACE
-    if prepared.generation != ws.generation or not prepared.padded:
-        raise RuntimeError("the triangles were not set up for samples, or before another draw of this thread")
-    n, width = offsets.shape[0], prepared.width
-    band_depth = ws.reserve("band_depth", (threads * slot_rows(width), width), np.float32)
-    guard = -(-SLOT_GUARD_BYTES // (6 * width))  # rows of sums between two slots' bands
-    sums = ws.reserve("sample_sums", (threads, BAND_HEIGHT + guard, width, 3), np.uint16)
-    if color.shape[2] == 4 and not (exact and int(background[3]) == 0 and not background[:3].any()):
-        raise ValueError("an RGBA average needs exact and a transparent black background")
-    rgb = int(background[0]) | int(background[1]) << 8 | int(background[2]) << 16
-    shading = prepared.shading
-    if exact:  # each pixel's faces: the visibility rows hold faces, not colours
-        rows = BAND_HEIGHT + -(-SLOT_GUARD_BYTES // (4 * width))
-        first = ws.reserve("sample_first", (threads, rows, width), np.int32)
-        state = ws.reserve("sample_state", (threads, rows, width), np.int32)
-        if shading.mode == SHADE_TAGGED:
-            shading = shading._replace(mode=SHADE_FLAT)
-        if neighbours is None:
-            neighbours = side_neighbours(shading.faces, prepared.corners.shape[0])
-    else:
-        first = state = np.zeros((threads, 0, 0), np.int32)
-        neighbours = _NO_NEIGHBOURS
-    samples = Samples(np.ascontiguousarray(offsets, np.int64), np.uint32(rgb), 1.0 / n, (n // 2 + 0.5) / n, sums,
-                      bool(exact), first, state, prepared.corners, readonly(neighbours))
-    spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
-    return int(sum(run_workers(draw_sample_bands, prepared.band_start, prepared.items, prepared.records,
-                               shading, band_depth, color, _clear_spec(background, color), samples,
-                               ws.visibility(threads, width), spans, threads=threads)))
 
 
 def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,
