@@ -255,6 +255,8 @@ def _run(worker, args, threads, counted):
             if parallel:
                 pool.busy.release()
             return result
+    if getattr(worker, "overloads", True) == {}:  # a kernel's first call here: compile (or load) it apart
+        _compile_apart(worker, (0, *args))
     if not parallel:
         return [worker(0, *args)]
     try:
@@ -273,6 +275,28 @@ def _run(worker, args, threads, counted):
         return [first, *_wait_all(helpers)]
     finally:
         pool.busy.release()
+
+
+def _compile_apart(worker, args) -> None:
+    """Compile ``worker`` for ``args`` (or load it from Numba's cache) in a thread of its own,
+    from the bottom of a fresh Python stack. Numba's compiler recurses deeply (``copy.deepcopy``
+    of its IR), and CPython 3.11 maps and unmaps a 16 KiB piece of its frame stack each time a
+    recursion crosses the end of one: from deep in a render's calls that happened hundreds of
+    thousands of times for a band worker (seconds of system time; the frames' depth decides).
+    A worker that Numba cannot compile for these types raises here as its call would."""
+    failed = []
+
+    def run():
+        try:
+            worker.compile(tuple(numba.typeof(a) for a in args))
+        except BaseException as error:  # raised below, in the caller's thread
+            failed.append(error)
+
+    thread = threading.Thread(target=run, name="rasterkit-compile", daemon=True)
+    thread.start()
+    thread.join()
+    if failed:
+        raise failed[0]
 
 
 def _wait_all(helpers):
