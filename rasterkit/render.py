@@ -347,7 +347,7 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, option
     offset = (0.0, 0.0) if options.mode == "solid" else POLYGON_OFFSET
     if options.mode == "hidden":  # the colour buffer is cleared by the edge pass
         _rasterize(None, fb.uncleared_depth(), clip, mesh.faces, None, None, fb.ids, options.cull, (), offset, None,
-                   maps=options.maps, transform=transform)
+                   maps=options.maps, transform=transform, trusted=True)
         return
     face_colors, vertex_colors = shade(mesh, options)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
@@ -357,7 +357,7 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, option
     else:
         depth = fb.uncleared_depth()
     _rasterize(fb.color, depth, clip, mesh.faces, face_colors, vertex_colors, fb.ids, options.cull, background, offset,
-               None, maps=options.maps, transform=transform)
+               None, maps=options.maps, transform=transform, trusted=True)
 
 
 def _depth_pass(clip, faces, cull, depth):
