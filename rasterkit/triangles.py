@@ -152,8 +152,9 @@ class FlatLambert:
     scale: float = 1.0
 
 
-def _lighting(flat: FlatLambert, faces) -> Lighting:
-    """The terms of ``flat``, validated against the ``faces`` (M, 3)."""
+def _lighting(flat: FlatLambert, faces, trusted=False) -> Lighting:
+    """The terms of ``flat``, validated against the ``faces`` (M, 3); ``trusted``: made by
+    render() from a checked light, only its arrays are checked."""
     m = faces.shape[0]
     _check_array("normals", flat.normals, np.float32, 2)
     if flat.normals.shape != (m, 3):
@@ -161,6 +162,9 @@ def _lighting(flat: FlatLambert, faces) -> Lighting:
     _check_array("base", flat.base, np.float32, 2)
     if flat.base.shape not in ((1, 3), (m, 3)):
         raise ValueError(f"base must have shape (1, 3) or ({m}, 3), got {flat.base.shape}")
+    if trusted:
+        return Lighting(readonly(flat.normals), readonly(flat.base), np.float32(flat.scale), readonly(flat.light),
+                        float(flat.ambient), bool(flat.two_sided))
     light = readonly(np.ascontiguousarray(flat.light, np.float64))
     if light.shape != (3,) or not np.all(np.isfinite(light)):
         raise ValueError(f"light must be 3 finite numbers, got {flat.light!r}")
@@ -323,10 +327,8 @@ def _rasterize(color, depth, clip, faces, face_colors, vertex_colors, ids, cull,
     costs microseconds after a frame has gone through the caches, about 0.1 ms a frame."""
     if trusted:
         lighting = None
-        if isinstance(face_colors, FlatLambert):
-            lighting = Lighting(readonly(face_colors.normals), readonly(face_colors.base),
-                                np.float32(face_colors.scale), readonly(face_colors.light),
-                                float(face_colors.ambient), bool(face_colors.two_sided))
+        if isinstance(face_colors, FlatLambert):  # its arrays' shapes still checked: a Mesh's
+            lighting = _lighting(face_colors, faces, trusted=True)  # cached normals can be swapped
             face_colors = None
         return draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull,
                               _background(clear, color), depth_offset, threads=_threads(threads), lighting=lighting,
