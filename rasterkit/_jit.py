@@ -256,7 +256,7 @@ def _run(worker, args, threads, counted):
                 pool.busy.release()
             return result
     if getattr(worker, "overloads", True) == {}:  # a kernel's first call here: compile (or load) it apart
-        _compile_apart(worker, (0, *args))
+        compile_apart(worker, (0, *args))
     if not parallel:
         return [worker(0, *args)]
     try:
@@ -277,7 +277,7 @@ def _run(worker, args, threads, counted):
         pool.busy.release()
 
 
-def _compile_apart(worker, args) -> None:
+def compile_apart(worker, args) -> None:
     """Compile ``worker`` for ``args`` (or load it from Numba's cache) in a thread of its own,
     from the bottom of a fresh Python stack. Numba's compiler recurses deeply (``copy.deepcopy``
     of its IR), and CPython 3.11 maps and unmaps a 16 KiB piece of its frame stack each time a

@@ -143,8 +143,8 @@ class SharedTriangles:
         if offsets.dtype.kind not in "iu" or offsets.ndim != 2 or offsets.shape[1] != 2 \
                 or not 1 <= offsets.shape[0] <= 256 or offsets.size and np.abs(offsets).max() > 256:
             raise ValueError("samples must be (n, 2) integers in -256..256 (1/256 pixel), 1 <= n <= 256")
-        return _average(prepared, color, _background(clear, color), offsets.astype(np.int64),
-                                threads=self._threads, exact=bool(exact), neighbours=self._neighbours)
+        return _average(prepared, color, _background(clear, color), offsets.astype(np.int64), threads=self._threads,
+                        exact=bool(exact), neighbours=self._neighbours)
 
 
 _NO_NEIGHBOURS = readonly(np.zeros((0, 3), np.int32))
@@ -177,9 +177,8 @@ def _average(prepared: Prepared, color, background, offsets, *, threads, exact=T
     rgb = int(background[0]) | int(background[1]) << 8 | int(background[2]) << 16
     shading = prepared.shading
     if exact:  # each pixel's faces: the visibility rows hold faces, not colours
-        rows = BAND_HEIGHT + -(-SLOT_GUARD_BYTES // (4 * width))
-        first = ws.reserve("sample_first", (threads, rows, width), np.int32)
-        state = ws.reserve("sample_state", (threads, rows, width), np.int32)
+        first = ws.reserve("sample_first", (threads, slot_rows(width), width), np.int32)
+        state = ws.reserve("sample_state", (threads, slot_rows(width), width), np.int32)
         if shading.mode == SHADE_TAGGED:
             shading = shading._replace(mode=SHADE_FLAT)
         if neighbours is None:

@@ -217,6 +217,8 @@ def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads, transf
     corners = ws.reserve("corners", (n, 4), np.int32)
     depths = corners.view(np.float32)  # the same rows: z as float32
     points, matrix = _NO_TRANSFORM if transform is None else (readonly(transform[0]), readonly(transform[1]))
+    if transform is not None and (points.shape != (n, 3) or matrix.shape != (4, 4)):  # the pass reads row i of both
+        raise ValueError(f"transform must be (N, 3) points for the {n} clip rows and a 4x4 matrix")
     run_workers(setup_vertices, clip, width, height, pad, corners, depths, points, matrix, threads=threads)
     tri_xy, tri_z, tri_box = _records(ws, m)
     cut_mask, n_fan = ws.reserve("cut_mask", (m,), np.int8), ws.reserve("n_fan", (m,), np.int8)

@@ -30,9 +30,7 @@ import json
 import os
 import subprocess
 import sys
-import threading
 
-import numba
 import numpy as np
 
 from . import _jit
@@ -144,33 +142,17 @@ def _wait_for_helper(worker, args):
 def _compile_only(name: str):
     """In the helper: compile the worker ``name`` for the arguments it gets, run nothing.
 
-    The compiling runs in a thread of its own, from the bottom of a fresh Python stack:
-    Numba's compiler recurses deeply (``copy.deepcopy`` of its IR), and CPython 3.11 maps
-    and unmaps a 16 KiB piece of its frame stack each time a recursion crosses the end of
-    one; from deep in a render's calls that happened 340,000 times for the hidden-line
-    band worker (5 s of system time, its compile 6.5 -> 11 s; the frames' depth decides)."""
+    It compiles from the bottom of a fresh Python stack (:func:`rasterkit._jit.compile_apart`:
+    deep in a render's calls the hidden-line band worker's compile took 11 s instead of 6.5)."""
 
     def hook(worker, args):
         if worker.py_func.__name__ == name:
-            signature = tuple(numba.typeof(a) for a in (0, *args))
-            failed = []
-            thread = threading.Thread(target=_compile_into, args=(worker, signature, failed))
-            thread.start()
-            thread.join()
-            if failed:
-                raise failed[0]
+            _jit.compile_apart(worker, (0, *args))
         else:
             _zero_writable(args)
         return [0]
 
     return hook
-
-
-def _compile_into(worker, signature, failed: list) -> None:
-    try:
-        worker.compile(signature)
-    except BaseException as error:  # raised in the helper's main thread, which then exits
-        failed.append(error)
 
 
 def _zero_writable(values) -> None:

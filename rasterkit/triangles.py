@@ -328,11 +328,17 @@ def _rasterize(color, depth, clip, faces, face_colors, vertex_colors, ids, cull,
     if trusted:
         lighting = None
         if isinstance(face_colors, FlatLambert):  # its arrays' shapes still checked: a Mesh's
-            lighting = _lighting(face_colors, faces, trusted=True)  # cached normals can be swapped
-            face_colors = None
-        return draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull,
-                              _background(clear, color), depth_offset, threads=_threads(threads), lighting=lighting,
-                              maps=maps, transform=transform)
+            lighting, face_colors = _lighting(face_colors, faces, trusted=True), None  # normals can be swapped
+    else:
+        _check_draw(color, depth, ids, clip, faces, cull)
+        face_colors, vertex_colors, lighting = _shading(color, face_colors, vertex_colors, faces, clip)
+        depth_offset = _depth_offset(depth_offset)
+    return draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, _background(clear, color),
+                          depth_offset, threads=_threads(threads), lighting=lighting, maps=maps, transform=transform)
+
+
+def _check_draw(color, depth, ids, clip, faces, cull):
+    """The buffers, geometry and cull choice of a :func:`rasterize_triangles` call."""
     if depth is not None:
         _check_depth(depth)
         height, width = depth.shape
@@ -355,11 +361,6 @@ def _rasterize(color, depth, clip, faces, face_colors, vertex_colors, ids, cull,
             raise ValueError(f"faces must not share memory with {name}, the buffer drawn into")
     if cull not in CULL:
         raise ValueError(f"cull must be one of {sorted(CULL)}, got {cull!r}")
-    face_colors, vertex_colors, lighting = _shading(color, face_colors, vertex_colors, faces, clip)
-    offset = _depth_offset(depth_offset)
-    background = _background(clear, color)
-    return draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset,
-                          threads=_threads(threads), lighting=lighting, maps=maps, transform=transform)
 
 
 def _depth_offset(value):

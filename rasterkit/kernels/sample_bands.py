@@ -175,8 +175,8 @@ def _unseen_rgb(f, i, j, records, shading):
 
 
 @kernel
-def _exact_pixel(color, sums, ru, r, i, y, f, hits, n, background, records, shading):
-    """Pixel ``(i, y)`` (band row ``r``) of face ``f``, seen by ``hits`` of the ``n`` samples
+def _exact_pixel(color, sums, ru, i, y, f, hits, n, background, records, shading):
+    """Pixel ``(i, y)`` (band row ``ru``) of face ``f``, seen by ``hits`` of the ``n`` samples
     and by the background otherwise: the background plus the face's exact share of the
     pixel (:func:`rasterkit.kernels.coverage.pixel_area`) times its colour (the mean of its
     samples, or :func:`_unseen_rgb`) minus the background. Into an RGBA ``color`` (a
@@ -215,7 +215,7 @@ def _average_exact_rows(sums, y0, y1, color, scale, bias, n, background, first, 
             f, st = first[ru, iu], state[ru, iu]
             hits, seen = st & _HITS, (st >> _ALL) & _HITS
             if f >= 0 and not st & _OTHER and (hits < n or st & _EDGE) and tri_box[f, 2] <= tri_box[f, 3]:
-                _exact_pixel(color, sums, ru, r, np.int64(i), np.int64(y0 + r), f, hits, n, background, records,
+                _exact_pixel(color, sums, ru, np.int64(i), np.int64(y0 + r), f, hits, n, background, records,
                              shading)
             elif rgba:
                 a = np.uint32(255 * seen)
