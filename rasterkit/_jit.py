@@ -255,7 +255,7 @@ def _run(worker, args, threads, counted):
             if parallel:
                 pool.busy.release()
             return result
-    if getattr(worker, "overloads", True) == {}:  # a kernel's first call here: compile (or load) it apart
+    if getattr(worker, "overloads", True) == {} and not cached(worker):  # its first compile: from a fresh stack
         compile_apart(worker, (0, *args))
     if not parallel:
         return [worker(0, *args)]
@@ -275,6 +275,15 @@ def _run(worker, args, threads, counted):
         return [first, *_wait_all(helpers)]
     finally:
         pool.busy.release()
+
+
+def cached(dispatcher) -> bool:
+    """Whether Numba's cache has an index for ``dispatcher`` (any signature). Unknown (a
+    Numba without these internals) counts as cached."""
+    try:
+        return os.path.exists(dispatcher._cache._cache_file._index_path)
+    except AttributeError:
+        return True
 
 
 def compile_apart(worker, args) -> None:
