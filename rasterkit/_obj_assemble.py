@@ -1,5 +1,5 @@
 """From the checked statements of an OBJ file to the arrays of its Mesh: finite vertices, the
-triangles (by the polygon kernels) and edges, per-vertex normals and texture coordinates, and
+triangles (fans by NumPy, the rest by the polygon kernels) and edges, per-vertex normals and texture coordinates, and
 the group of each triangle."""
 
 from __future__ import annotations
@@ -7,12 +7,13 @@ from __future__ import annotations
 import numpy as np
 
 from ._obj_errors import count
+from ._obj_split import split_in_numpy
 from ._obj_statements import Elements, latest_above
-from .kernels import obj_corners, obj_polygons
+from .kernels import obj_polygons
 from .kernels.obj_scan import KIND_V
 
-__all__ = ["face_labels", "finite_vertices", "polygon_sides", "triangulate", "vertex_normals",
-           "vertex_texcoords"]
+__all__ = ["face_labels", "finite_vertices", "polygon_sides", "split_polygons", "triangulate",
+           "vertex_normals", "vertex_texcoords"]
 
 
 def finite_vertices(doc, vertices, faces, lines, report) -> np.ndarray:
@@ -33,34 +34,72 @@ def triangulate(doc, vertices, faces: Elements, keep: np.ndarray, report):
     polygons that could not be split exactly."""
     if faces.count == 0:
         return np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
-    if np.all(faces.sizes == 3):  # a triangle mesh: the same rows, without compiling the kernel
-        triangles = faces.vertex.reshape(-1, 3)
-        a, b, c = triangles.T
-        valid = keep & (a != b) & (b != c) & (c != a)
-        return np.ascontiguousarray(triangles[valid]), np.flatnonzero(valid)
-    fans = np.all(faces.sizes <= 4)  # triangles and quads: most likely all fans
-    if fans:
-        triangles, counts, fans = obj_polygons.triangulate_fans(vertices, faces.vertex, faces.offsets, keep)
-        inexact = np.zeros(0, bool)
-    if not fans:
-        triangles, counts, inexact = obj_polygons.triangulate(vertices, faces.vertex, faces.offsets, keep)
+    triangles, counts, inexact = split_polygons(vertices, faces.vertex, faces.offsets, keep)
     if inexact.any():
         first = faces.statements[np.argmax(inexact)]
         report.warn(doc.line(first), f"{count(np.count_nonzero(inexact), 'polygon')} too "
                                      "irregular to split exactly (self-intersecting?): split "
                                      "as a fan")
-    if len(triangles) < 0.75 * (faces.offsets[-1] - 2 * faces.count):
-        triangles = triangles.copy()  # let the rows of the dropped triangles go
     return triangles, np.repeat(np.arange(faces.count), counts)
+
+
+def split_polygons(vertices, corners, offsets, keep):
+    """The triangles (T, 3) int64 of the kept polygons in polygon order, the count (P,) of
+    each polygon's and whether (P,) it could not be split exactly: made by NumPy where it can
+    (:mod:`rasterkit._obj_split`), by the kernels of :mod:`rasterkit.kernels.obj_polygons`
+    (compiled on first use) where not. Triangles that a repeated vertex makes degenerate are
+    left out."""
+    parts, inexact, left = split_in_numpy(vertices, corners, offsets, keep)
+    parts = [(np.repeat(polygons, rows.shape[1]), rows.reshape(-1, 3)) for polygons, rows in parts]
+    if left.any():
+        split, counts, state = obj_polygons.triangulate(vertices, corners, offsets, left)
+        inexact |= state == obj_polygons.INEXACT
+        parts.append((np.repeat(np.arange(len(keep)), counts), split))
+        for p in np.flatnonzero(state == obj_polygons.LARGE):
+            rows, exact = obj_polygons.split_large(vertices, corners[offsets[p]:offsets[p + 1]].copy())
+            inexact[p] = not exact
+            parts.append((np.full(len(rows), p), rows))
+    return (*_in_polygon_order(parts, len(keep)), inexact)
+
+
+def _in_polygon_order(parts, polygons: int):
+    """The triangles of parts [(polygon of each row (K,), rows (K, 3))] merged into polygon
+    order (each polygon's rows come from one part, in order there), without the rows that are
+    no triangle (-1, a repeated vertex); and the count (P,) of each polygon's."""
+    kept = []
+    for polygon, rows in parts:
+        a, b, c = rows.T
+        valid = (a >= 0) & (a != b) & (b != c) & (c != a)
+        kept.append((polygon[valid], rows[valid]))
+    counts = np.zeros(polygons, np.int64)
+    for polygon, _ in kept:
+        counts += np.bincount(polygon, minlength=polygons)
+    if len(kept) == 1:
+        return np.ascontiguousarray(kept[0][1]), counts
+    start = np.cumsum(counts) - counts
+    out = np.empty((int(counts.sum()), 3), np.int64)
+    for polygon, rows in kept:
+        if len(rows) == 0:
+            continue
+        new = np.flatnonzero(np.diff(polygon, prepend=-1))  # each polygon's first row
+        first = np.repeat(new, np.diff(np.append(new, len(polygon))))
+        out[start[polygon] + np.arange(len(polygon)) - first] = rows
+    return out, counts
 
 
 def polygon_sides(faces: Elements, keep: np.ndarray, n_vertices: int) -> np.ndarray:
     """(E,) int64 keys ``lo * N + hi`` of the sides of the kept polygons, for
-    :func:`rasterkit.mesh.unique_edges`."""
-    keys = obj_polygons.side_keys(faces.vertex, faces.offsets, keep, n_vertices)
-    # Unique here already (NumPy's sort, in place; Numba's quicksort is quadratic on some
-    # orders): a polygon that walks round again repeats its sides, and unique_edges copies
-    # what it gets several times.
+    :func:`rasterkit.mesh.unique_edges`: p[0]-p[1], ..., p[-1]-p[0], none from a vertex to
+    itself, each side once."""
+    v = faces.vertex
+    following = np.arange(1, len(v) + 1)
+    following[faces.offsets[1:] - 1] = faces.offsets[:-1]  # the last corner's side closes
+    mine = np.repeat(keep, faces.sizes)
+    a, b = v[mine], v[following[mine]]
+    keys = np.minimum(a, b) * n_vertices + np.maximum(a, b)
+    keys = keys[a != b]
+    # Unique here already (NumPy's sort, in place): a polygon that walks round again
+    # repeats its sides, and unique_edges copies what it gets several times.
     keys.sort()
     return keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
 
@@ -70,8 +109,11 @@ def vertex_normals(faces: Elements, normals: np.ndarray, n_vertices: int):
     used = faces.normal
     if not (used >= 0).any():
         return None
-    total = obj_corners.sum_per_vertex(faces.vertex, used, _unit_rows(normals),
-                                       n_vertices)
+    unit = _unit_rows(normals)
+    given = used >= 0
+    vertex, unit = faces.vertex[given], unit[used[given]]
+    # bincount adds in corner order, one column at a time
+    total = np.stack([np.bincount(vertex, unit[:, d], n_vertices) for d in range(3)], axis=1)
     return _unit_rows(total)
 
 
@@ -93,7 +135,10 @@ def vertex_texcoords(faces: Elements, texcoords: np.ndarray, n_vertices: int):
     used = faces.texcoord
     if not (used >= 0).any():
         return None
-    first = obj_corners.first_per_vertex(faces.vertex, used, n_vertices)
+    given = np.flatnonzero(used >= 0)
+    vertex, at = np.unique(faces.vertex[given], return_index=True)  # each vertex's first
+    first = np.full(n_vertices, -1, np.int64)
+    first[vertex] = used[given[at]]
     uv = np.nan_to_num(texcoords[:, :2], nan=0.0, posinf=0.0, neginf=0.0)
     return np.where(first[:, None] >= 0, uv[first], 0.0)
 

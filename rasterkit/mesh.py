@@ -57,7 +57,7 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
         N: every index is in 0..N-1.
     keys : (J,) int64, optional
         More edges, as keys ``lo * N + hi`` (lo < hi), as
-        :func:`rasterkit.kernels.obj_polygons.side_keys` makes them.
+        :func:`rasterkit._obj_assemble.polygon_sides` makes them.
     """
     pairs = np.asarray(pairs)
     if pairs.dtype.kind not in "iu" and pairs.size:

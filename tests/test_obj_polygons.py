@@ -17,7 +17,8 @@ from hypothesis import strategies as st
 
 from rasterkit.kernels.obj_ears import EAR_CLIP_LIMIT, ear_clip
 from rasterkit.kernels.obj_monotone import triangulate_monotone
-from rasterkit.kernels.obj_polygons import triangulate, triangulate_fans
+from rasterkit._obj_assemble import split_polygons
+from rasterkit.kernels.obj_polygons import EXACT, LARGE, triangulate
 from rasterkit.obj import load_obj
 
 IRREGULAR = "too irregular to split exactly (self-intersecting?): split as a fan"
@@ -204,8 +205,13 @@ def test_both_methods_cover_the_polygons_ear_clipping_takes(seed):
             assert triangulate_monotone(xy, ring, out)
             assert_covers(xy, ring, out[(out >= 0).all(axis=1)], count=places - 2)
             vertices = np.column_stack([points, np.zeros(len(points))])
-            triangles, counts, inexact = triangulate(vertices, ring, np.array([0, len(ring)]),
-                                                     np.ones(1, bool))
+            triangles, counts, state = triangulate(vertices, ring, np.array([0, len(ring)]),
+                                                   np.ones(1, bool))
+            assert state[0] == (LARGE if len(ring) > EAR_CLIP_LIMIT else EXACT)
+            if state[0] == EXACT:
+                assert_covers(xy, ring, triangles, count=len(triangles))
+            triangles, counts, inexact = split_polygons(vertices, ring, np.array([0, len(ring)]),
+                                                        np.ones(1, bool))
             assert not inexact[0]
             nonflat = triangles[signed_areas(points[triangles]) != 0]
             assert_covers(xy, ring, triangles, count=len(triangles))
@@ -293,39 +299,38 @@ def test_huge_polygons_load_in_bounded_time_and_memory(tmp_path):
         assert faces == triangles if triangles is not None else 0 < faces <= len(ring) - 2, name
 
 
-def test_fans_of_triangles_and_convex_quads_are_the_general_kernels_triangles():
-    """triangulate_fans (what a mesh of triangles and quads compiles first) gives the very
-    rows and counts of triangulate, repeated corners and dropped polygons included, and
-    declines any concave or non-planar quad and any polygon of more corners."""
+def test_numpy_splits_polygons_as_the_kernel_does():
+    """split_polygons (NumPy for triangles, quads convex or not, convex and concave polygons
+    of a few corners, quads with a repeated corner; the kernels for the rest) gives the very
+    rows, counts and warnings of the general kernel, dropped polygons included, for polygons
+    whose turns are far from 0 (where rounding cannot decide)."""
     rng = np.random.default_rng(11)
-    n = 60
-    vertices = list(rng.uniform(-1, 1, (n, 3)))  # the triangles' corners, shared
+    vertices = list(rng.uniform(-1, 1, (60, 3)))  # the triangles' corners, shared
     polygons = []
-    for _ in range(400):
-        if rng.random() < 0.5:  # a convex quad: four corners on a circle, in angle order
-            angles = np.sort(rng.uniform(0, 2 * np.pi, 4))
-            centre, r = rng.uniform(-1, 1, 3), rng.uniform(0.1, 1)
-            ring = np.arange(len(vertices), len(vertices) + 4)
-            vertices += [centre + r * np.array([math.cos(a), math.sin(a), 0.0]) for a in angles]
-        else:
-            ring = rng.choice(n, 3, replace=False)
+    for _ in range(600):
+        kind = rng.integers(5)
+        if kind == 0:  # a triangle, now and then with a repeated corner (dropped)
+            ring = rng.choice(60, 3, replace=False)
             if rng.random() < 0.1:
-                ring[1] = ring[0]  # a repeated corner: a degenerate triangle to drop
+                ring[1] = ring[0]
+        else:  # a star-shaped polygon of 4 to 12 corners, convex or not, in a random plane
+            m = 4 if kind < 3 else int(rng.integers(5, 13))
+            angles = np.sort(rng.uniform(0, 2 * np.pi, m))
+            radii = rng.uniform(0.2, 1, m) if kind % 2 else np.ones(m)
+            basis = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+            flat = np.stack([radii * np.cos(angles), radii * np.sin(angles), 0.05 * rng.normal(size=m)], axis=1)
+            ring = np.arange(len(vertices), len(vertices) + m)
+            vertices += list(rng.uniform(-1, 1, 3) + flat @ basis.T)
+            if m == 4 and rng.random() < 0.1:
+                ring[int(rng.integers(4))] = ring[int(rng.integers(4))]  # a repeat
         polygons.append(ring)
     vertices = np.array(vertices)
     offsets = np.cumsum([0] + [len(r) for r in polygons])
     flat = np.concatenate(polygons).astype(np.int64)
     keep = rng.random(len(polygons)) < 0.9
-    fans, fan_counts, ok = triangulate_fans(vertices, flat, offsets, keep)
-    assert ok
-    full, full_counts, inexact = triangulate(vertices, flat, offsets, keep)
-    assert not inexact.any()
-    np.testing.assert_array_equal(fans, full)
-    np.testing.assert_array_equal(fan_counts, full_counts)
-    assert len(fans) > 400
-    # a concave quad (a dart), a quad with a repeated corner and a pentagon: left to the
-    # general kernel
-    dart = np.array([[0, 0, 0], [2, 1, 0], [0, 2, 0], [0.5, 1, 0], [1, 1, 1]], np.float64)
-    for ring in ([0, 1, 2, 3], [0, 0, 1, 2], [0, 1, 2, 3, 4]):
-        _, _, ok = triangulate_fans(dart, np.array(ring, np.int64), np.array([0, len(ring)]), np.array([True]))
-        assert not ok
+    triangles, counts, inexact = split_polygons(vertices, flat, offsets, keep)
+    expected, expected_counts, state = triangulate(vertices, flat, offsets, keep)
+    np.testing.assert_array_equal(triangles, expected)
+    np.testing.assert_array_equal(counts, expected_counts)
+    np.testing.assert_array_equal(inexact, state != EXACT)
+    assert len(triangles) > 1000

@@ -1,8 +1,7 @@
 """Numba kernels for the corners of OBJ ``f`` and ``l`` statements.
 
 A corner (``v``, ``v/vt``, ``v//vn``, ``v/vt/vn``) is parsed and its indices resolved to 0-based
-ones; the per-corner ``vt`` and ``vn`` references are then gathered per vertex. The kernels
-never raise on bad input: they return status codes, so the caller
+ones. The kernels never raise on bad input: they return status codes, so the caller
 (:mod:`rasterkit._obj_statements`) can name the first bad line of the file.
 """
 
@@ -130,28 +129,3 @@ def parse_corners(buf, starts, ends, offsets, before, totals, attributes):
                         errors[r, 0], errors[r, 1], errors[r, 2] = code, k, attribute
             k += 1
     return vertex, texcoord, normal, errors
-
-
-@kernel
-def first_per_vertex(vertex_index, attribute_index, n_vertices):
-    """(N,) int64: the attribute index of the first corner (in order) of each vertex that has
-    one (attribute_index >= 0), else -1."""
-    first = np.full(n_vertices, -1, np.int64)
-    for c in range(len(vertex_index)):
-        v = vertex_index[c]
-        if attribute_index[c] >= 0 and first[v] < 0:
-            first[v] = attribute_index[c]
-    return first
-
-
-@kernel
-def sum_per_vertex(vertex_index, attribute_index, attributes, n_vertices):
-    """(N, D) float64: per vertex, the sum of attributes[attribute_index] over its corners
-    (corners with attribute_index < 0 add nothing)."""
-    total = np.zeros((n_vertices, attributes.shape[1]))
-    for c in range(len(vertex_index)):
-        a = attribute_index[c]
-        if a >= 0:
-            for d in range(attributes.shape[1]):
-                total[vertex_index[c], d] += attributes[a, d]
-    return total

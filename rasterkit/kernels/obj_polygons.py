@@ -19,8 +19,11 @@ count except where ear clipping is needed:
   crosses itself, or winds round several times) cannot be simple: it is split as a fan, in
   O(m), and reported like the above.
 
-The sides of the polygons become the mesh's edges (:func:`side_keys`). Inputs are vertex
-indices already checked by the caller (:mod:`rasterkit._obj_assemble`)."""
+Most polygons of real files never reach these kernels: :mod:`rasterkit._obj_fans` finds
+their triangles (these kernels' own) with NumPy, and :mod:`rasterkit._obj_assemble` calls
+:func:`triangulate` only for the rest, and :func:`split_large` (the monotone sweep, a kernel
+of its own) only for polygons larger than ear clipping takes. Inputs are vertex indices
+already checked by the caller."""
 
 from __future__ import annotations
 
@@ -204,39 +207,56 @@ def _ear_clip_with_repeated_places(xy, ring, out):
     return exact
 
 
+#: What the split of one polygon came to.
+EXACT, INEXACT, LARGE = 0, 1, 2
+_SPLIT = 3  # (only between _prepare and its callers: still to split in the plane)
+
+
 @kernel
-def _triangulate_polygon(vertices, polygon, out):
-    """Triangles of one polygon (m >= 4 vertex indices) into out (m - 2, 3) in the polygon's
-    best-fit plane; rows left over stay -1. Returns False when it could not be split exactly
-    (see the module documentation)."""
+def _prepare(vertices, polygon, out):
+    """The steps every split begins with: repeats merged, the polygons that need no search
+    split as a fan into out (m - 2, 3). Returns (ring, xy, state): state EXACT or INEXACT
+    when out is done, else _SPLIT: ring (k,) is still to split in its plane coordinates
+    xy (k, 2)."""
     ring = _merge_repeats(polygon)
+    nowhere = np.empty((0, 2))
     if len(ring) < 3:
-        return True
+        return ring, nowhere, EXACT
     nx, ny, nz = _newell_normal(vertices, ring)
     if len(ring) == 3 or not nx * nx + ny * ny + nz * nz > 0.0:
         _fan(ring, out)
-        return True
+        return ring, nowhere, EXACT
     xy = _plane_coordinates(vertices, ring, nx, ny, nz)
     if not np.isfinite(xy).all():
         _fan(ring, out)
-        return False
+        return ring, xy, INEXACT
     if _fans_like_ear_clipping(xy):
         last = len(ring) - 1
         for k in range(last - 1):
             out[k, 0], out[k, 1], out[k, 2] = ring[last], ring[k], ring[k + 1]
-        return True
-    if len(ring) <= EAR_CLIP_LIMIT:
-        return _ear_clip_with_repeated_places(xy, ring, out)
-    if _turning_number(xy) != 1:  # not simple: a fan, in O(m)
-        _fan(ring, out)
-        return False
-    return triangulate_monotone(xy, ring, out)
+        return ring, xy, EXACT
+    return ring, xy, _SPLIT
+
+
+@kernel
+def _triangulate_polygon(vertices, polygon, out):
+    """Triangles of one polygon (m >= 4 vertex indices) into out (m - 2, 3) in the polygon's
+    best-fit plane; rows left over stay -1. Returns EXACT, INEXACT (could not be split
+    exactly: see the module documentation) or LARGE (left for :func:`split_large`: more
+    corners than ear clipping takes)."""
+    ring, xy, state = _prepare(vertices, polygon, out)
+    if state != _SPLIT:
+        return state
+    if len(ring) > EAR_CLIP_LIMIT:
+        return LARGE
+    return EXACT if _ear_clip_with_repeated_places(xy, ring, out) else INEXACT
 
 
 @kernel
 def triangulate(vertices, polygon_vertices, offsets, keep):
     """Triangulate polygons given as runs of vertex indices: triangles and convex quads by a
-    fan, anything else in the plane of its Newell normal (see the module documentation).
+    fan, anything else in the plane of its Newell normal (see the module documentation),
+    except the polygons larger than ear clipping takes (:func:`split_large`).
 
     Parameters
     ----------
@@ -256,13 +276,14 @@ def triangulate(vertices, polygon_vertices, offsets, keep):
         of an array of sum(m - 2) rows.
     counts : (P,) int64
         Triangles of each polygon.
-    inexact : (P,) bool
-        Polygons that could not be split exactly (see the module documentation).
+    state : (P,) int8
+        EXACT, INEXACT (could not be split exactly: see the module documentation) or LARGE
+        (no triangles here: split it with :func:`split_large`).
     """
     count = len(offsets) - 1
     triangles = np.empty((offsets[count] - 2 * count, 3), np.int64)
     counts = np.zeros(count, np.int64)
-    inexact = np.zeros(count, np.bool_)
+    state = np.zeros(count, np.int8)
     n = 0  # rows kept so far: polygon p writes from row n, never past its own rows
     for p in range(count):
         if not keep[p]:
@@ -277,7 +298,7 @@ def triangulate(vertices, polygon_vertices, offsets, keep):
                 rows[j, 1] = polygon_vertices[o + j + 1]
                 rows[j, 2] = polygon_vertices[o + j + 2]
         else:
-            inexact[p] = not _triangulate_polygon(vertices, polygon_vertices[o:o + m], rows)
+            state[p] = _triangulate_polygon(vertices, polygon_vertices[o:o + m], rows)
         start = n
         for j in range(m - 2):
             a, b, c = rows[j, 0], rows[j, 1], rows[j, 2]
@@ -285,63 +306,20 @@ def triangulate(vertices, polygon_vertices, offsets, keep):
                 triangles[n, 0], triangles[n, 1], triangles[n, 2] = a, b, c
                 n += 1
         counts[p] = n - start
-    return triangles[:n], counts, inexact
+    return triangles[:n], counts, state
 
 
 @kernel
-def triangulate_fans(vertices, polygon_vertices, offsets, keep):
-    """:func:`triangulate` for meshes of triangles and convex quads, without compiling the
-    general splitter (about 18 s of a first run): the same ``(triangles, counts)`` and
-    ``True``, or ``False`` as soon as a kept polygon is anything else (a concave or
-    non-planar quad, more corners), and then the caller runs :func:`triangulate`."""
-    count = len(offsets) - 1
-    triangles = np.empty((offsets[count] - 2 * count, 3), np.int64)
-    counts = np.zeros(count, np.int64)
-    n = 0
-    for p in range(count):
-        if not keep[p]:
-            continue
-        o = offsets[p]
-        m = offsets[p + 1] - o
-        if not (m == 3 or (m == 4 and _convex_quad(vertices, polygon_vertices, o))):
-            return triangles[:0], counts, False
-        start = n
-        for j in range(m - 2):
-            a, b, c = polygon_vertices[o], polygon_vertices[o + j + 1], polygon_vertices[o + j + 2]
-            if a != b and b != c and c != a:
-                triangles[n, 0], triangles[n, 1], triangles[n, 2] = a, b, c
-                n += 1
-        counts[p] = n - start
-    return triangles[:n], counts, True
-
-
-@kernel
-def side_keys(polygon_vertices, offsets, keep, n_vertices):
-    """Undirected sides of the kept polygons as keys lo * N + hi (lo < hi), one per side:
-    p[0]-p[1], ..., p[-1]-p[0]; sides from a vertex to itself are left out.
-
-    Parameters
-    ----------
-    polygon_vertices, offsets : as for :func:`triangulate`
-    keep : (P,) bool
-    n_vertices : int
-        N, the number of vertices.
-
-    Returns
-    -------
-    keys : (E,) int64
-    """
-    keys = np.empty(offsets[-1], np.int64)
-    e = 0
-    for p in range(len(offsets) - 1):
-        if not keep[p]:
-            continue
-        first = offsets[p]
-        last = offsets[p + 1] - 1
-        for k in range(first, last + 1):
-            a = polygon_vertices[k]
-            b = polygon_vertices[k + 1] if k < last else polygon_vertices[first]
-            if a != b:
-                keys[e] = min(a, b) * n_vertices + max(a, b)
-                e += 1
-    return keys[:e]
+def split_large(vertices, polygon):
+    """The triangles (m - 2, 3) of one polygon that :func:`triangulate` left LARGE (its rows
+    -1 where none), and whether the split is exact: a polygon whose sides do not turn round
+    once is a fan, others are split by the monotone sweep. A kernel of its own: the sweep
+    compiles for about 17 s, which only files with such polygons pay."""
+    out = np.full((len(polygon) - 2, 3), -1, np.int64)
+    ring, xy, state = _prepare(vertices, polygon, out)
+    if state != _SPLIT:
+        return out, state == EXACT
+    if _turning_number(xy) != 1:  # not simple: a fan, in O(m)
+        _fan(ring, out)
+        return out, False
+    return out, triangulate_monotone(xy, ring, out)
