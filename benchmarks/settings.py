@@ -69,6 +69,9 @@ class Settings:
     startup_sequence : bool
         Whether the cold sequence (demo, then the model in every mode, one cache) runs;
         the cold demo alone always runs.
+    first_model_runs : int
+        Repetitions of the first renders of ten real models, each in an empty cache
+        (``benchmarks/first_models.py``); 0 leaves them out.
     contention_processes : tuple of int
         How many rasterkit (and llvmpipe) processes render at once, one configuration each.
     contention_seconds : float
@@ -113,6 +116,7 @@ class Settings:
     demo_size: tuple | None = None
     startup_cold_runs: int = 1
     startup_sequence: bool = True
+    first_model_runs: int = 1
     contention_processes: tuple = (1, 2, 4)
     contention_seconds: float = 2.0
     aa_model: str = "ogre"
@@ -135,7 +139,7 @@ FULL = Settings(
     sweep_triangles=(16, 32, 64, 128, 256, 512),
     sweep_sizes=((320, 240), (640, 480), (1280, 720), (1920, 1080), (2560, 1440), (3840, 2160)),
     sweep_model="stanford-bunny", memory=("render", "fill", "lines2d", "loading"), process_repeat=5,
-    startup_cold_runs=3, contention_seconds=5.0,
+    startup_cold_runs=3, first_model_runs=3, contention_seconds=5.0,
 )
 
 QUICK = Settings(
@@ -147,7 +151,7 @@ QUICK = Settings(
     cli_model="spot", cli_size=(640, 480), cold_runs=0,
     sweep_triangles=(16, 64, 256),
     sweep_sizes=((320, 240), (1280, 720), (3840, 2160)),
-    sweep_model="stanford-bunny", memory=("render",), process_repeat=3,
+    sweep_model="stanford-bunny", memory=("render",), process_repeat=3, first_model_runs=0,
 )
 
 TARGETS = Settings(
@@ -174,7 +178,7 @@ TINY = Settings(
     sweep_sizes=((32, 24), (64, 48)),
     sweep_model="suzanne", memory=("render",), process_repeat=1,
     startup_model="suzanne", startup_size=(64, 48), demo_size=(64, 48), startup_cold_runs=1,
-    startup_sequence=False, contention_processes=(1, 2), contention_seconds=0.3,
+    startup_sequence=False, first_model_runs=0, contention_processes=(1, 2), contention_seconds=0.3,
     aa_model="suzanne", aa_size=(64, 48), cv_model="suzanne", cv_size=(64, 48),
     svg_models=("suzanne",), svg_size=(64, 48), batch_size=(64, 48), batch_models=("suzanne",),
 )

@@ -17,6 +17,13 @@ import
     as whole processes, interleaved with ``python -c pass`` (the interpreter alone, the
     peer of each), medians; and whether the two help commands import numba.
 
+first models
+    ``rasterkit render MODEL -o x.png --mode solid`` (the command's default size) for each of
+    ten real models of other people (:data:`benchmarks.first_models.MODELS`: triangles,
+    quads, polygons, texture coordinates, normals, materials), each alone in a new, empty
+    ``NUMBA_CACHE_DIR``: what a new user's first render of their own model costs, wall
+    seconds and user CPU seconds (:mod:`benchmarks.first_models`).
+
 Peak memory is ``ru_maxrss`` of the process, from ``os.wait4``. The process is started by a
 small launcher process (a bare Python, about 10 MiB), never by the suite itself: Linux carries
 the resident peak of the address space a process had *before* its ``exec`` into its
@@ -38,7 +45,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from . import cli
+from . import cli, first_models
 from .compare import RASTERKIT, compare, start
 from .report import Record
 from .settings import MODES, model_path
@@ -62,7 +69,7 @@ pid = os.posix_spawn(argv[0], argv, os.environ, file_actions=actions)
 _, status, usage = os.wait4(pid, 0)
 end = time.perf_counter()
 print(json.dumps({"seconds": end - begin, "maxrss": usage.ru_maxrss * 1024,
-                  "exit": os.waitstatus_to_exitcode(status)}))
+                  "user": usage.ru_utime, "exit": os.waitstatus_to_exitcode(status)}))
 """
 
 # What the console script does (``from rasterkit.cli import main; sys.exit(main())``), then
@@ -95,7 +102,8 @@ def child_environment(**extra: str) -> dict:
 
 
 def launch(argv: list[str], env: dict, scratch: Path) -> dict:
-    """Run ``argv`` to completion through the launcher: {"seconds", "maxrss"} of that process.
+    """Run ``argv`` to completion through the launcher: {"seconds", "maxrss", "user"} of that
+    process (``user``: its user CPU seconds, its children's that it waited for included).
 
     Raises RuntimeError with the last line of its stderr when it exits non-zero.
     """
@@ -299,7 +307,8 @@ def _import(settings, results) -> None:
 
 
 def run(settings, results, peers) -> None:
-    """Cold runs (the demo alone; the sequence), the warm run against its peer, import time."""
+    """Cold runs (the demo alone; the sequence; first models), the warm run against its peer,
+    import time."""
     cli.compile_bytecode()
     model = model_path(settings.startup_model)
     model_ok = model.is_file()
@@ -312,4 +321,5 @@ def run(settings, results, peers) -> None:
         if model_ok:
             _warm(settings, results, peers, scratch)
         _cold(settings, results, scratch, model_ok)
+        first_models.run(settings, results, scratch)
 

@@ -1,16 +1,18 @@
-"""First runs compile in two processes at once: the band kernels in a helper, the rest here.
+"""First runs compile in two processes at once: the largest kernels in a helper, the rest here.
 
 A first render spends most of its time compiling, and Numba compiles in one thread per
-process. The band workers (:func:`rasterkit.kernels.tiles.draw_bands` and the edge
-workers of :mod:`rasterkit.kernels.edges`) are the largest kernels and run last, so when
-the command line finds the mode's largest one missing from Numba's on-disk cache, it
-starts a helper process that compiles just that one, for the same mode and options, while
-this process loads the model and compiles the others. Before it runs that worker, this
-process waits for the helper; the worker then loads from the cache. On two cores a first
-render takes about as long as the larger half of its compiling instead of all of it.
+process. When the command line finds the mode's band worker (:func:`rasterkit.kernels.tiles.draw_bands`
+or the edge workers of :mod:`rasterkit.kernels.edges`, the largest kernels, run last) missing
+from Numba's on-disk cache, it starts a helper process at once, before the model is read, that
+compiles the workers of :func:`helped_workers` for the same mode and options, while this
+process compiles the OBJ reader and the other kernels. The helper prints each worker's name
+as soon as that worker is in the cache; before this process runs a helped worker, it waits
+for that line (or for the helper's end), and the worker then loads from the cache. On two
+cores a first render takes about as long as the larger half of its compiling instead of all
+of it.
 
 The helper renders a tiny mesh in the same mode through the ordinary drivers, with
-:func:`rasterkit._jit.run_parallel` intercepted: band workers are compiled for the argument
+:func:`rasterkit._jit.run_parallel` intercepted: its workers are compiled for the argument
 types they get (``Dispatcher.compile``) and not run, and the other workers are neither
 compiled nor run (their writable arrays are zeroed, so the few small kernels that read
 them see harmless input). If anything goes wrong in the helper, this process simply
@@ -19,9 +21,9 @@ compiles the kernels itself: the images never depend on it.
 The built-in demo (no model to load) gets a helper of another kind on a machine with two
 cores or more: while this process compiles the demo's kernels, it compiles the OBJ reader's
 (:data:`PARSER`, by reading a small triangle OBJ with every kind of statement), which the
-first real model would otherwise compile for about 4 seconds. This process does not wait for it (it
-has nothing to wait for); the helper runs to its end on its own, in a few seconds, unless
-the command line is interrupted.
+first real model would otherwise compile for about 6 seconds. This process does not wait for
+it (it has nothing to wait for); the helper runs to its end on its own, in a few seconds,
+unless the command line is interrupted.
 """
 
 from __future__ import annotations
@@ -40,10 +42,10 @@ BAND_WORKERS = ("draw_bands", "draw_wire_bands", "draw_edge_bands", "draw_antial
 
 #: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
 PARSER = (("obj_scan", "scan_statements"), ("obj_numbers", "parse_number_rows"),
-          ("obj_corners", "parse_corners"), ("obj_polygons", "side_keys"))
+          ("obj_corners", "parse_corners"))
 
 _helper: subprocess.Popen | None = None
-_helped: str | None = None  # the worker the helper compiles
+_helped: set[str] = set()  # the workers the helper compiles and has not reported yet
 _parser_helper: subprocess.Popen | None = None
 
 
@@ -63,12 +65,25 @@ def _band_worker(style: dict):
 _cached = _jit.cached  # (a name of this module: tests replace it)
 
 
+def helped_workers(style: dict, loading: bool) -> list:
+    """The workers a helper compiles for a render with ``style``, in the order the render
+    runs them: the band worker, and for a solid render of a model also the face pass
+    (:func:`rasterkit.kernels.setup.setup_faces`), which this process would compile after
+    the model's reader (about 3.5 s; the halves come out about even)."""
+    workers = [_band_worker(style)]
+    if loading and style["mode"] == "solid":
+        from .kernels import setup
+
+        workers.insert(0, setup.setup_faces)
+    return workers
+
+
 def start(style: dict, depth: bool, loading: bool) -> None:
     """Start the helper for a render with ``style`` (``mode``, ``cull``, ``shading``,
     ``background``, ``aa``, and the vision maps asked for: ``ids``, ``normals``,
     ``camera_depth``, which the band worker makes too) when its band worker is not cached
     (any variant: a first vision render after plain ones compiles its variant here); ``depth``: the depth
-    buffer is read too; ``loading``: a model file is read (its parser may compile
+    buffer is read too; ``loading``: a model file is read (its parser compiles here
     meanwhile). A wireframe of the built-in model leaves too little to do here while the
     helper works to make up for starting it: no helper then."""
     global _helper, _helped
@@ -77,16 +92,20 @@ def start(style: dict, depth: bool, loading: bool) -> None:
         if not loading and _helper is None:
             _start_parser_helper()
         return
-    _helper = _spawn({"style": style, "depth": depth, "worker": worker.py_func.__name__})
+    names = [w.py_func.__name__ for w in helped_workers(style, loading) if not _cached(w)]
+    _helper = _spawn({"style": style, "depth": depth, "workers": names}, report=True)
     if _helper is not None:
-        _helped = worker.py_func.__name__
+        _helped = set(names)
         _jit.intercept(_wait_for_helper)
 
 
-def _spawn(order: dict) -> subprocess.Popen | None:
+def _spawn(order: dict, report: bool = False) -> subprocess.Popen | None:
+    """The helper process for ``order``; ``report``: its standard output is a pipe on which
+    it names each worker it has compiled."""
     try:
         return subprocess.Popen([sys.executable, "-m", "rasterkit._warm", json.dumps(order)],
-                                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                                stdin=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                stdout=subprocess.PIPE if report else subprocess.DEVNULL)
     except OSError:
         return None
 
@@ -115,35 +134,51 @@ def stop() -> None:
     if _helper is not None:
         _jit.intercept(None)
     _helper = _parser_helper = None
+    _helped.clear()
     for helper in helpers:
         try:
             helper.terminate()
             helper.wait(timeout=5)
         except (OSError, subprocess.TimeoutExpired):
             pass
+        if helper.stdout is not None:
+            helper.stdout.close()
 
 
 def _wait_for_helper(worker, args):
-    """In this process: before the helper's worker runs, let the helper finish."""
+    """In this process: before a worker the helper compiles runs, wait until the helper has
+    reported it compiled (or has ended: then this process compiles what is missing)."""
     global _helper
-    if worker.py_func.__name__ == _helped and _helper is not None:
+    name = worker.py_func.__name__
+    if name not in _helped or _helper is None:
+        return None
+    while name in _helped:
+        line = _helper.stdout.readline()
+        if not line:  # the helper ended (or failed): nothing more will come
+            _helped.clear()
+            break
+        _helped.discard(line.decode("ascii", "replace").strip())
+    if not _helped:
         _helper.wait()
+        _helper.stdout.close()
         _helper = None
         _jit.intercept(None)
     return None
 
 
-def _compile_only(name: str):
-    """In the helper: compile the worker ``name`` for the arguments it gets, run nothing.
+def _compile_only(names: list[str]):
+    """In the helper: compile the workers ``names`` for the arguments they get, run nothing,
+    and name each on standard output once it is in the cache.
 
     It compiles from the bottom of a fresh Python stack (:func:`rasterkit._jit.compile_apart`:
     deep in a render's calls the hidden-line band worker's compile took 11 s instead of 6.5)."""
 
     def hook(worker, args):
-        if worker.py_func.__name__ == name:
+        name = worker.py_func.__name__
+        if name in names:
             _jit.compile_apart(worker, (0, *args))
-        else:
-            _zero_writable(args)
+            print(name, flush=True)
+        _zero_writable(args)
         return [0]
 
     return hook
@@ -157,12 +192,10 @@ def _zero_writable(values) -> None:
             value.fill(0)
 
 
-#: An OBJ with a statement of every kind the reader needs for a triangle mesh: vertices
-#: with and without colours, texture coordinates and normals, triangles with every corner
-#: form, negative indices, a line and a point, groups and a material. No polygon of more than
-#: three corners: triangulating them compiles about 18 s more (too long to finish while the
-#: demo renders; it would take a core from the next commands), so a model with quads
-#: compiles that part when it is first read, as before.
+#: An OBJ with a statement of every kind the reader needs: vertices with and without
+#: colours, texture coordinates and normals, triangles with every corner form, negative
+#: indices, a quad, a line and a point, groups and a material. (Polygons are split by NumPy:
+#: :mod:`rasterkit._obj_split`.)
 SAMPLE_OBJ = """\
 o sample
 v 0 0 0 1 0 0
@@ -179,6 +212,7 @@ f 1/1/1 2/2/1 3/3/1
 f 1/1 3/2 4/3
 f 1//1 2//1 4//1
 f -4 -3 -1
+f 1 2 3 4
 l 1 2 3
 p 4
 """
@@ -193,7 +227,7 @@ def _helper_main(order: str) -> None:
     from . import render, shapes
     from .camera import Camera
 
-    _jit.intercept(_compile_only(order["worker"]))
+    _jit.intercept(_compile_only(order["workers"]))
     camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
     fb = render(shapes.icosphere(1), camera, **order["style"])
     if order["depth"]:

@@ -28,7 +28,7 @@ ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
 SOLID_ORDER = {
     "style": {"mode": "solid", "cull": "back", "shading": "flat", "background": "white", "aa": False},
     "depth": False,
-    "worker": "draw_bands",
+    "workers": ["draw_bands"],
 }
 
 CUBE_OBJ = """\
@@ -101,7 +101,7 @@ def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path)
     env = _env(cache)
     helper = _run([sys.executable, "-m", "rasterkit._warm", json.dumps(SOLID_ORDER)], env)
     assert helper.returncode == 0, helper.stderr
-    assert helper.stdout == ""
+    assert helper.stdout == "draw_bands\n"  # what it compiled, named as each is cached
     assert len(_kernel_indexes(cache, "tiles", "draw_bands")) == 1, _indexes(cache)
     # The setup, binning and edge workers went through run_parallel's hook: not compiled.
     for module, function in [("setup", "setup_faces"), ("setup", "setup_vertices"), ("setup", "_setup_chunk"),
@@ -117,6 +117,27 @@ def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path)
     assert "setup_faces" in report["compiled"]  # the listener does see this process's compiles
     assert report["colours"] > 2  # background and some shades: the loaded worker drew
     assert len(_kernel_indexes(cache, "tiles", "draw_bands")) == 1
+
+
+def test_a_solid_models_helper_compiles_the_face_pass_first_and_the_render_loads_both(tmp_path):
+    """For a solid render of a model the helper compiles the face pass, then the band worker
+    (reporting each), and the render's own process compiles neither."""
+    assert [w.py_func.__name__ for w in _warm.helped_workers(SOLID_ORDER["style"], loading=True)] \
+        == ["setup_faces", "draw_bands"]
+    assert [w.py_func.__name__ for w in _warm.helped_workers(SOLID_ORDER["style"], loading=False)] \
+        == ["draw_bands"]
+    cache = tmp_path / "cache"
+    env = _env(cache)
+    order = {**SOLID_ORDER, "workers": ["setup_faces", "draw_bands"]}
+    helper = _run([sys.executable, "-m", "rasterkit._warm", json.dumps(order)], env)
+    assert helper.returncode == 0, helper.stderr
+    assert helper.stdout.split() == ["setup_faces", "draw_bands"]
+    main = _run([sys.executable, "-c", textwrap.dedent(SOLID_RENDER)], env)
+    assert main.returncode == 0, main.stderr
+    report = json.loads(main.stdout.splitlines()[-1])
+    assert "draw_bands" not in report["compiled"] and "setup_faces" not in report["compiled"]
+    assert "setup_vertices" in report["compiled"]
+    assert report["colours"] > 2
 
 
 def _png(path: Path) -> np.ndarray:
