@@ -52,7 +52,7 @@ _OPTIONS = dict(cache=True, nogil=True, error_model="numpy", fastmath=set(FASTMA
 MAX_THREADS = max(1, int(numba.config.NUMBA_NUM_THREADS))
 
 
-def kernel(fn=None, *, inline: str = "never", refcounts: bool = True):
+def kernel(fn=None, *, inline: str = "never", refcounts: bool = True, fastmath: bool = True):
     """Compile ``fn`` with rasterkit's jit policy.
 
     Use as ``@kernel`` or ``@kernel(inline="always")``; ``inline="always"`` inlines a small
@@ -66,12 +66,17 @@ def kernel(fn=None, *, inline: str = "never", refcounts: bool = True):
     operations cost 20 % (a ``prange`` body escapes them: Numba drops them there, which is
     why the band loops were fast as ``prange`` bodies). Such a kernel must not allocate,
     nor call anything IR-inlined that does.
+
+    ``fastmath=False`` compiles IEEE arithmetic exactly as written, for a kernel whose result
+    is defined by its rounding (the DDA's running sum: with ``reassoc`` LLVM may turn it into
+    a multiplication, which rounds differently).
     """
 
     def wrap(f):
         # _nrt always explicit: a callee compiled while its caller is typed inherits an
         # unset option, and a kernel that allocates needs the runtime whoever calls it first.
-        return numba.njit(inline=inline, _nrt=refcounts, **_OPTIONS)(f)
+        options = _OPTIONS if fastmath else {**_OPTIONS, "fastmath": False}
+        return numba.njit(inline=inline, _nrt=refcounts, **options)(f)
 
     return wrap if fn is None else wrap(fn)
 

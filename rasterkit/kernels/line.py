@@ -100,9 +100,10 @@ def _minor_bresenham(u0, v0, n, dv, out):
             v += sv
 
 
-@kernel
+@kernel(fastmath=False)
 def _minor_dda(u0, v0, n, dv, out):
-    """DDA: the minor coordinate grows by the slope ``m`` per major step, rounded half up."""
+    """DDA: the minor coordinate grows by the slope ``m`` per major step, rounded half up
+    (IEEE arithmetic as written: the running sum's rounding is what DDA is)."""
     m = dv / n if n > 0 else 0.0
     v = float(v0)
     for t in range(n + 1):
