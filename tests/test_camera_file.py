@@ -127,3 +127,15 @@ def test_an_output_without_a_file_name_says_so(tmp_path, output):
     out = tmp_path / output
     assert run_cli("render", "--demo", "-o", out, timeout=60).one_line_error() == \
         f"rasterkit: error: {out}: no file name before {out.name!r}"
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
+def test_resume_does_not_open_a_fifo_in_place_of_the_image(tmp_path):
+    model = tmp_path / "m.obj"
+    model.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    out = tmp_path / "m.png"
+    os.mkfifo(out)
+    os.utime(model, (1, 1))  # the "image" is newer than the model: --resume looks inside it
+    outcome = run_cli("render", model, "-o", out, "--resume", "--size", "8x8", timeout=60)
+    assert outcome.code == 0, outcome.describe()  # not complete: rendered again, in its place
+    assert out.is_file()
