@@ -90,6 +90,8 @@ def batch_jobs(sources: list[Path], out: Path, animated: bool) -> list[Job]:
 
 def check_sheet_path(path: Path) -> None:
     """A contact sheet's path: a .png in a folder that exists (checked before any model renders)."""
+    if path.name.lower() == ".png":
+        raise UsageError(f"{path}: no file name before {path.name!r}")
     if path.suffix.lower() != ".png":
         raise UsageError(f"{path}: the contact sheet must end in .png")
     if not path.parent.is_dir():
@@ -98,6 +100,8 @@ def check_sheet_path(path: Path) -> None:
 
 def _check_image_path(out: Path, animated: bool) -> None:
     allowed = IMAGE_SUFFIXES if animated else (".png", ".svg")
+    if out.name.lower() in allowed:  # ".png": a hidden file's name, with no suffix
+        raise UsageError(f"{out}: no file name before {out.name!r}")
     if out.suffix.lower() not in allowed:
         raise UsageError(f"{out}: the output must end in {' or '.join(allowed)}")
     if not out.parent.is_dir():

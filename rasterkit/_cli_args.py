@@ -19,8 +19,9 @@ from . import limits
 from ._report import UsageError
 from .options import MAX_IMAGE_SIZE, PROJECTIONS
 
-__all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite",
-           "focus", "framed_camera", "integers", "point", "positive_int", "samples", "size",
+__all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "check_camera_fields",
+           "finite", "focus", "framed_camera", "integers", "point", "positive_int", "read_camera_file",
+           "samples", "size",
            "size_limit", "unit_interval"]
 
 
@@ -178,14 +179,14 @@ def add_limits(parser: argparse.ArgumentParser) -> None:
     """``--max-file-size`` and ``--max-memory``."""
     group = parser.add_argument_group("limits (sizes in bytes, or with K, M, G, T: 512M, 4G)")
     group.add_argument("--max-file-size", type=size_limit, metavar="SIZE",
-                       help="refuse model and material files larger than this "
+                       help="refuse model, material and camera files larger than this "
                             "(default 2G, or RASTERKIT_MAX_FILE_SIZE)")
     group.add_argument("--max-memory", type=size_limit, metavar="SIZE",
                        help="refuse work that needs more memory than this "
                             "(default: the machine's memory, or RASTERKIT_MAX_MEMORY)")
 
 
-def framed_camera(args, mesh):
+def framed_camera(args, mesh, name: str | None = None):
     """The camera of the view flags in ``args`` for ``mesh``, and the centre it frames.
 
     Parameters
@@ -194,6 +195,8 @@ def framed_camera(args, mesh):
         Parsed by a parser with :func:`add_view_arguments`.
     mesh : rasterkit.Mesh
         The model: its bounding sphere is framed (then the flags move the camera).
+    name : str, optional
+        The model's file, named in the error about a model with no extent.
 
     Returns
     -------
@@ -206,13 +209,14 @@ def framed_camera(args, mesh):
     UsageError
         If the model has no extent.
     ValueError
-        If the flags make an invalid camera.
+        If the flags make an invalid camera, or the camera file's (``--camera-opencv``) does
+        not frame the model.
     """
     from .camera import Camera
 
     center, radius = mesh.bounding_sphere()
     if radius == 0.0:
-        raise UsageError("the model has no extent (all vertices coincide)")
+        raise UsageError(("" if name is None else f"{name}: ") + "the model has no extent (all vertices coincide)")
     if getattr(args, "camera_opencv", None):
         return _opencv_camera(args.camera_opencv, args, center, radius), center
     width, height = args.size
@@ -225,24 +229,57 @@ def framed_camera(args, mesh):
 
 
 _CAMERA_KEYS = ("K", "R", "t", "width", "height")
+_OPTIONAL_KEYS = ("dist", "near", "far")
 
 
 def read_camera_file(path: str) -> dict:
     """The keyword arguments of ``Camera.from_opencv`` from the JSON file of
-    ``--camera-opencv`` (their values are checked there), with ``source``: the path."""
+    ``--camera-opencv``, checked, with ``source``: the path.
+
+    The file is read by :func:`rasterkit._files.read_file` (a regular file within
+    ``--max-file-size``). Raises ``ValueError``, one line starting with the file's name: it
+    cannot be read, is not JSON, lacks a key or has an unknown one, or a value is wrong
+    (``R must be a finite 3x3 array, got ...``)."""
     import json
 
+    from ._files import read_file, readable
+
+    name = readable(path)
+    text = read_file(path)
     try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-    except (OSError, ValueError) as e:
-        raise UsageError(f"{path}: cannot read the camera: {getattr(e, 'strerror', None) or e}") from None
+        data = json.loads(text.decode("utf-8"))
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{name}: cannot read the camera: not UTF-8 text (byte {e.start})") from None
+    except RecursionError:
+        raise ValueError(f"{name}: cannot read the camera: its JSON is nested too deeply") from None
+    except ValueError as e:  # json.JSONDecodeError, with the line and column
+        raise ValueError(f"{name}: cannot read the camera: {e}") from None
+    return check_camera_fields(data, path)
+
+
+def check_camera_fields(data, source: str) -> dict:
+    """The camera of a ``--camera-opencv`` file (``data``, parsed, from the file ``source``)
+    with ``source`` added, after checking each key and value as ``Camera.from_opencv``
+    takes it. Raises ``ValueError`` naming the file and the key."""
+    from ._files import readable
+    from .camera.checks import positive
+    from .camera.opencv import from_opencv
+
+    name = readable(source)
     if not isinstance(data, dict) or any(k not in data for k in _CAMERA_KEYS):
-        raise UsageError(f"{path}: the camera must be a JSON object with {', '.join(_CAMERA_KEYS)}")
-    extra = set(data) - set(_CAMERA_KEYS) - {"dist", "near", "far"}
+        raise ValueError(f"{name}: the camera must be a JSON object with {', '.join(_CAMERA_KEYS)}")
+    extra = set(data) - set(_CAMERA_KEYS) - set(_OPTIONAL_KEYS)
     if extra:
-        raise UsageError(f"{path}: unknown camera keys: {', '.join(sorted(extra))}")
-    return dict(data, source=path)
+        raise ValueError(f"{name}: unknown camera keys: {', '.join(sorted(map(repr, extra)))}")
+    try:
+        from_opencv(data["K"], data["R"], data["t"], data["width"], data["height"], near=None, far=None,
+                    dist=data.get("dist"))
+        for key in ("near", "far"):
+            if data.get(key) is not None:
+                positive(data[key], key)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"{name}: {e}") from None
+    return dict(data, source=source)
 
 
 def _opencv_camera(data: dict, args, center, radius):
@@ -250,18 +287,27 @@ def _opencv_camera(data: dict, args, center, radius):
     else enclosing the model's bounding sphere with room to spare."""
     import numpy as np
 
+    from ._files import readable
     from .camera import Camera
 
     data = dict(data)
-    source = data.pop("source")
-    try:
-        r, t = np.asarray(data["R"], float), np.asarray(data["t"], float).reshape(-1)
-        distance = float(np.linalg.norm(r @ np.asarray(center) + t))
-    except (TypeError, ValueError) as e:
-        raise UsageError(f"{source}: bad camera: {e}") from None
-    data.setdefault("near", args.near if args.near is not None else max(distance - 1.5 * radius, 1e-3 * (distance + radius)))
-    data.setdefault("far", args.far if args.far is not None else distance + 2.0 * radius)
+    name = readable(data.pop("source"))
+    r, t = np.asarray(data["R"], float), np.asarray(data["t"], float).reshape(-1)
+    offset = r @ np.asarray(center) + t  # the model's centre in the camera's space
+    scale = float(np.max(np.abs(offset)))
+    distance = scale * float(np.linalg.norm(offset / scale)) if scale > 0.0 else 0.0  # no overflow
+    chosen = {"near": max(distance - 1.5 * radius, 1e-3 * (distance + radius)), "far": distance + 2.0 * radius}
+    automatic = []
+    for key, flag in (("near", args.near), ("far", args.far)):
+        if data.get(key) is None:
+            data[key] = chosen[key] if flag is None else flag
+            automatic += [key] if flag is None else []
+    if automatic and not data["near"] < data["far"]:
+        raise ValueError(
+            f"{name}: near {data['near']:.6g} is not smaller than far {data['far']:.6g} ({' and '.join(automatic)} "
+            f"chosen from the camera's distance to the model, {distance:.6g}, and its radius, {radius:.6g}): "
+            f"give near and far in the file or with --near and --far")
     try:
         return Camera.from_opencv(**data)
     except (TypeError, ValueError) as e:
-        raise UsageError(f"{source}: {e}") from None
+        raise ValueError(f"{name}: {e}") from None

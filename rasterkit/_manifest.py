@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import os
+import stat
 from pathlib import Path
 
 __all__ = ["Manifest", "complete_image", "read_manifest", "up_to_date"]
@@ -71,6 +72,8 @@ def complete_image(path: Path) -> bool:
     """Whether ``path`` is a whole image file as rasterkit writes them: a PNG (or APNG) from
     its signature to its end chunk, or a GIF from its header to its trailer byte."""
     try:
+        if not stat.S_ISREG(os.stat(path).st_mode):  # a FIFO would block, a device never end
+            return False
         with open(path, "rb") as f:
             head = f.read(8)
             f.seek(0, os.SEEK_END)

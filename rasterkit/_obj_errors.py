@@ -8,6 +8,7 @@ of its name (a newline, U+2028, an escape sequence) can break a message in two.
 
 from __future__ import annotations
 
+from ._files import readable
 from .limits import LimitError
 
 __all__ = ["ObjError", "ObjLimitError", "Report", "count", "readable"]
@@ -74,8 +75,3 @@ def count(n, noun: str, plural: str | None = None) -> str:
     """'1 face', '2 faces'."""
     return f"{int(n)} {noun if n == 1 else plural or noun + 's'}"
 
-
-def readable(text: str) -> str:
-    """text as it is when every character is printable, else its ``repr`` (quoted, with
-    escapes): a name or word from a file, fit for a one-line message."""
-    return text if text.isprintable() else repr(text)

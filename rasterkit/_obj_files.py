@@ -1,58 +1,20 @@
 """Reading the files of a model: every file :func:`rasterkit.load_obj` opens (the ``.obj`` and
-each ``mtllib`` library) is read by :func:`read_file`, and only so.
-
-The rules:
-
-- Only regular files are read. A directory, a FIFO, a socket or a device (``/dev/zero``,
-  ``/dev/stdin``...) is refused with one line, e.g. ``x.obj: not a regular file (a FIFO)``:
-  a device may never end and a FIFO may never be written to. The path is checked with
-  ``stat`` (which opens nothing), then opened without blocking (``O_NONBLOCK``: opening a FIFO
-  with no writer would wait forever) and checked again on the open descriptor (``fstat``), so
-  that what is read is what was checked.
-- A file larger than :func:`rasterkit.limits.max_file_size` (default 2 GiB;
-  ``RASTERKIT_MAX_FILE_SIZE``, the command line's ``--max-file-size``) is refused before it is
-  read, and no more than the limit and one byte is ever read: a file that grows past the limit
-  while it is read is refused too.
+each ``mtllib`` library) is read by :func:`read_file`: rasterkit's one reader of input files,
+:func:`rasterkit._files.read_file` (regular files only, within the file size limit), with its
+errors as the loader's :class:`~rasterkit.obj.ObjError`.
 """
 
 from __future__ import annotations
 
-import os
-import stat
-
+from . import _files
 from ._obj_errors import ObjError, ObjLimitError
-from .limits import format_bytes, max_file_size
 
 __all__ = ["read_file"]
 
-_KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"),
-          (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
-          (stat.S_ISSOCK, "a socket"))
-
-_FLAGS = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_CLOEXEC", 0)
-
-#: Largest single read: Linux returns at most 0x7ffff000 bytes from one read() call anyway.
-_CHUNK = 1 << 30
-
-
-def _kind(mode: int) -> str:
-    for test, words in _KINDS:
-        if test(mode):
-            return words
-    return "not a file"
-
-
-def _not_regular(name: str, mode: int) -> ObjError:
-    return ObjError(name, None, f"not a regular file ({_kind(mode)})")
-
-
-def _too_large(name: str, what: str, limit: int) -> ObjLimitError:
-    return ObjLimitError(name, None, f"{what} the file size limit of {format_bytes(limit)} "
-                                     "(--max-file-size, RASTERKIT_MAX_FILE_SIZE)")
-
 
 def read_file(name: str) -> bytes:
-    """The bytes of the regular file ``name``, at most :func:`max_file_size` of them.
+    """The bytes of the regular file ``name``, at most :func:`~rasterkit.limits.max_file_size`
+    of them (:func:`rasterkit._files.read_file`).
 
     Raises
     ------
@@ -61,41 +23,9 @@ def read_file(name: str) -> bytes:
         directory``), it is not a regular file, or (an ``ObjLimitError``, also a
         ``LimitError``) it is larger than the limit.
     """
-    limit = max_file_size()
     try:
-        info = os.stat(name)
-    except (OSError, ValueError) as e:  # ValueError: a NUL byte in the name
-        raise ObjError(name, None, f"cannot read: {getattr(e, 'strerror', None) or e}") from None
-    if not stat.S_ISREG(info.st_mode):
-        raise _not_regular(name, info.st_mode)
-    try:
-        fd = os.open(name, _FLAGS)
-    except OSError as e:
-        raise ObjError(name, None, f"cannot read: {e.strerror or e}") from None
-    try:
-        return _read_regular(fd, name, limit)
-    finally:
-        os.close(fd)
-
-
-def _read_regular(fd: int, name: str, limit: int) -> bytes:
-    """The bytes of the open file fd, once fstat says it is a regular file within limit."""
-    info = os.fstat(fd)
-    if not stat.S_ISREG(info.st_mode):
-        raise _not_regular(name, info.st_mode)
-    if info.st_size > limit:
-        raise _too_large(name, f"{format_bytes(info.st_size)}, more than", limit)
-    chunks = []
-    size = 0
-    try:
-        while size <= limit:
-            chunk = os.read(fd, min(limit + 1 - size, _CHUNK))
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
-    except OSError as e:
-        raise ObjError(name, None, f"cannot read: {e.strerror or e}") from None
-    if size > limit:
-        raise _too_large(name, "grew while it was read to more than", limit)
-    return chunks[0] if len(chunks) == 1 else b"".join(chunks)
+        return _files.read_file(name)
+    except _files.FileLimitError as e:
+        raise ObjLimitError(e.path, None, e.reason) from None
+    except _files.FileError as e:
+        raise ObjError(e.path, None, e.reason) from None

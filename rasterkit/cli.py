@@ -250,7 +250,7 @@ def _explain(args) -> int:
             raise UsageError("give a MODEL.obj or --demo, not both")
         if args.camera_opencv:
             args.camera_opencv = read_camera_file(args.camera_opencv)
-        camera, _ = framed_camera(args, _explained_mesh(args))
+        camera, _ = framed_camera(args, _explained_mesh(args), name=args.model)
         text = explain.format_chain(explain.chain_steps(camera, args.point), camera)
     print(text, flush=True)
     return 0

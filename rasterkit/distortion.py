@@ -39,7 +39,7 @@ import numpy as np
 
 from .framebuffer import Framebuffer
 
-__all__ = ["MAX_OVERSAMPLING", "distort", "render_distorted", "undistort"]
+__all__ = ["MAX_OVERSAMPLING", "Lens", "distort", "ideal_camera", "render_distorted", "undistort", "vector_plan"]
 
 #: The ideal image is rendered at most this many times finer than the distorted one.
 MAX_OVERSAMPLING = 3.0
@@ -119,6 +119,7 @@ def _plan(camera):
     cx2, cy2 = 0.5 - fx2 * x0, 0.5 - fy2 * y0  # x0, y0 at raster 1.0 (OpenCV's 0.5)
     ideal = type(camera).from_opencv([[fx2, 0.0, cx2], [0.0, fy2, cy2], [0.0, 0.0, 1.0]], r, t, w2, h2,
                                      near=camera.near, far=camera.far)
+    x, y = np.where(ok, x, 0.0), np.where(ok, y, 0.0)  # beyond the fold: no point (NaN) to cast
     xr, yr = fx2 * x + cx2 + 0.5, fy2 * y + cy2 + 0.5  # ideal raster coordinates
     i, j = np.floor(xr).astype(np.int64), np.floor(yr).astype(np.int64)
     ok &= (i >= 0) & (i < w2) & (j >= 0) & (j < h2)
@@ -190,3 +191,75 @@ def render_distorted(camera, render_ideal) -> Framebuffer:
         fb.normals = gather(src.normals, np.nan)
     fb.camera = camera
     return fb
+
+
+class Lens(NamedTuple):
+    """The map from the raster of an undistorted camera (``ideal``, :func:`vector_plan`) to
+    the raster of the distorted one: the focal lengths and principal points (OpenCV's:
+    pixel centres at integers) of the ideal camera (``ideal_f``, ``ideal_c``) and of the
+    distorted one (``f``, ``c``), and the distortion coefficients ``dist``."""
+
+    ideal_f: tuple[float, float]
+    ideal_c: tuple[float, float]
+    f: tuple[float, float]
+    c: tuple[float, float]
+    dist: tuple[float, ...]
+
+    def __call__(self, px: np.ndarray, py: np.ndarray):
+        """Distorted raster ``(u, v)`` of the ideal raster points ``(px, py)`` and whether each
+        is on the side of the model's fold that the image shows (``valid``: where
+        :func:`undistort` of ``(u, v)`` finds it again)."""
+        x = (px - 0.5 - self.ideal_c[0]) / self.ideal_f[0]
+        y = (py - 0.5 - self.ideal_c[1]) / self.ideal_f[1]
+        with np.errstate(all="ignore"):
+            xd, yd, jac = distort(x, y, self.dist)
+            det = jac[..., 0, 0] * jac[..., 1, 1] - jac[..., 0, 1] * jac[..., 1, 0]
+            u, v = self.f[0] * xd + self.c[0] + 0.5, self.f[1] * yd + self.c[1] + 0.5
+            valid = (det > 0.0) & (x * xd + y * yd >= 0.0) & np.isfinite(u) & np.isfinite(v)
+        return u, v, valid
+
+
+#: :func:`vector_plan` finds its view from the ideal points of a grid of this many
+#: points across the distorted image (and its edges).
+_COVER_STEP = 128
+#: The most an ideal pixel of the margin of :func:`vector_plan` may shrink to in the image.
+_MAX_SPREAD = 16.0
+
+
+@functools.lru_cache(maxsize=2)
+def vector_plan(camera):
+    """(ideal camera, :class:`Lens`) for vector lines of the distorted ``camera``: an
+    undistorted camera with the same focal lengths (no oversampling: lines stay vectors)
+    whose image covers the ideal point of every point of the distorted image that has one
+    (its pixel edges included), with a margin; lines drawn by it in its raster and moved
+    through the :class:`Lens` are the lines of the distorted image."""
+    k, r, t = camera.to_opencv()
+    fx, fy, cx, cy = k[0, 0], k[1, 1], k[0, 2], k[1, 2]
+    width, height = camera.width, camera.height
+    step = max(1, math.ceil(max(width, height) / _COVER_STEP))  # pixels between the grid's points
+    us = np.unique(np.r_[np.arange(-0.5, width, step), width - 0.5])  # OpenCV: edges at -0.5, W-0.5
+    vs = np.unique(np.r_[np.arange(-0.5, height, step), height - 0.5])
+    u, v = np.meshgrid(us, vs)
+    x, y, ok = undistort((u - cx) / fx, (v - cy) / fy, camera.distortion)
+    if not ok.any():
+        raise ValueError("the distortion coefficients map no pixel of the image to a point in view")
+    x, y = x[ok], y[ok]
+    _, _, jac = distort(x, y, camera.distortion)
+    # a margin of the grid's step (and 2 pixels) in ideal pixels, where the image shrinks most
+    # (up to _MAX_SPREAD times: next to a fold, where it shrinks without bound, the lines end
+    # within about a step of the fold)
+    jac_px = jac * np.array([[1.0, fx / fy], [fy / fx, 1.0]])
+    least = float(np.min(np.linalg.svd(jac_px, compute_uv=False)[:, -1]))
+    margin = 2.0 + step * min(1.0 / max(least, 1e-300), _MAX_SPREAD)
+    x0, x1 = x.min() - margin / fx, x.max() + margin / fx
+    y0, y1 = y.min() - margin / fy, y.max() + margin / fy
+    w2, h2 = math.ceil(fx * (x1 - x0)), math.ceil(fy * (y1 - y0))
+    if w2 > MAX_WIDENING * MAX_OVERSAMPLING * width or h2 > MAX_WIDENING * MAX_OVERSAMPLING * height:
+        raise ValueError(f"the distortion coefficients widen the view too far to draw ({w2}x{h2} "
+                         f"undistorted pixels for a {width}x{height} image)")
+    cx2, cy2 = -0.5 - fx * x0, -0.5 - fy * y0  # x0, y0 at raster 0 (OpenCV's -0.5)
+    ideal = type(camera).from_opencv([[fx, 0.0, cx2], [0.0, fy, cy2], [0.0, 0.0, 1.0]], r, t, w2, h2,
+                                     near=camera.near, far=camera.far)
+    k2 = ideal.to_opencv()[0]  # the ideal camera's own numbers (a round trip through its fields)
+    return ideal, Lens((float(k2[0, 0]), float(k2[1, 1])), (float(k2[0, 2]), float(k2[1, 2])),
+                       (float(fx), float(fy)), (float(cx), float(cy)), camera.distortion)

@@ -91,15 +91,25 @@ def svg_drawing(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden
     width_px = _check_width(stroke_width)
     mesh, object_starts = _objects(mesh_or_scene)
     w, h = camera.width, camera.height
-    check_memory(memory_needed(len(mesh.vertices), len(mesh.faces), len(mesh.edges), w, h, mode),
+    view, lens = camera, None
+    if camera.distortion:  # drawn by an undistorted camera, then moved through the lens
+        from .distortion import vector_plan
+
+        view, lens = vector_plan(camera)
+    check_memory(memory_needed(len(mesh.vertices), len(mesh.faces), len(mesh.edges), view.width, view.height, mode),
                  f"a {w}x{h} {mode} SVG of {len(mesh.faces)} faces")
-    clip = transform_points(mesh.vertices, np.ascontiguousarray(camera.world_to_raster()))
+    clip = transform_points(mesh.vertices, np.ascontiguousarray(view.world_to_raster()))
     chosen, classes = select_edges(mesh, clip, edges, crease_angle)
-    pieces = _svg_visibility.split_visible(clip, mesh.faces, np.ascontiguousarray(chosen, np.int64), w, h,
-                                           visibility=mode == "hidden")
+    pieces = _svg_visibility.split_visible(clip, mesh.faces, np.ascontiguousarray(chosen, np.int64), view.width,
+                                           view.height, visibility=mode == "hidden")
     keep = ~pieces.hidden if hidden is None else np.ones(len(pieces.hidden), bool)
     xy, keys, edge = pieces.xy[keep], pieces.keys[keep], pieces.edge[keep]
     layer = pieces.hidden[keep].astype(np.int64)
+    if lens is not None:
+        from ._svg_distortion import distort_pieces
+
+        xy, keys, part_of = distort_pieces(xy, keys, lens, w, h, first_key=len(mesh.vertices))
+        edge, layer = edge[part_of], layer[part_of]
     obj = np.searchsorted(object_starts, chosen[edge, 0], side="right") - 1
     n_obj, n_cls = len(object_starts), len(EDGE_CLASSES)
     route_group = layer * n_obj + obj
@@ -123,7 +133,10 @@ def render_svg(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden"
         World-space geometry; a scene's objects become sub-groups ``object-0``, ``object-1``...
     camera : Camera
         The image size (the SVG's ``viewBox`` is ``0 0 width height``, raster pixels, y down)
-        and the projection (optional for a scene that has one).
+        and the projection (optional for a scene that has one). A camera with lens
+        ``distortion`` draws the curves the lens makes of the edges (as
+        :func:`rasterkit.render` does): each straight piece is cut into parts within 0.004
+        pixels of the curve (:mod:`rasterkit._svg_distortion`).
     mode : {"hidden", "wire"}
         ``hidden``: only the visible parts of the edges (hidden-line removal in vector
         precision: each edge is split where it passes behind a front face, to 1/1000 pixel;

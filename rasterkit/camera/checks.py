@@ -156,6 +156,24 @@ def _check_perspective(f: dict[str, Any]) -> None:
     f["fov_y"] = fov(f["fov_y"])
     if f["view_height"] is not None or f["oblique_ratio"] != 0.0:
         raise ValueError("view_height and oblique_ratio belong to parallel cameras")
+    if f["distortion"]:
+        _check_distortion(f)
+
+
+def _check_distortion(f: dict[str, Any]) -> None:
+    """The distortion must leave the pixels next to the principal point an ideal point each
+    (:func:`rasterkit.distortion.undistort` finds one): coefficients so strong that the
+    model folds, or cannot be inverted, within a pixel of the centre show nothing."""
+    from ..distortion import undistort
+
+    fy = f["height"] / (2.0 * math.tan(math.radians(f["fov_y"]) / 2.0))
+    fx = fy / f["pixel_aspect"]
+    ring = np.array([(1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1)], np.float64)
+    _, _, ok = undistort(ring[:, 0] / fx, ring[:, 1] / fy, f["distortion"])
+    if not ok.all():
+        coefficients = ", ".join(f"{c:g}" for c in f["distortion"])
+        raise ValueError(f"dist ({coefficients}) is too strong: the distortion model folds (or has "
+                         "no inverse) within a pixel of the principal point, so the image would show nothing")
 
 
 def _check_parallel(f: dict[str, Any]) -> None:

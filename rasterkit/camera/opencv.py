@@ -35,6 +35,13 @@ def _matrix(value, shape: tuple[int, int], name: str) -> np.ndarray:
     return m
 
 
+def _translation(value) -> np.ndarray:
+    t = np.array(real_array(value, "t"), dtype=np.float64)
+    if t.size != 3 or t.ndim > 2 or not np.all(np.isfinite(t)):
+        raise ValueError(f"t must be 3 finite numbers, got {describe(value)}")
+    return t.reshape(3)
+
+
 def rotation(value, name: str) -> np.ndarray:
     """A 3x3 rotation matrix (orthonormal to 1e-6, determinant +1), as float64."""
     r = _matrix(value, (3, 3), name)
@@ -59,7 +66,7 @@ def from_opencv(k, r, t, width: int, height: int, near: float, far: float, dist)
     fx, fy, cx, cy = intrinsics(k)
     width, height = image_size(width, "width"), image_size(height, "height")
     r = rotation(r, "R")
-    t = _matrix(np.reshape(real_array(t, "t"), (1, -1)), (1, 3), "t")[0]
+    t = _translation(t)
     eye = -r.T @ t
     # the target one step (at least 1, or |eye|) ahead: eye + R[2] loses no digits of R[2]
     target = eye + r[2] * max(1.0, float(np.max(np.abs(eye))))
