@@ -119,24 +119,25 @@ def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path)
     assert len(_kernel_indexes(cache, "tiles", "draw_bands")) == 1
 
 
-def test_a_solid_models_helper_compiles_the_face_pass_first_and_the_render_loads_both(tmp_path):
-    """For a solid render of a model the helper compiles the face pass, then the band worker
-    (reporting each), and the render's own process compiles neither."""
+def test_a_solid_models_helper_compiles_the_vertex_pass_binning_and_band_worker(tmp_path):
+    """For a solid render of a model the helper compiles the vertex pass, the binning and
+    the band worker (naming each as it is cached), and the render's own process compiles
+    none of them (it compiles the face pass)."""
     assert [w.py_func.__name__ for w in _warm.helped_workers(SOLID_ORDER["style"], loading=True)] \
-        == ["setup_faces", "draw_bands"]
+        == ["setup_vertices", "bin_records", "draw_bands"]
     assert [w.py_func.__name__ for w in _warm.helped_workers(SOLID_ORDER["style"], loading=False)] \
         == ["draw_bands"]
     cache = tmp_path / "cache"
     env = _env(cache)
-    order = {**SOLID_ORDER, "workers": ["setup_faces", "draw_bands"]}
+    order = {**SOLID_ORDER, "workers": ["setup_vertices", "bin_records", "draw_bands"]}
     helper = _run([sys.executable, "-m", "rasterkit._warm", json.dumps(order)], env)
     assert helper.returncode == 0, helper.stderr
-    assert helper.stdout.split() == ["setup_faces", "draw_bands"]
+    assert helper.stdout.split() == ["setup_vertices", "bin_records", "draw_bands"]
     main = _run([sys.executable, "-c", textwrap.dedent(SOLID_RENDER)], env)
     assert main.returncode == 0, main.stderr
     report = json.loads(main.stdout.splitlines()[-1])
-    assert "draw_bands" not in report["compiled"] and "setup_faces" not in report["compiled"]
-    assert "setup_vertices" in report["compiled"]
+    assert not {"setup_vertices", "bin_records", "draw_bands"} & set(report["compiled"])
+    assert "setup_faces" in report["compiled"]
     assert report["colours"] > 2
 
 
