@@ -49,6 +49,9 @@ def split_polygons(vertices, corners, offsets, keep):
     (:mod:`rasterkit._obj_split`), by the kernels of :mod:`rasterkit.kernels.obj_polygons`
     (compiled on first use) where not. Triangles that a repeated vertex makes degenerate are
     left out."""
+    if np.all(np.diff(offsets) == 3):  # a triangle mesh: its rows as they are
+        parts, inexact = [(np.arange(len(keep))[keep], corners.reshape(-1, 3)[keep])], np.zeros(len(keep), bool)
+        return (*_in_polygon_order(parts, len(keep)), inexact)
     parts, inexact, left = split_in_numpy(vertices, corners, offsets, keep)
     parts = [(np.repeat(polygons, rows.shape[1]), rows.reshape(-1, 3)) for polygons, rows in parts]
     if left.any():
@@ -71,11 +74,10 @@ def _in_polygon_order(parts, polygons: int):
         a, b, c = rows.T
         valid = (a >= 0) & (a != b) & (b != c) & (c != a)
         kept.append((polygon[valid], rows[valid]))
-    counts = np.zeros(polygons, np.int64)
-    for polygon, _ in kept:
-        counts += np.bincount(polygon, minlength=polygons)
     if len(kept) == 1:
-        return np.ascontiguousarray(kept[0][1]), counts
+        polygon, rows = kept[0]
+        return np.ascontiguousarray(rows), np.bincount(polygon, minlength=polygons)
+    counts = np.bincount(np.concatenate([polygon for polygon, _ in kept]), minlength=polygons)
     start = np.cumsum(counts) - counts
     out = np.empty((int(counts.sum()), 3), np.int64)
     for polygon, rows in kept:

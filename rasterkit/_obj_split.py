@@ -31,7 +31,11 @@ import numpy as np
 from ._obj_ears import ear_clip
 from .kernels.obj_ears import EAR_CLIP_LIMIT
 
-__all__ = ["split_in_numpy"]
+__all__ = ["CHUNK", "split_in_numpy"]
+
+#: Polygons of more than three corners split at once: the arrays of a chunk take about
+#: ``CHUNK * m * 100`` bytes.
+CHUNK = 1 << 15
 
 
 def split_in_numpy(vertices: np.ndarray, corners: np.ndarray, offsets: np.ndarray,
@@ -51,17 +55,19 @@ def split_in_numpy(vertices: np.ndarray, corners: np.ndarray, offsets: np.ndarra
     parts = []
     for m in np.unique(sizes[keep & (sizes <= EAR_CLIP_LIMIT)]):
         group = np.flatnonzero(keep & (sizes == m))
-        ring = corners[offsets[group][:, None] + np.arange(m)]
         if m == 3:
-            parts.append((group, ring[:, None, :]))
+            parts.append((group, corners[offsets[group][:, None] + np.arange(3)][:, None, :]))
             continue
-        with np.errstate(all="ignore"):  # huge or tiny coordinates are the kernels' too
-            triangles, exact, done = _split(vertices, ring)
-        if m == 4:
-            triangles[~done], done[~done] = _quads_with_a_repeat(ring[~done])
-        parts.append((group[done], triangles[done]))
-        inexact[group[done]] = ~exact[done]
-        left[group[~done]] = True
+        for first in range(0, len(group), CHUNK):  # bounded memory: (chunk, m, 3) arrays
+            chunk = group[first:first + CHUNK]
+            ring = corners[offsets[chunk][:, None] + np.arange(m)]
+            with np.errstate(all="ignore"):  # huge or tiny coordinates are the kernels' too
+                triangles, exact, done = _split(vertices, ring)
+            if m == 4:
+                triangles[~done], done[~done] = _quads_with_a_repeat(ring[~done])
+            parts.append((chunk[done], triangles[done]))
+            inexact[chunk[done]] = ~exact[done]
+            left[chunk[~done]] = True
     return parts, inexact, left
 
 
