@@ -36,10 +36,21 @@ class Manifest:
         self.path = Path(folder) / MANIFEST
         flags = os.O_WRONLY | os.O_CREAT | os.O_APPEND | (0 if append else os.O_TRUNC)
         self._fd = os.open(self.path, flags, 0o666)  # the umask decides the permissions
+        self._torn = False  # the last write failed, perhaps in the middle of its line
 
     def write(self, record: dict) -> None:
+        """Append ``record`` as one line. An ``OSError`` (a full disk) names the manifest;
+        the line after a failed one starts on a line of its own."""
         line = (json.dumps(record, ensure_ascii=False) + "\n").encode()
-        os.write(self._fd, line)
+        if self._torn:
+            line = b"\n" + line
+        try:
+            while line:
+                line = line[os.write(self._fd, line):]  # a full disk may write part of it
+            self._torn = False
+        except OSError as e:
+            self._torn = True
+            raise OSError(e.errno, e.strerror or str(e), str(self.path)) from None
 
     def close(self) -> None:
         if self._fd is not None:

@@ -54,7 +54,8 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
 
     Images are byte-identical whatever ``jobs`` or the engine.
     """
-    from ._batch import IMAGE_SUFFIXES, _inputs, batch_jobs, check_sheet_path
+    from ._batch import IMAGE_SUFFIXES, _inputs, batch_jobs, check_batch_outputs, check_sheet_path
+    from . import _report
     from ._report import UsageError
     from .cli import render_options as make_options
     from ._many import run
@@ -71,9 +72,12 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
     try:
         planned = batch_jobs(_inputs([os.fspath(p) for p in paths]), out, bool(options.turntable))
         if contact_sheet is not None:
-            check_sheet_path(Path(contact_sheet))
+            check_sheet_path(Path(contact_sheet), out)
+        check_batch_outputs(planned, None if contact_sheet is None else ("contact_sheet", contact_sheet))
     except UsageError as e:
         raise ValueError(str(e)) from None
+    except OSError as e:  # the contact sheet cannot be written where it is asked for
+        raise ValueError(_report.error_line(e)[1].removeprefix("rasterkit: error: ")) from None
     pairs = [(job.source, job.output) for job in planned]
     return run(pairs, out, options, jobs=jobs, client=client, resume=resume, progress=progress,
                contact_sheet=None if contact_sheet is None else Path(contact_sheet), strict=True)
