@@ -30,6 +30,7 @@ from . import _png
 __all__ = ["thumbnail"]
 
 _READ = 1 << 20  # compressed bytes read from the file at a time
+_ROWS = 1 << 19  # bytes of rows decompressed at a time (summed as uint64: 4 MiB)
 
 
 class _Blocks:
@@ -114,7 +115,7 @@ def _read_png(f, cell: int):
     channels = 3 if kind == 2 else 4
     blocks = _Blocks(width, height, channels, _factors(width, height, fitted_size(width, height, cell)))
     stride = 1 + width * channels
-    most = max(1, (1 << 22) // stride) * stride  # bytes of rows decompressed at a time
+    most = max(1, _ROWS // stride) * stride  # bytes of rows decompressed at a time
     stream = zlib.decompressobj()
     pending = bytearray()
     for tag, length in chunks:
