@@ -3,7 +3,8 @@
 The manifest has one JSON object per line, one per model, appended as its result arrives,
 each line with one ``write`` to a file opened for appending: a run that is killed leaves
 every finished model's line and no half line (a reader skips a line that does not parse,
-in case the disk filled up in the middle of one). Fields: ``input``, ``output``,
+in case the disk filled up in the middle of one; the line after a failed write starts on a
+line of its own, so it is not spoilt too). Fields: ``input``, ``output``,
 ``status`` (``"ok"`` or ``"error"``), ``error`` (the one-line message, or null; the
 command line prints it after ``rasterkit: error:``, or ``rasterkit: internal error:`` for a
 bug of rasterkit or a worker that died),

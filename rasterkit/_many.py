@@ -7,8 +7,9 @@
    (:mod:`rasterkit._dask`) — each model through :func:`rasterkit._workers.run_task`, so the
    images are the same bytes whatever the engine and the number of workers.
 3. Each result is appended to ``OUTDIR/manifest.jsonl`` as it arrives, a failure is
-   reported in one line, the progress advances; at the end a summary line, and the contact
-   sheet if asked for.
+   reported in one line, the progress advances; at the end the contact sheet if asked for,
+   and a summary line. A manifest line or a contact sheet that cannot be written (a full
+   disk) is one line too, and the batch goes on to its summary (exit code 2).
 
 Kernel threads: one process alone uses every core; ``jobs`` workers share them
 (``cores // jobs`` threads each, at least one), so the cores are never oversubscribed.

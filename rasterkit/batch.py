@@ -38,7 +38,8 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
     progress : bool
         Show the progress on stderr (a bar on a terminal, lines otherwise).
     contact_sheet : path, optional
-        Also write a PNG grid of every image with its name.
+        Also write a PNG grid of every image with its name, in a folder that exists or in
+        ``out_dir``. It must not be one of the images (ValueError).
     **render_options
         The ``render`` command's options as Python values: ``size=(1280, 960)``,
         ``mode="solid"``, ``projection="isometric"``, ``eye=(3, 2, 4)``, ``samples=4``,
