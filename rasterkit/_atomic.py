@@ -40,7 +40,7 @@ import threading
 from pathlib import Path
 from typing import Iterator
 
-__all__ = ["all_or_none", "atomic_write", "creation_mode", "temporary_prefix"]
+__all__ = ["all_or_none", "atomic_write", "creation_mode", "link_target", "temporary_prefix"]
 
 _umask_lock = threading.Lock()
 
@@ -95,12 +95,17 @@ def temporary_prefix(target: Path) -> str:
     return "." + os.fsdecode(name[:room]) + "."
 
 
-def _target(path: Path) -> Path:
+def link_target(path: str | os.PathLike) -> str:
     """The file that writing ``path`` replaces: ``path``, or what a symbolic link points to
-    (followed to its end; a dangling link's target is created)."""
-    if not path.is_symlink():
+    (followed to its end; a dangling link's target is created). A loop of links raises
+    ``OSError`` (ELOOP) naming ``path``."""
+    path = os.fspath(path)
+    if not os.path.islink(path):
         return path
-    return Path(os.path.realpath(path))
+    real = os.path.realpath(path)
+    if os.path.islink(real):  # realpath stops where links go round in a loop
+        raise OSError(errno.ELOOP, os.strerror(errno.ELOOP), str(path))
+    return real
 
 
 def _is_ours(named: Path, target: Path) -> bool:
@@ -149,7 +154,7 @@ def atomic_write(path: str | os.PathLike) -> Iterator[Path]:
     path = target = Path(text)
     tmp = None
     try:
-        target = _target(path)
+        target = Path(link_target(path))
         mode = creation_mode(target)
         fd, tmp = tempfile.mkstemp(prefix=temporary_prefix(target), suffix=".tmp", dir=target.parent)
         os.close(fd)

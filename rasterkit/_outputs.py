@@ -22,6 +22,7 @@ import os
 import tempfile
 from typing import Iterable
 
+from ._atomic import link_target
 from ._report import UsageError
 
 __all__ = ["check_distinct", "check_writable", "named_outputs"]
@@ -54,7 +55,7 @@ def check_writable(path) -> None:
     text = _text(path)
     if text.endswith(_SEPARATORS):
         raise IsADirectoryError(errno.EISDIR, "names a folder (it ends with a separator), not a file", text)
-    target = os.path.realpath(text) if os.path.islink(text) else text
+    target = link_target(text)
     if os.path.isdir(target):
         raise IsADirectoryError(errno.EISDIR, "Is a directory", text)
     folder = os.path.dirname(target) or "."

@@ -204,6 +204,12 @@ def test_a_symbolic_link_is_written_through(tmp_path, model, capsys):
             assert im.size == (24, 16)
     assert stat.S_IMODE(target.stat().st_mode) == 0o600  # the file replaced keeps its mode
     assert _files(tmp_path / "real") == ["image.png", "new.png"]  # no temporary file left
+    (tmp_path / "loop.png").symlink_to("loop.png")
+    code, lines = _run(_render(model, tmp_path / "loop.png"), capsys)
+    assert (code, lines) == (2, [f"rasterkit: error: {tmp_path / 'loop.png'}: Too many levels of symbolic links"])
+    with pytest.raises(OSError, match="symbolic links"):
+        Framebuffer(4, 3).save(tmp_path / "loop.png")
+    assert (tmp_path / "loop.png").is_symlink()
 
 
 def test_a_contact_sheet_may_go_into_the_folder_the_batch_makes(tmp_path, models, capsys):
