@@ -40,9 +40,12 @@ import threading
 from pathlib import Path
 from typing import Iterator
 
-__all__ = ["all_or_none", "atomic_write", "creation_mode", "link_target", "temporary_prefix"]
+__all__ = ["ENDS_IN_SEPARATOR", "all_or_none", "atomic_write", "creation_mode", "link_target", "temporary_prefix"]
 
 _umask_lock = threading.Lock()
+
+#: Why a path ending in a separator (``x.png/``) is not written.
+ENDS_IN_SEPARATOR = "names a folder (it ends with a separator), not a file"
 
 #: The temporary name adds a dot before ``NAME`` and ``.XXXXXXXX.tmp`` after it
 #: (``tempfile``'s eight random characters).
@@ -150,7 +153,7 @@ def atomic_write(path: str | os.PathLike) -> Iterator[Path]:
     if isinstance(text, bytes):
         text = os.fsdecode(text)
     if text.endswith(tuple(filter(None, (os.sep, os.altsep)))):
-        raise IsADirectoryError(errno.EISDIR, "Is a directory (a file name cannot end in a separator)", text)
+        raise IsADirectoryError(errno.EISDIR, ENDS_IN_SEPARATOR, text)
     path = target = Path(text)
     tmp = None
     try:

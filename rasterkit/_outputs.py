@@ -22,7 +22,7 @@ import os
 import tempfile
 from typing import Iterable
 
-from ._atomic import link_target
+from ._atomic import ENDS_IN_SEPARATOR, link_target
 from ._report import UsageError
 
 __all__ = ["check_distinct", "check_writable", "named_outputs"]
@@ -54,7 +54,7 @@ def check_writable(path) -> None:
     symbolic link is checked where it points."""
     text = _text(path)
     if text.endswith(_SEPARATORS):
-        raise IsADirectoryError(errno.EISDIR, "names a folder (it ends with a separator), not a file", text)
+        raise IsADirectoryError(errno.EISDIR, ENDS_IN_SEPARATOR, text)
     target = link_target(text)
     if os.path.isdir(target):
         raise IsADirectoryError(errno.EISDIR, "Is a directory", text)

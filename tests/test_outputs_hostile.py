@@ -184,7 +184,7 @@ def test_a_trailing_slash_names_a_folder_and_writes_nothing(tmp_path, model, cap
     assert (code, lines) == (2, [f"rasterkit: error: {tmp_path / 'x.png'}/: names a folder (it ends with a "
                                  f"separator), not a file"])
     for save in (lambda p: Framebuffer(4, 3).save(p), lambda p: rasterkit.image.save_npy(np.zeros(3), p)):
-        with pytest.raises(IsADirectoryError):
+        with pytest.raises(IsADirectoryError, match="ends with a separator"):
             save(f"{tmp_path / 'x.png'}/")
     assert _files(tmp_path) == ["m.obj"]
 
