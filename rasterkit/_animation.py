@@ -105,7 +105,7 @@ def write_apng(frames: Iterable[np.ndarray], f: BinaryIO, duration_ms: float, lo
     return count
 
 
-def _blocks_end(data: bytes, pos: int) -> int:
+def blocks_end(data: bytes, pos: int) -> int:
     """The position after the data sub-blocks that start at ``pos`` (and their 0 terminator)."""
     while data[pos]:
         pos += data[pos] + 1
@@ -135,13 +135,13 @@ def gif_frame(color: np.ndarray) -> tuple[bytes, int | None, int, bytes]:
         if kind == 0x21:  # an extension: label, sub-blocks
             if data[pos + 1] == 0xF9 and data[pos + 3] & 1:  # graphic control, transparent index
                 transparency = data[pos + 6]
-            pos = _blocks_end(data, pos + 2)
+            pos = blocks_end(data, pos + 2)
         elif kind == 0x2C:  # the image: descriptor, optional table, code size, sub-blocks
             flags = data[pos + 9]
             pos += 10
             if flags & 0x80:
                 table, pos = data[pos: pos + (3 << ((flags & 7) + 1))], pos + (3 << ((flags & 7) + 1))
-            return table, transparency, flags & 0x40, data[pos: _blocks_end(data, pos + 1)]
+            return table, transparency, flags & 0x40, data[pos: blocks_end(data, pos + 1)]
         else:
             raise ValueError(f"unexpected GIF block {kind:#x} from Pillow")
 

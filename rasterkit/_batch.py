@@ -14,12 +14,14 @@ NumPy and Numba load when a model is rendered.
 
 from __future__ import annotations
 
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 from . import _report
 from ._manifest import up_to_date
+from ._outputs import check_distinct, check_writable, named_outputs
 from ._render_one import render_model
 from ._report import UsageError
 
@@ -60,6 +62,10 @@ def jobs(args) -> tuple[list[Job], bool]:
         _check_image_path(out, animated=bool(args.turntable))
         if args.contact_sheet or args.scheduler:
             raise UsageError("--contact-sheet and --scheduler are for several models (a folder for -o)")
+        named = named_outputs(args, args.output)  # -o as given: "x.png/" names a folder
+        check_distinct(named, sources)
+        for _, path in named:
+            check_writable(path)
         return [Job(sources[0], out)], False
     if out.suffix.lower() in IMAGE_SUFFIXES:
         raise UsageError(f"{out}: several models render into a folder; give a folder for -o")
@@ -69,10 +75,12 @@ def jobs(args) -> tuple[list[Job], bool]:
     if args.scheduler and args.jobs != 1:
         raise UsageError("give --jobs or --scheduler, not both")
     if args.contact_sheet:
-        check_sheet_path(Path(args.contact_sheet))
+        check_sheet_path(Path(args.contact_sheet), out)
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: not a folder")
-    return batch_jobs(sources, out, bool(args.turntable)), True
+    batch = batch_jobs(sources, out, bool(args.turntable))
+    check_batch_outputs(batch, args.contact_sheet and ("--contact-sheet", args.contact_sheet))
+    return batch, True
 
 
 def batch_jobs(sources: list[Path], out: Path, animated: bool) -> list[Job]:
@@ -88,14 +96,23 @@ def batch_jobs(sources: list[Path], out: Path, animated: bool) -> list[Job]:
     return batch
 
 
-def check_sheet_path(path: Path) -> None:
-    """A contact sheet's path: a .png in a folder that exists (checked before any model renders)."""
+def check_sheet_path(path: Path, out: Path) -> None:
+    """A contact sheet's path: a .png in a folder that exists or is the batch's folder
+    ``out`` (made before the models render), checked before any model renders."""
     if path.name.lower() == ".png":
         raise UsageError(f"{path}: no file name before {path.name!r}")
     if path.suffix.lower() != ".png":
         raise UsageError(f"{path}: the contact sheet must end in .png")
-    if not path.parent.is_dir():
-        raise UsageError(f"{path}: folder {str(path.parent)!r} does not exist")
+    if os.path.realpath(path.parent) == os.path.realpath(out) and not out.exists():
+        return
+    check_writable(path)
+
+
+def check_batch_outputs(batch: list[Job], sheet: tuple[str, object] | None) -> None:
+    """No two images of a batch, nor an image and the contact sheet (``(what, path)``), are
+    one file, and none is one of the models (a usage error otherwise)."""
+    named = [(str(job.source) if job.source is not None else "--demo", job.output) for job in batch]
+    check_distinct(named + ([sheet] if sheet else []), [job.source for job in batch])
 
 
 def _check_image_path(out: Path, animated: bool) -> None:
@@ -104,8 +121,6 @@ def _check_image_path(out: Path, animated: bool) -> None:
         raise UsageError(f"{out}: no file name before {out.name!r}")
     if out.suffix.lower() not in allowed:
         raise UsageError(f"{out}: the output must end in {' or '.join(allowed)}")
-    if not out.parent.is_dir():
-        raise UsageError(f"{out}: folder {str(out.parent)!r} does not exist")
 
 
 def _attempt(job: Job, args) -> int:

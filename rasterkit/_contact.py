@@ -2,7 +2,9 @@
 
 Cells are at most 160 pixels wide (fewer when a row would pass 8192 pixels), the names
 below them in Pillow's built-in font, shortened to fit. Missing or unreadable images get an
-empty cell with their name, so the grid keeps the batch's order. Written atomically.
+empty cell with their name, so the grid keeps the batch's order. The thumbnails are read a
+few rows at a time (:mod:`rasterkit._thumbnails`): an image of any size is one of ours,
+not a decompression bomb. Written atomically.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ def contact_sheet(images: list[Path], path: Path, background=(255, 255, 255)) ->
     from PIL import Image, ImageDraw, ImageFont
 
     from ._atomic import atomic_write
+    from ._thumbnails import thumbnail
     from .limits import check_memory
 
     n = max(len(images), 1)
@@ -36,12 +39,9 @@ def contact_sheet(images: list[Path], path: Path, background=(255, 255, 255)) ->
         x = _PAD + (k % columns) * (cell + _PAD)
         y = _PAD + (k // columns) * (cell + _LABEL + _PAD)
         try:
-            with Image.open(image_path) as im:
-                im.seek(0)
-                thumb = im.convert("RGBA")
-            thumb.thumbnail((cell, cell))
+            thumb = thumbnail(image_path, cell)
             sheet.paste(thumb, (x + (cell - thumb.width) // 2, y + (cell - thumb.height) // 2), thumb)
-        except (OSError, ValueError):
+        except (OSError, ValueError, MemoryError):
             draw.rectangle((x, y, x + cell - 1, y + cell - 1), outline=(200, 0, 0))
         name = Path(image_path).stem
         while name and draw.textlength(name, font=font) > cell:

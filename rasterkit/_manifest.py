@@ -3,7 +3,8 @@
 The manifest has one JSON object per line, one per model, appended as its result arrives,
 each line with one ``write`` to a file opened for appending: a run that is killed leaves
 every finished model's line and no half line (a reader skips a line that does not parse,
-in case the disk filled up in the middle of one). Fields: ``input``, ``output``,
+in case the disk filled up in the middle of one; the line after a failed write starts on a
+line of its own, so it is not spoilt too). Fields: ``input``, ``output``,
 ``status`` (``"ok"`` or ``"error"``), ``error`` (the one-line message, or null; the
 command line prints it after ``rasterkit: error:``, or ``rasterkit: internal error:`` for a
 bug of rasterkit or a worker that died),
@@ -37,10 +38,21 @@ class Manifest:
         self.path = Path(folder) / MANIFEST
         flags = os.O_WRONLY | os.O_CREAT | os.O_APPEND | (0 if append else os.O_TRUNC)
         self._fd = os.open(self.path, flags, 0o666)  # the umask decides the permissions
+        self._torn = False  # the last write failed, perhaps in the middle of its line
 
     def write(self, record: dict) -> None:
+        """Append ``record`` as one line. An ``OSError`` (a full disk) names the manifest;
+        the line after a failed one starts on a line of its own."""
         line = (json.dumps(record, ensure_ascii=False) + "\n").encode()
-        os.write(self._fd, line)
+        if self._torn:
+            line = b"\n" + line
+        try:
+            while line:
+                line = line[os.write(self._fd, line):]  # a full disk may write part of it
+            self._torn = False
+        except OSError as e:
+            self._torn = True
+            raise OSError(e.errno, e.strerror or str(e), str(self.path)) from None
 
     def close(self) -> None:
         if self._fd is not None:

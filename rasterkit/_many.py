@@ -7,8 +7,9 @@
    (:mod:`rasterkit._dask`) — each model through :func:`rasterkit._workers.run_task`, so the
    images are the same bytes whatever the engine and the number of workers.
 3. Each result is appended to ``OUTDIR/manifest.jsonl`` as it arrives, a failure is
-   reported in one line, the progress advances; at the end a summary line, and the contact
-   sheet if asked for.
+   reported in one line, the progress advances; at the end the contact sheet if asked for,
+   and a summary line. A manifest line or a contact sheet that cannot be written (a full
+   disk) is one line too, and the batch goes on to its summary (exit code 2).
 
 Kernel threads: one process alone uses every core; ``jobs`` workers share them
 (``cores // jobs`` threads each, at least one), so the cores are never oversubscribed.
@@ -22,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ._manifest import Manifest, up_to_date
+from ._report import error_line
 from ._progress import Progress
 from ._workers import LocalPool, cores, run_task, warm_up
 
@@ -75,7 +77,7 @@ def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1
     if todo and client is None:
         warm_up(options, strict=strict)
     out_dir.mkdir(parents=True, exist_ok=True)
-    codes = []
+    codes, unrecorded = [], []
     with Manifest(out_dir, append=resume) as manifest:
         summary.manifest = manifest.path
 
@@ -83,7 +85,6 @@ def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1
             code = record.pop("code", 0 if record["status"] == "ok" else 1)
             for warning in record.get("warnings", ()):
                 say(warning)
-            manifest.write(record)
             summary.records.append(record)
             codes.append(code)
             if record["status"] == "ok":
@@ -91,18 +92,30 @@ def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1
             else:
                 summary.failed += 1
                 say(f"rasterkit: {'error' if code == 2 else 'internal error'}: {record['error']}")
+            try:
+                manifest.write(record)
+            except OSError as e:  # a full disk: said once, the batch goes on
+                if not unrecorded:
+                    say(error_line(e)[1])
+                unrecorded.append(record["input"])
+                codes.append(2)
             report.advance(Path(record["input"]).name, record["status"], record["seconds"])
 
         try:
             _engine(todo, options, jobs, client, on_result)
         finally:
             report.close()
-    summary.seconds = time.monotonic() - started
-    summary.exit_code = 1 if 1 in codes else max(codes, default=0)
     if contact_sheet is not None:
         from ._contact import contact_sheet as write_sheet
 
-        write_sheet([output for _, output in pairs], contact_sheet)
+        try:
+            write_sheet([output for _, output in pairs], contact_sheet)
+        except Exception as e:  # a full disk, say: one line, and the summary still comes
+            code, line = error_line(e)
+            say(line)
+            codes.append(code)
+    summary.seconds = time.monotonic() - started
+    summary.exit_code = 1 if 1 in codes else max(codes, default=0)
     return summary
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from . import _report
 from ._cli_args import framed_camera
+from ._outputs import check_distinct, check_writable, named_outputs
 from ._report import UsageError
 from .options import SVG_MODES
 
@@ -36,8 +37,10 @@ def _turntable(mesh, camera, center, frames: int, style: dict):
 def render_model(source: Path | None, output: Path, options, say=None) -> int:
     """Render the model ``source`` (None: the built-in demo) into ``output`` as ``options``
     say; returns its number of triangles. ``say(line)`` prints the loader's warnings (one
-    line each; default: dropped)."""
+    line each; default: dropped). Every output is checked before the model is read, and
+    the files of one render (image, depth, normals, ids) are written all or none."""
     from . import _warm
+    from ._atomic import all_or_none
     from .image import save_animation
     from .obj import load_obj
     from .render import render
@@ -45,6 +48,10 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
 
     svg = output.suffix.lower() == ".svg"
     _check_svg_options(options, svg)
+    named = named_outputs(options, output)
+    check_distinct(named, [source])
+    for _, path in named:
+        check_writable(path)
     if not svg:
         _warm.start(dict(mode=options.mode, cull=options.cull, shading=options.shading,
                          background=options.background, aa=options.aa, ids=bool(options.ids),
@@ -73,13 +80,14 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
         return len(mesh.faces)
     fb = render(mesh, camera, **style, normals=bool(options.normals), ids=bool(options.ids),
                 camera_depth=bool(options.depth))
-    if options.depth:
-        fb.save_depth(options.depth)
-    if options.normals:
-        fb.save_normals(options.normals)
-    if options.ids:
-        fb.save_ids(options.ids)
-    fb.save(output)
+    with all_or_none():
+        if options.depth:
+            fb.save_depth(options.depth)
+        if options.normals:
+            fb.save_normals(options.normals)
+        if options.ids:
+            fb.save_ids(options.ids)
+        fb.save(output)
     return len(mesh.faces)
 
 

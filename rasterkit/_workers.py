@@ -153,14 +153,16 @@ def warm_up(options, strict: bool = False) -> None:
     tiny = copy.copy(options)
     tiny.size, tiny.turntable, tiny.depth, tiny.normals, tiny.ids = (16, 12), None, None, None, None
     tiny.camera_opencv = None
-    with tempfile.TemporaryDirectory(prefix="rasterkit-warm-") as folder:
-        model = Path(folder) / "tiny.obj"
-        model.write_text(_TINY_OBJ)
-        try:
+    try:
+        with tempfile.TemporaryDirectory(prefix="rasterkit-warm-") as folder:
+            model = Path(folder) / "tiny.obj"
+            model.write_text(_TINY_OBJ)
             render_model(model, Path(folder) / "tiny.png", tiny)
-        except Exception:
-            if strict:
-                raise
+    except OSError:
+        pass  # the temporary folder's trouble (a full disk), not the options': the models say theirs
+    except Exception:
+        if strict:
+            raise
 
 
 class LocalPool:
@@ -213,13 +215,13 @@ class LocalPool:
 
     def _collect(self, worker: dict, pending: deque, on_result) -> None:
         try:
-            if worker["conn"].poll():
-                record = worker["conn"].recv()
-                on_result(record)
-                self._give(worker, pending)
-                return
+            record = worker["conn"].recv() if worker["conn"].poll() else None
         except (EOFError, OSError):
-            pass
+            record = None
+        if record is not None:  # on_result's own errors are not the pipe's: they go up
+            on_result(record)
+            self._give(worker, pending)
+            return
         if worker["process"].is_alive():
             return
         source, output = worker["task"]  # it died while rendering this model

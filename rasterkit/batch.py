@@ -38,7 +38,8 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
     progress : bool
         Show the progress on stderr (a bar on a terminal, lines otherwise).
     contact_sheet : path, optional
-        Also write a PNG grid of every image with its name.
+        Also write a PNG grid of every image with its name, in a folder that exists or in
+        ``out_dir``. It must not be one of the images (ValueError).
     **render_options
         The ``render`` command's options as Python values: ``size=(1280, 960)``,
         ``mode="solid"``, ``projection="isometric"``, ``eye=(3, 2, 4)``, ``samples=4``,
@@ -54,7 +55,8 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
 
     Images are byte-identical whatever ``jobs`` or the engine.
     """
-    from ._batch import IMAGE_SUFFIXES, _inputs, batch_jobs, check_sheet_path
+    from ._batch import IMAGE_SUFFIXES, _inputs, batch_jobs, check_batch_outputs, check_sheet_path
+    from . import _report
     from ._report import UsageError
     from .cli import render_options as make_options
     from ._many import run
@@ -71,9 +73,12 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
     try:
         planned = batch_jobs(_inputs([os.fspath(p) for p in paths]), out, bool(options.turntable))
         if contact_sheet is not None:
-            check_sheet_path(Path(contact_sheet))
+            check_sheet_path(Path(contact_sheet), out)
+        check_batch_outputs(planned, None if contact_sheet is None else ("contact_sheet", contact_sheet))
     except UsageError as e:
         raise ValueError(str(e)) from None
+    except OSError as e:  # the contact sheet cannot be written where it is asked for
+        raise ValueError(_report.error_line(e)[1].removeprefix("rasterkit: error: ")) from None
     pairs = [(job.source, job.output) for job in planned]
     return run(pairs, out, options, jobs=jobs, client=client, resume=resume, progress=progress,
                contact_sheet=None if contact_sheet is None else Path(contact_sheet), strict=True)

@@ -207,7 +207,7 @@ def _render(args) -> int:
 
     for flag in ("depth", "normals", "ids"):
         path = getattr(args, flag)
-        if path and not path.lower().endswith((".npy", ".png")):
+        if path and not path.rstrip(os.sep).lower().endswith((".npy", ".png")):  # "d.npy/": _batch says
             raise UsageError(f"{path}: the {flag} output must end in .npy or .png")
         if path and args.turntable:
             raise UsageError(f"--{flag} takes a still image, not --turntable")

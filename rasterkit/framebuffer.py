@@ -214,7 +214,8 @@ class Framebuffer:
     def save_depth(self, path: str | os.PathLike, scale: float = 1000.0) -> None:
         """:meth:`camera_depth` to ``.npy`` (float32, as it is) or to a 16-bit greyscale
         ``.png`` holding ``round(depth·scale)``, by default millimetres when the world unit
-        is the metre, clipped to 65535; 0 where nothing was drawn. Written atomically."""
+        is the metre, clipped to 65535; 0 where nothing was drawn. Written atomically.
+        ``scale`` must be a finite number above 0 (ValueError otherwise)."""
         from .vision import save_depth
 
         save_depth(self.camera_depth(), path, scale)

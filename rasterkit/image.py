@@ -24,7 +24,7 @@ from PIL import Image
 from . import _animation, _png
 from ._atomic import atomic_write
 
-__all__ = ["to_pil", "encode_png", "save_image", "save_animation", "atomic_write"]
+__all__ = ["to_pil", "encode_png", "save_image", "save_animation", "save_npy", "atomic_write"]
 
 #: zlib level of PNG files (see :mod:`rasterkit._png`).
 PNG_COMPRESS_LEVEL = _png.PNG_COMPRESS_LEVEL
@@ -67,11 +67,29 @@ def encode_png(color: np.ndarray) -> bytes:
 
 def save_image(color: np.ndarray, path: str | os.PathLike) -> None:
     """Write one image as PNG (the only still format), atomically."""
-    path = Path(path)
-    _format(path, ("png",))
+    _format(Path(path), ("png",))  # ``path`` itself goes on: "x.png/" names a folder, not x.png
     data = encode_png(color)
     with atomic_write(path) as tmp:
         tmp.write_bytes(data)
+
+
+class _Chunks:
+    """A file that NumPy writes through ``write`` (16 MiB at a time), not ``ndarray.tofile``:
+    a short write then raises the system's error (``No space left on device``) instead of
+    NumPy's ``N requested and M written``."""
+
+    def __init__(self, f):
+        self._f = f
+
+    def write(self, data) -> int:
+        return self._f.write(data)
+
+
+def save_npy(array: np.ndarray, path: str | os.PathLike) -> None:
+    """Write ``array`` as a ``.npy`` file, atomically."""
+    with atomic_write(path) as tmp:
+        with open(tmp, "wb") as f:
+            np.save(_Chunks(f), np.asarray(array), allow_pickle=False)
 
 
 #: The longest a frame can be shown: 655.35 s (a GIF counts hundredths of a second in 16 bits).
@@ -88,8 +106,7 @@ def save_animation(frames: Iterable[np.ndarray], path: str | os.PathLike, fps: f
     stored again, the one before is shown longer. Written atomically: if a frame fails, or
     there is none, nothing is written.
     """
-    path = Path(path)
-    fmt = _format(path, ("gif", "png", "apng"))
+    fmt = _format(Path(path), ("gif", "png", "apng"))
     if isinstance(fps, bool) or not isinstance(fps, numbers.Real) or not math.isfinite(fps) or fps < MIN_FPS:
         raise ValueError(f"fps must be a number of at least {MIN_FPS:.3g}, got {fps!r}")
     duration = int(round(1000.0 / fps))

@@ -17,6 +17,8 @@ Depth
 
 from __future__ import annotations
 
+import math
+import numbers
 import os
 import struct
 from pathlib import Path
@@ -140,22 +142,26 @@ def _png16(gray: np.ndarray) -> bytes:
 
 def _write(path, array: np.ndarray, png) -> None:
     """``array`` to ``.npy``, or ``png()``'s bytes to ``.png``, atomically."""
-    path = Path(path)
-    ext = path.suffix.lower()
+    suffix = Path(path).suffix  # ``path`` itself goes on: "d.npy/" names a folder, not d.npy
+    ext = suffix.lower()
     if ext not in (".npy", ".png"):
-        raise ValueError(f"{path}: unsupported extension {path.suffix!r} (use .png or .npy)")
+        raise ValueError(f"{os.fspath(path)}: unsupported extension {suffix!r} (use .png or .npy)")
+    if ext == ".npy":
+        from .image import save_npy
+
+        save_npy(array, path)
+        return
+    data = png()
     with atomic_write(path) as tmp:
-        if ext == ".npy":
-            with open(tmp, "wb") as f:
-                np.save(f, array)
-        else:
-            tmp.write_bytes(png())
+        tmp.write_bytes(data)
 
 
 def save_depth(depth: np.ndarray, path: str | os.PathLike, scale: float = DEPTH_PNG_SCALE) -> None:
     """Metric depth ``(H, W) float32`` (0: nothing drawn) to ``.npy`` as it is, or to a 16-bit
     greyscale ``.png`` of ``round(depth·scale)`` (millimetres for metres by default) clipped
-    to 65535."""
+    to 65535. ``scale`` is a finite number above 0 (ValueError otherwise)."""
+    if isinstance(scale, bool) or not isinstance(scale, numbers.Real) or not math.isfinite(scale) or scale <= 0:
+        raise ValueError(f"scale must be a finite number above 0, got {scale!r}")
     _write(path, depth, lambda: _png16(np.clip(np.rint(depth.astype(np.float64) * scale), 0, 65535)
                                         .astype(np.uint16)))
 

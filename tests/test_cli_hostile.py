@@ -179,7 +179,7 @@ def test_an_output_in_the_way_is_named_not_the_temporary_file(tmp_path, capsys):
     (tmp_path / "spin.gif").mkdir()
     cases = [
         (["--demo", "-o", tmp_path / "out.png"], f"{tmp_path / 'out.png'}: Is a directory"),
-        ([model, "-o", tmp_path / "out.png"], f"{model}: {tmp_path / 'out.png'}: Is a directory"),
+        ([model, "-o", tmp_path / "out.png"], f"{tmp_path / 'out.png'}: Is a directory"),  # before the model is read
         (["--demo", "-o", tmp_path / "x.png", "--depth", tmp_path / "d.npy"], f"{tmp_path / 'd.npy'}: Is a directory"),
         (["--demo", "-o", tmp_path / "spin.gif", "--turntable", "3"], f"{tmp_path / 'spin.gif'}: Is a directory"),
     ]
