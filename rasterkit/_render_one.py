@@ -54,6 +54,8 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
         _warm.start(dict(mode="hidden", cull="back", shading="flat", background="white", aa=False, ids=True),
                     depth=False, loading=source is not None)
     mesh = demo() if source is None else load_obj(source)
+    if len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:  # all dropped (NaN vertices)
+        raise UsageError(f"{'; '.join(map(_report.one_line, mesh.warnings)) or source}: nothing left to draw")
     if say is not None:
         for warning in mesh.warnings:
             say(f"rasterkit: warning: {_report.one_line(warning)}")
