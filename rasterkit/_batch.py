@@ -128,7 +128,9 @@ def render_jobs(jobs: list[Job], batch: bool, args) -> int:
             return 0
         return _attempt(jobs[0], args)
     from . import _many
+    from ._job_memory import check_batch
 
+    check_batch(args, len(jobs), bool(args.contact_sheet))  # the memory, before any model
     client = None
     if args.scheduler:
         from . import _dask

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from . import _report
 from ._cli_args import framed_camera
+from ._job_memory import check_job
 from ._report import UsageError
 from .options import SVG_MODES
 
@@ -66,6 +67,7 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
         save_svg(render_svg(mesh, camera, mode=options.mode, edges=options.edges, crease_angle=options.crease_angle,
                             hidden=options.hidden, stroke=options.line_color), output)
         return len(mesh.faces)
+    check_job(mesh, camera, options, output)  # the whole job's memory, before any of it is allocated
     style = dict(mode=options.mode, cull=options.cull, shading=options.shading, color=options.color,
                  line_color=options.line_color, background=options.background, aa=options.aa,
                  samples=options.samples, vignette=options.vignette, edges=options.edges,

@@ -74,10 +74,6 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
     from ._many import run
 
     options = make_options(**check_options(render_options))
-    from ._cli_args import framed_camera
-    from .shapes import cube
-
-    framed_camera(options, cube())  # the camera's own checks (fov, near, far, eye...), for every engine
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 0:
@@ -91,6 +87,10 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
             check_sheet_path(Path(contact_sheet))
     except UsageError as e:
         raise ValueError(str(e)) from None
+    from ._job_memory import check_batch
+
+    # the camera's own checks (fov, near, far, eye...) for every engine, and the memory
+    check_batch(options, len(planned), contact_sheet is not None)
     pairs = [(job.source, job.output) for job in planned]
     return run(pairs, out, options, jobs=jobs, client=client, resume=resume, progress=progress,
                contact_sheet=None if contact_sheet is None else Path(contact_sheet), strict=True)

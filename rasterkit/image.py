@@ -69,9 +69,10 @@ def save_image(color: np.ndarray, path: str | os.PathLike) -> None:
     """Write one image as PNG (the only still format), atomically."""
     path = Path(path)
     _format(path, ("png",))
-    data = encode_png(color)
+    color = _colour(color)
     with atomic_write(path) as tmp:
-        tmp.write_bytes(data)
+        with open(tmp, "wb") as f:  # encode_png's bytes, streamed: no copy of the stream in memory
+            _png.write_png(f, color)
 
 
 #: The longest a frame can be shown: 655.35 s (a GIF counts hundredths of a second in 16 bits).
