@@ -183,7 +183,10 @@ def _camera(name, value):
     if isinstance(value, (str, os.PathLike)):
         from ._cli_args import read_camera_file
 
-        return read_camera_file(os.fspath(value))
+        try:
+            return read_camera_file(os.fspath(value))
+        except ValueError as e:  # the command line's UsageError: a plain ValueError here
+            raise ValueError(str(e)) from None
     if not isinstance(value, Mapping):
         raise TypeError(f"camera_opencv must be a path or a mapping of K, R, t, width, height, got "
                         f"{type(value).__name__}")

@@ -65,8 +65,9 @@ def test_bad_options_are_one_public_error(tmp_path, options, error, words):
 
 
 def test_a_missing_camera_file_is_a_value_error(tmp_path):
-    with pytest.raises(ValueError, match="missing.json"):
+    with pytest.raises(ValueError, match="missing.json") as caught:
         rasterkit.render_many([_model(tmp_path)], tmp_path / "out", camera_opencv=tmp_path / "missing.json")
+    assert type(caught.value) is ValueError
 
 
 def test_a_camera_mapping_renders_as_the_camera_file_does(tmp_path):
