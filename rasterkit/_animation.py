@@ -84,14 +84,10 @@ def write_apng(frames: Iterable[np.ndarray], f: BinaryIO, duration_ms: float, lo
         f.write(_png.chunk(b"fcTL", struct.pack(">IIIIIHHBB", sequence, width, height, 0, 0,
                                                 delay.numerator, delay.denominator, 0, 0)))
         sequence += 1
-        data = _png.compressed(color)
-        if count == 0:
-            for piece in _png.pieces(data):
-                f.write(_png.chunk(b"IDAT", piece))
+        if count == 0:  # streamed as zlib makes it: no copy of the frame's stream in memory
+            _png.write_chunks(f, color)
         else:
-            for piece in _png.pieces(data, _png.IDAT_BYTES - 4):
-                f.write(_png.chunk(b"fdAT", struct.pack(">I", sequence) + piece))
-                sequence += 1
+            sequence = _png.write_chunks(f, color, b"fdAT", _png.IDAT_BYTES - 4, sequence)
         count += 1
         if sequence > _MAX_PNG_INT:
             raise ValueError(f"an APNG holds at most {_MAX_PNG_INT} chunks of frames")

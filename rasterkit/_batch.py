@@ -56,6 +56,10 @@ def jobs(args) -> tuple[list[Job], bool]:
         raise UsageError("give MODEL.obj files or --demo, not both")
     if not args.demo and not args.models:
         raise UsageError("give a MODEL.obj (or a folder of them), or --demo")
+    if getattr(args, "scheduler", None) is not None:  # '' too: a scheduler asked for and not given
+        from ._dask import check_address
+
+        args.scheduler = check_address(args.scheduler)
     out = Path(args.output)
     sources = [None] if args.demo else _inputs(args.models)
     if len(sources) == 1 and not any(Path(m).is_dir() for m in args.models):
@@ -143,7 +147,9 @@ def render_jobs(jobs: list[Job], batch: bool, args) -> int:
             return 0
         return _attempt(jobs[0], args)
     from . import _many
+    from ._job_memory import check_batch
 
+    check_batch(args, len(jobs), bool(args.contact_sheet))  # the memory, before any model
     client = None
     if args.scheduler:
         from . import _dask

@@ -11,6 +11,14 @@ each model's line once.
 Each task renders with the kernel threads its share of its machine's cores allows: the
 cores of the worker's host divided by the task threads of all workers on that host.
 
+The command line's ``--scheduler`` takes ``tcp://HOST:PORT`` (or ``HOST:PORT``): the
+address is checked before anything connects (:func:`check_address`), then the peer must
+answer Dask's handshake and say it is a scheduler within :data:`CONNECT_SECONDS`
+(:func:`client_for`), so an address of something else (a web server, a closed port, a
+worker) is one line within seconds, not a wait without end. Other transports (``tls://``
+needs certificates, ``ucx://`` its library, ``inproc://`` a scheduler in this very process)
+are for a ``distributed.Client`` made by the program, given as ``render_many(client=...)``.
+
 Needs ``distributed`` (``pip install 'rasterkit[dask]'``), imported only here.
 """
 
@@ -21,7 +29,12 @@ import uuid
 from . import _workers
 from ._report import UsageError
 
-__all__ = ["client_for", "run"]
+__all__ = ["CONNECT_SECONDS", "check_address", "client_for", "run"]
+
+#: The longest the command line waits for a scheduler to answer (connection, handshake, identity).
+CONNECT_SECONDS = 5.0
+
+_OTHER_TRANSPORTS = "; tls://, ucx:// and inproc:// need a distributed.Client of your own: render_many(client=...)"
 
 
 def _distributed():
@@ -32,13 +45,67 @@ def _distributed():
     return distributed
 
 
-def client_for(address: str):
-    """A Dask ``Client`` connected to the scheduler at ``address`` (one-line error if none)."""
+def check_address(address: str) -> str:
+    """``address`` as ``tcp://HOST:PORT`` (``HOST:PORT`` gets the ``tcp://``), or
+    :class:`UsageError` for anything else. Pure: nothing is imported or connected."""
+    text = address.strip() if isinstance(address, str) else ""
+    scheme, sep, rest = text.partition("://")
+    if not sep:
+        scheme, rest = "tcp", text
+    host, colon, port = rest.rpartition(":")
+    host = host[1:-1] if host.startswith("[") and host.endswith("]") else host  # [::1]:8786
+    if scheme.lower() != "tcp":
+        raise UsageError(f"--scheduler {address!r}: rasterkit connects to tcp://HOST:PORT" + _OTHER_TRANSPORTS)
+    if not (colon and host and "/" not in rest and port.isdigit() and 1 <= int(port) <= 65535):
+        raise UsageError(f"--scheduler {address!r}: a scheduler address is tcp://HOST:PORT (e.g. tcp://10.0.0.5:8786)")
+    return f"tcp://{rest}"
+
+
+async def _identity(address: str, seconds: float) -> dict:
+    """The identity a Dask server at ``address`` gives (connection, handshake and reply
+    within ``seconds`` in all)."""
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def ask():
+        comm = await connect(address, timeout=seconds)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    return await asyncio.wait_for(ask(), seconds)
+
+
+def client_for(address: str, seconds: float = CONNECT_SECONDS):
+    """A Dask ``Client`` connected to the scheduler at ``address`` (:func:`check_address`'s
+    form); :class:`UsageError` in one line, within about ``seconds``, when nothing there
+    answers as a Dask scheduler (a closed port, another kind of server, a Dask worker)."""
+    address = check_address(address)
     distributed = _distributed()
+    import asyncio
+
     try:
-        return distributed.Client(address, timeout="10s")
-    except (OSError, TimeoutError) as e:
-        raise UsageError(f"cannot reach the Dask scheduler at {address}: {e}") from None
+        identity = asyncio.run(_identity(address, seconds))
+    except (asyncio.TimeoutError, TimeoutError):
+        raise UsageError(f"--scheduler {address}: no Dask scheduler answered within {seconds:g} s") from None
+    except OSError as e:  # refused or unreachable (Dask retries until the time is up)
+        detail = " ".join(str(e).split()) or type(e).__name__
+        raise UsageError(f"--scheduler {address}: cannot connect ({detail[:200]})") from None
+    except Exception as e:  # bytes that are not Dask's protocol
+        detail = " ".join(str(e).split()) or type(e).__name__
+        raise UsageError(f"--scheduler {address}: not a Dask scheduler ({type(e).__name__}: {detail[:200]})") from None
+    kind = identity.get("type") if isinstance(identity, dict) else None
+    if kind != "Scheduler":
+        raise UsageError(f"--scheduler {address}: the server there is not a Dask scheduler "
+                         f"(it says {kind or 'nothing'}); give the scheduler's address")
+    try:
+        return distributed.Client(address, timeout=f"{seconds}s")
+    except Exception as e:
+        detail = " ".join(str(e).split()) or type(e).__name__
+        raise UsageError(f"--scheduler {address}: cannot connect to the Dask scheduler ({detail[:200]})") from None
 
 
 def _host(address: str) -> str:

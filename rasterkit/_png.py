@@ -39,21 +39,80 @@ def header(color: np.ndarray) -> bytes:
 _BLOCK_BYTES = 1 << 22
 
 
-def compressed(color: np.ndarray) -> bytes:
+#: Memory that writing a PNG stream takes besides the image (:func:`write_chunks`): the block
+#: of rows, what zlib returns for it, and zlib's own state, with room to spare.
+STREAM_BYTES = 4 * _BLOCK_BYTES
+
+
+def compressed_parts(color: np.ndarray):
     """The zlib stream of a uint8 (H, W, 3|4) image's rows, each with filter type 0 (none),
-    at :data:`PNG_COMPRESS_LEVEL`, compressed a block of rows at a time."""
+    at :data:`PNG_COMPRESS_LEVEL`, in the pieces zlib returns, a block of rows at a time."""
     height, width, channels = color.shape
     rows_per_block = max(1, _BLOCK_BYTES // (1 + width * channels))
     block = np.empty((min(rows_per_block, height), 1 + width * channels), np.uint8)
     block[:, 0] = 0  # the filter type of each row
     stream = zlib.compressobj(PNG_COMPRESS_LEVEL)
-    parts = []
     for y in range(0, height, rows_per_block):
         n = min(rows_per_block, height - y)
         block[:n, 1:] = color[y:y + n].reshape(n, width * channels)
-        parts.append(stream.compress(block[:n].data))
-    parts.append(stream.flush())
-    return b"".join(parts)
+        yield stream.compress(block[:n].data)
+    yield stream.flush()
+
+
+def compressed(color: np.ndarray) -> bytes:
+    """The whole zlib stream of :func:`compressed_parts`."""
+    return b"".join(compressed_parts(color))
+
+
+def write_chunks(f, color: np.ndarray, tag: bytes = b"IDAT", limit: int | None = None,
+                 sequence: int | None = None) -> int | None:
+    """Write the chunks ``tag`` of ``color``'s compressed rows into the seekable binary file
+    ``f``: the bytes of ``chunk(tag, piece)`` for each of ``pieces(compressed(color), limit)``
+    (with ``sequence``: ``chunk(tag, pack(">I", sequence) + piece)``, the number counting up,
+    as APNG's fdAT chunks), streamed as zlib makes them. Memory: :data:`STREAM_BYTES`, not
+    the stream (a chunk's length is written when the chunk is complete). Returns the next
+    sequence number (None without ``sequence``)."""
+    limit = limit or IDAT_BYTES
+    start = size = crc = None
+
+    def open_chunk():
+        nonlocal start, size, crc, sequence
+        start, size, crc = f.tell(), 0, zlib.crc32(tag)
+        f.write(b"\0\0\0\0" + tag)
+        if sequence is not None:
+            number = struct.pack(">I", sequence)
+            f.write(number)
+            crc, sequence = zlib.crc32(number, crc), sequence + 1
+
+    def close_chunk():
+        end = f.tell()
+        f.seek(start)
+        f.write(struct.pack(">I", end - start - 8))
+        f.seek(end)
+        f.write(struct.pack(">I", crc))
+
+    for part in compressed_parts(color):
+        view = memoryview(part)
+        while len(view):
+            if start is None or size == limit:
+                if start is not None:
+                    close_chunk()
+                open_chunk()
+            piece, view = view[: limit - size], view[limit - size:]
+            f.write(piece)
+            crc, size = zlib.crc32(piece, crc), size + len(piece)
+    if start is None:  # an empty stream is one empty chunk (zlib never makes one)
+        open_chunk()
+    close_chunk()
+    return sequence
+
+
+def write_png(f, color: np.ndarray) -> None:
+    """The PNG file of :func:`rasterkit.image.encode_png`, byte for byte, written into the
+    seekable binary file ``f`` with :data:`STREAM_BYTES` of memory besides the image."""
+    f.write(SIGNATURE + header(color))
+    write_chunks(f, color)
+    f.write(chunk(b"IEND", b""))
 
 
 def pieces(data: bytes, limit: int | None = None) -> list[bytes]:

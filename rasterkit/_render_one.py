@@ -17,6 +17,7 @@ from pathlib import Path
 from . import _report
 from ._cli_args import framed_camera
 from ._outputs import check_distinct, check_writable, named_outputs
+from ._job_memory import check_job
 from ._report import UsageError
 from .options import SVG_MODES
 
@@ -61,6 +62,8 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
         _warm.start(dict(mode="hidden", cull="back", shading="flat", background="white", aa=False, ids=True),
                     depth=False, loading=source is not None)
     mesh = demo() if source is None else load_obj(source)
+    if len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:  # all dropped (NaN vertices)
+        raise UsageError(f"{'; '.join(map(_report.one_line, mesh.warnings)) or source}: nothing left to draw")
     if say is not None:
         for warning in mesh.warnings:
             say(f"rasterkit: warning: {_report.one_line(warning)}")
@@ -71,6 +74,7 @@ def render_model(source: Path | None, output: Path, options, say=None) -> int:
         save_svg(render_svg(mesh, camera, mode=options.mode, edges=options.edges, crease_angle=options.crease_angle,
                             hidden=options.hidden, stroke=options.line_color), output)
         return len(mesh.faces)
+    check_job(mesh, camera, options, output)  # the whole job's memory, before any of it is allocated
     style = dict(mode=options.mode, cull=options.cull, shading=options.shading, color=options.color,
                  line_color=options.line_color, background=options.background, aa=options.aa,
                  samples=options.samples, vignette=options.vignette, edges=options.edges,

@@ -24,8 +24,9 @@ from typing import Iterator
 __all__ = ["BAD_INPUT", "UsageError", "error_line", "model", "one_line", "one_line_warnings"]
 
 
-class UsageError(Exception):
-    """Bad input or usage: reported as one line, exit code 2."""
+class UsageError(ValueError):
+    """Bad input or usage: reported as one line, exit code 2. A ``ValueError``, so that a
+    program calling the Python API (:func:`rasterkit.render_many`) catches it as one."""
 
 
 #: What counts as bad input (exit code 2). ``ObjError`` and ``LimitError`` are ValueErrors;

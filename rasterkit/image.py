@@ -68,9 +68,10 @@ def encode_png(color: np.ndarray) -> bytes:
 def save_image(color: np.ndarray, path: str | os.PathLike) -> None:
     """Write one image as PNG (the only still format), atomically."""
     _format(Path(path), ("png",))  # ``path`` itself goes on: "x.png/" names a folder, not x.png
-    data = encode_png(color)
+    color = _colour(color)
     with atomic_write(path) as tmp:
-        tmp.write_bytes(data)
+        with open(tmp, "wb") as f:  # encode_png's bytes, streamed: no copy of the stream in memory
+            _png.write_png(f, color)
 
 
 class _Chunks:

@@ -105,6 +105,21 @@ def _array(a, dtype, shape_tail, name, n_rows=None):
     return arr
 
 
+def _check_unit_colors(colors: np.ndarray, name: str) -> None:
+    """ValueError unless every value of ``colors`` (float32) is finite and in [0, 1]."""
+    if not colors.size:
+        return
+    finite = np.isfinite(colors)
+    if not finite.all():
+        row = int(np.argmin(finite.all(axis=1)))
+        raise ValueError(f"{name}[{row}] is {colors[row].tolist()}: colours must be finite numbers in [0, 1]")
+    low, high = float(colors.min()), float(colors.max())
+    if low < 0.0 or high > 1.0:
+        row = int(np.argmax(((colors < 0.0) | (colors > 1.0)).any(axis=1)))
+        hint = " (divide 0-255 colours by 255)" if high > 1.0 else ""
+        raise ValueError(f"{name}[{row}] is {colors[row].tolist()}: colours must lie in [0, 1]{hint}")
+
+
 def immutable(arr) -> bool:
     """Whether ``arr`` is a read-only, C-contiguous, aligned view of a ``bytes`` object:
     memory that NumPy offers no way to write to (its ``WRITEABLE`` flag cannot be set
@@ -163,11 +178,14 @@ class Mesh:
     lines : (K, 2) int64
         Segments from OBJ ``l`` elements.
     vertex_colors : (N, 3) float32 in [0, 1], or None
+        Per-vertex colours: a value outside [0, 1], NaN or infinite is refused
+        (``ValueError``), never clamped.
     normals : (N, 3) float64, or None
         Per-vertex normals (object space).
     texcoords : (N, 2) float64, or None
     face_colors : (M, 3) float32 in [0, 1], or None
-        Per-face colours (for example the ``Kd`` of the face's material).
+        Per-face colours (for example the ``Kd`` of the face's material); refused as
+        ``vertex_colors`` are when not finite or outside [0, 1].
     face_groups : (M,) int32, or None
         Index into ``group_names`` for each face.
     group_names : tuple of str
@@ -213,6 +231,9 @@ class Mesh:
             value = getattr(self, name)
             if value is not None:
                 arrays[name] = _array(value, dtype, tail, name, rows)
+        for name in ("vertex_colors", "face_colors"):
+            if name in arrays:
+                _check_unit_colors(arrays[name], name)
         if self.face_groups is not None:
             g = _groups(self.face_groups, len(f), len(self.group_names))
             arrays["face_groups"] = g

@@ -16,10 +16,10 @@ import numpy as np
 
 from .camera import Camera
 from .colors import ColorLike, parse_color
-from . import _accumulate, _triangles
-from .framebuffer import Framebuffer, buffer_bytes
-from ._jit import get_threads
+from . import _accumulate
+from .framebuffer import Framebuffer
 from .limits import check_memory
+from ._render_memory import maps_bytes, memory_needed
 from ._vertex import transform_points
 from .mesh import Mesh, as_mesh
 from .options import CULL, MODES, SHADING, check_choice
@@ -27,7 +27,7 @@ from .scene import Scene
 from ._shading import AMBIENT, light_direction, shade
 from .triangles import _rasterize, rasterize_triangles
 
-__all__ = ["LINE_DEPTH_BIAS", "MODES", "POLYGON_OFFSET", "render"]
+__all__ = ["LINE_DEPTH_BIAS", "MODES", "POLYGON_OFFSET", "render", "render_bytes"]
 
 LINE_DEPTH_BIAS = 1e-5
 """Depth bias of hidden-line edges (depth units; depth runs 0..1 from near to far plane): an
@@ -157,7 +157,7 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         after it was made (:meth:`Mesh.check_intact`).
     rasterkit.limits.LimitError
         When the render would need more memory than :func:`rasterkit.limits.memory_limit`
-        (:func:`memory_needed` estimates it before anything is allocated).
+        (:func:`render_bytes` estimates it before anything is allocated).
     """
     seen_by = mesh.camera if camera is None and isinstance(mesh, Scene) else camera
     if isinstance(seen_by, Camera) and seen_by.distortion:  # an undistorted render, resampled
@@ -168,6 +168,65 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
             background=background, light=light, aa=aa, ids=ids, samples=samples, vignette=vignette,
             normals=normals, points=points, point_size=point_size, point_color=point_color))
         # (the distorted depth is resampled from the undistorted one: camera_depth is made when asked)
+    plan = _plan(mesh, camera, mode, cull=cull, shading=shading, color=color, line_color=line_color,
+                 background=background, light=light, aa=aa, ids=ids, samples=samples, vignette=vignette,
+                 normals=normals, camera_depth=camera_depth, points=points, point_size=point_size,
+                 point_color=point_color, edges=edges, crease_angle=crease_angle)
+    mesh, camera, options, background = plan.mesh, plan.camera, plan.options, plan.background
+    samples, vignette, normals, camera_depth = plan.samples, plan.vignette, plan.normals, plan.camera_depth
+    one_sample, in_bands, object_faces = plan.one_sample, plan.in_bands, plan.object_faces
+    check_memory(plan.need, f"a {camera.width}x{camera.height} {options.mode} render of {len(mesh.faces)} faces")
+    if in_bands:  # imported here: a plain render loads none of it
+        from .vision import maps_record
+
+        options = replace(options, maps=maps_record(camera.height, camera.width, mesh, camera,
+                                                    camera.world_to_raster(), options.shading if normals else None,
+                                                    object_faces, camera_depth))
+    if one_sample:
+        fb = _frame(mesh, camera, options, background, ids or normals)
+    else:
+        fb = _accumulate.render_samples(camera, samples, vignette, background, ids or normals,
+                                        partial(_draw_frame, mesh, options),
+                                        partial(_shared_setup, mesh, camera, options),
+                                        partial(_frame, mesh, camera, options, background))
+    fb.camera = camera
+    if in_bands:
+        from .vision import finish_maps
+
+        finish_maps(fb, options.maps)
+    elif normals or object_faces is not None:
+        from .vision import fill_maps
+
+        fill_maps(fb, mesh, camera, camera.world_to_raster(), options.shading if normals else None, object_faces)
+    if (normals or object_faces is not None) and not ids:
+        fb.ids = None
+    return fb
+
+
+_RENDER_DEFAULTS = dict(render.__kwdefaults__)  # render()'s options, for render_bytes
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """What :func:`render` draws, decided from its arguments before anything is allocated."""
+
+    mesh: Mesh
+    camera: Camera
+    options: _Options
+    background: object
+    samples: int
+    vignette: float
+    normals: bool
+    camera_depth: bool
+    one_sample: bool
+    in_bands: bool  # the maps made by the band worker
+    object_faces: list | None
+    need: int  # bytes, for check_memory
+
+
+def _plan(mesh, camera, mode, *, cull, shading, color, line_color, background, light, aa, ids, samples, vignette,
+          normals, camera_depth, points, point_size, point_color, edges, crease_angle) -> _Plan:
+    """Check render()'s arguments (an undistorted camera) and decide what it draws."""
     if points is not None:  # imported here, as the other extras: a plain render loads none
         from .points import check_points
 
@@ -202,44 +261,22 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         # deferred depth pass would draw again
         options = replace(options, keep_depth=True, points=points)
     alpha = parse_color(background)[3] < 255
-    check_memory(memory_needed(mesh, camera.width, camera.height, options, alpha, ids or normals)
-                 + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette,
-                                           len(mesh.faces) if options.mode != "wire" else 0)
-                 + _maps_bytes(mesh, camera.width * camera.height, normals, object_faces is not None,
-                               camera_depth and in_bands),
-                 f"a {camera.width}x{camera.height} {options.mode} render of {len(mesh.faces)} faces")
-    if in_bands:  # imported here: a plain render loads none of it
-        from .vision import maps_record
-
-        options = replace(options, maps=maps_record(camera.height, camera.width, mesh, camera,
-                                                    camera.world_to_raster(), options.shading if normals else None,
-                                                    object_faces, camera_depth))
-    if one_sample:
-        fb = _frame(mesh, camera, options, background, ids or normals)
-    else:
-        fb = _accumulate.render_samples(camera, samples, vignette, background, ids or normals,
-                                        partial(_draw_frame, mesh, options),
-                                        partial(_shared_setup, mesh, camera, options),
-                                        partial(_frame, mesh, camera, options, background))
-    fb.camera = camera
-    if in_bands:
-        from .vision import finish_maps
-
-        finish_maps(fb, options.maps)
-    elif normals or object_faces is not None:
-        from .vision import fill_maps
-
-        fill_maps(fb, mesh, camera, camera.world_to_raster(), options.shading if normals else None, object_faces)
-    if (normals or object_faces is not None) and not ids:
-        fb.ids = None
-    return fb
+    need = (memory_needed(mesh, camera.width, camera.height, options, alpha, ids or normals)
+            + _accumulate.extra_bytes(camera.width, camera.height, alpha, samples, vignette,
+                                      len(mesh.faces) if options.mode != "wire" else 0)
+            + maps_bytes(mesh, camera.width * camera.height, normals, object_faces is not None,
+                          camera_depth and in_bands))
+    return _Plan(mesh, camera, options, background, samples, vignette, normals, camera_depth, one_sample, in_bands,
+                 object_faces, need)
 
 
-def _maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool, metric: bool) -> int:
-    """Bytes of the normal, object-id and metric depth images and their per-vertex and
-    per-face terms."""
-    return (12 * pixels + len(mesh.vertices) * 80 + len(mesh.faces) * 84 if normals else 0) + \
-        (4 * pixels + len(mesh.faces) * 4 if objects else 0) + (4 * pixels if metric else 0)
+def render_bytes(mesh: Mesh, camera: Camera, mode: str = "wire", **options) -> int:
+    """Bytes that ``render(mesh, camera, mode, **options)`` asks
+    :func:`rasterkit.limits.check_memory` for, worked out without drawing (``edges="feature"``
+    is counted as ``"all"``, of which the feature edges are a part, so that nothing is worked
+    out here). For a camera with ``distortion``: the render's at the same size, without the
+    resampling of :func:`rasterkit.distortion.render_distorted`."""
+    return _plan(mesh, camera, mode, **{**_RENDER_DEFAULTS, **options, "edges": "all"}).need
 
 
 def _with_edges(mesh: Mesh, camera: Camera, edges: str, crease_angle, mode: str) -> Mesh:
@@ -305,32 +342,6 @@ def _shared_setup(mesh: Mesh, camera: Camera, options: _Options):
                             face_colors=face_colors, vertex_colors=vertex_colors, cull=options.cull,
                             depth_offset=offset, neighbours=mesh._side_neighbours if whole else None)
     return setup, whole
-
-
-def memory_needed(mesh: Mesh, width: int, height: int, options: _Options, alpha: bool, ids: bool) -> int:
-    """Bytes a render needs, estimated before anything is allocated (the rule of
-    ``docs/limits.md``): the framebuffer (colour, ids, and depth in the modes that keep it),
-    the triangle path's scratch (per vertex, per face, per thread) in every mode but wire,
-    and the edge path's in every mode but solid (with the wireframe's byte mask of the
-    image)."""
-    n, m = len(mesh.vertices), len(mesh.faces)
-    total = buffer_bytes(width, height, alpha, ids, depth=options.mode in ("hidden", "solid+wire") or options.keep_depth)
-    if options.points is not None:  # their homogeneous coordinates
-        total += len(options.points.positions) * 32
-    if options.mode != "wire":
-        smooth = options.shading == "smooth" and options.mode != "hidden"
-        total += n * 32 + _triangles.scratch_bytes(n, m, width, get_threads(), smooth=smooth,
-                                                    band_depth=options.mode == "solid")
-        if options.mode != "hidden":  # the face normals (float64, then float32), or the vertex colours
-            total += m * 36 + (n * 84 if smooth else 0)
-    if options.mode != "solid":  # imported here, as in _draw_edges: a solid render loads no edge kernels
-        from . import _edges
-        from .kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
-
-        edge_mode = MODE_ANTIALIAS if options.aa else MODE_DEPTH_TEST if options.mode != "wire" else MODE_PLAIN
-        total += _edges.scratch_bytes(n, len(mesh.edges), width * height, edge_mode,
-                                      transform=options.mode == "wire")
-    return total
 
 
 def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, options: _Options, shared=None,

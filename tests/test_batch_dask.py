@@ -79,3 +79,17 @@ def test_killing_a_worker_still_yields_every_image_and_a_complete_manifest(clust
     assert sorted(r["input"] for r in records) == sorted(str(p) for p in folder.glob("*.obj"))
     assert len(list((tmp_path / "out").glob("*.png"))) == 24
     assert not list((tmp_path / "out").glob(".*.tmp"))
+
+
+def test_the_address_of_a_worker_is_not_taken_for_a_scheduler(cluster):
+    from rasterkit import _dask
+    from rasterkit._report import UsageError
+
+    worker = next(iter(cluster.scheduler_info()["workers"]))
+    with pytest.raises(UsageError, match="not a Dask scheduler .it says Worker"):
+        _dask.client_for(worker)
+    client = _dask.client_for(cluster.scheduler.address)
+    try:
+        assert client.scheduler_info()["address"] == cluster.scheduler.address
+    finally:
+        client.close()
