@@ -2,7 +2,8 @@
 
 The file's bytes are split into statements, and the common ones (``v``, ``vt``, ``vn``, ``f``,
 ``l``) parsed and triangulated, by Numba kernels (``rasterkit.kernels.obj_scan``,
-``obj_numbers``, ``obj_corners``, ``obj_polygons``) with no Python loop over lines; only the rare
+``obj_numbers``, ``obj_corners``) and NumPy (polygons: ``rasterkit._obj_split``; the rare ones
+that need it, by ``rasterkit.kernels.obj_polygons``) with no Python loop over lines; only the rare
 lines (``g``, ``o``, ``usemtl``, ``mtllib``, unknown keywords), error messages and ``.mtl`` files
 go through Python.
 
@@ -11,8 +12,8 @@ This module holds the public names (:func:`load_obj`, :class:`ObjError`, :class:
 and the report of errors and warnings), ``_obj_files`` (reading a file, within the limits),
 ``_obj_memory`` (the memory loading will take, checked first), ``_obj_document`` (the file's
 bytes and statements), ``_obj_statements`` (the numbers and corners of the geometry
-statements, checked), ``_obj_assemble`` (triangles, edges, per-vertex attributes and groups of
-the Mesh) and ``_obj_materials`` (``usemtl`` and the ``.mtl`` files).
+statements, checked), ``_obj_assemble`` (triangles, by ``_obj_split`` and ``_obj_ears`` or the
+kernels, edges, per-vertex attributes and groups of the Mesh) and ``_obj_materials`` (``usemtl`` and the ``.mtl`` files).
 
 What is accepted, and how it is read
 ------------------------------------
