@@ -74,10 +74,10 @@ def _in_polygon_order(parts, polygons: int):
         a, b, c = rows.T
         valid = (a >= 0) & (a != b) & (b != c) & (c != a)
         kept.append((polygon[valid], rows[valid]))
-    if len(kept) == 1:
-        polygon, rows = kept[0]
-        return np.ascontiguousarray(rows), np.bincount(polygon, minlength=polygons)
-    counts = np.bincount(np.concatenate([polygon for polygon, _ in kept]), minlength=polygons)
+    every = np.concatenate([polygon for polygon, _ in kept])
+    counts = np.bincount(every, minlength=polygons)
+    if len(kept) == 1 or not (np.diff(every) < 0).any():  # in polygon order already
+        return np.concatenate([rows for _, rows in kept]), counts
     start = np.cumsum(counts) - counts
     out = np.empty((int(counts.sum()), 3), np.int64)
     for polygon, rows in kept:

@@ -76,30 +76,52 @@ def _split(vertices: np.ndarray, ring: np.ndarray):
     g, m = ring.shape
     triangles = np.full((g, m - 2, 3), -1, np.int64)
     exact = np.ones(g, bool)
-    points = vertices[ring]
+    done = _distinct(ring)
+    if m == 4:  # most quads are a fan from corner 0: decided on columns, without the plane
+        first = done & _quad_fans(vertices, ring)
+        triangles[first] = _fans(ring[first], 0)
+        rest = np.flatnonzero(done & ~first)
+    else:
+        rest = np.flatnonzero(done)
+    points = vertices[ring[rest]]
     rel = points - points[:, :1]
     normal = _newell(rel)
-    done = _distinct(ring)
-    flat = done & ~((normal * normal).sum(axis=1) > 0.0)  # no normal: on one line
-    triangles[flat] = _fans(ring[flat], 0)
-    fan = flat.copy()
-    if m == 4:
-        side = np.roll(points, -1, axis=1) - points
-        turns = np.einsum("gkc,gc->gk", np.cross(side, np.roll(side, -1, axis=1)), normal)
-        convex = done & ~flat & (turns > 0).all(axis=1)
-        triangles[convex] = _fans(ring[convex], 0)
-        fan |= convex
-    plane = np.flatnonzero(done & ~fan)
+    flat = ~((normal * normal).sum(axis=1) > 0.0)  # no normal: on one line
+    triangles[rest[flat]] = _fans(ring[rest[flat]], 0)
+    plane = np.flatnonzero(~flat)
     xy = _plane(rel[plane], normal[plane])
     usable = np.isfinite(xy).all(axis=(1, 2)) & (xy != np.roll(xy, -1, axis=1)).any(axis=2).all(axis=1)
-    done[plane[~usable]] = False
-    plane, xy = plane[usable], xy[usable]
+    done[rest[plane[~usable]]] = False
+    plane, xy = rest[plane[usable]], xy[usable]
     convex = _fans_like_ear_clipping(xy)
     triangles[plane[convex]] = _fans(ring[plane[convex]], m - 1)
     clip = plane[~convex]
     if len(clip):
         triangles[clip], exact[clip] = ear_clip(np.ascontiguousarray(xy[~convex]), ring[clip])
     return triangles, exact, done
+
+
+def _quad_fans(vertices: np.ndarray, ring: np.ndarray) -> np.ndarray:
+    """(G,) bool: quads ring (G, 4) split as the fan from corner 0: no normal (corners on one
+    line), or turning the way of their Newell normal at every corner (convex in 3D); the
+    arithmetic on columns, the kernels' formulas (normal relative to corner 0, sides from
+    the coordinates)."""
+    corner = [vertices[ring[:, k]] for k in range(4)]
+    rel = [np.zeros_like(corner[0])] + [p - corner[0] for p in corner[1:]]
+    nx = ny = nz = 0.0
+    for k in range(4):
+        p, q = rel[k], rel[(k + 1) % 4]
+        nx = nx + (p[:, 1] - q[:, 1]) * (p[:, 2] + q[:, 2])
+        ny = ny + (p[:, 2] - q[:, 2]) * (p[:, 0] + q[:, 0])
+        nz = nz + (p[:, 0] - q[:, 0]) * (p[:, 1] + q[:, 1])
+    side = [corner[(k + 1) % 4] - corner[k] for k in range(4)]
+    fan = np.ones(len(ring), bool)
+    for k in range(4):
+        s, t = side[k], side[(k + 1) % 4]
+        turn = ((s[:, 1] * t[:, 2] - s[:, 2] * t[:, 1]) * nx + (s[:, 2] * t[:, 0] - s[:, 0] * t[:, 2]) * ny
+                + (s[:, 0] * t[:, 1] - s[:, 1] * t[:, 0]) * nz)
+        fan &= turn > 0.0
+    return fan | ~(nx * nx + ny * ny + nz * nz > 0.0)
 
 
 def _quads_with_a_repeat(ring: np.ndarray):
@@ -135,6 +157,9 @@ def _newell(rel: np.ndarray) -> np.ndarray:
 
 def _distinct(ring: np.ndarray) -> np.ndarray:
     """(G,) bool: polygons whose vertex indices are all different."""
+    if ring.shape[1] == 4:
+        a, b, c, d = ring.T
+        return (a != b) & (a != c) & (a != d) & (b != c) & (b != d) & (c != d)
     ordered = np.sort(ring, axis=1)
     return (ordered[:, 1:] != ordered[:, :-1]).all(axis=1)
 
