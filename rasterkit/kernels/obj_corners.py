@@ -101,10 +101,18 @@ def parse_corners(buf, starts, ends, offsets, before, totals, attributes):
         vertex reference if any, else the first bad vt/vn reference; code 0 when all is well.
     """
     rows = len(starts)
-    vertex = np.full(offsets[rows], -1, np.int64)
-    texcoord = np.full(offsets[rows] if attributes else 0, -1, np.int64)
-    normal = np.full(offsets[rows] if attributes else 0, -1, np.int64)
-    errors = np.zeros((rows, 3), np.int64)
+    # np.empty and loops: np.full and np.zeros compile an implementation each (~0.2 s)
+    vertex = np.empty(offsets[rows], np.int64)
+    texcoord = np.empty(offsets[rows] if attributes else 0, np.int64)
+    normal = np.empty(offsets[rows] if attributes else 0, np.int64)
+    for c in range(len(vertex)):
+        vertex[c] = -1
+    for c in range(len(texcoord)):
+        texcoord[c] = -1
+        normal[c] = -1
+    errors = np.empty((rows, 3), np.int64)
+    for r in range(rows):
+        errors[r, 0] = errors[r, 1] = errors[r, 2] = 0
     for r in range(rows):
         i = next_token(buf, starts[r], ends[r])[1]  # after the keyword
         k = 0

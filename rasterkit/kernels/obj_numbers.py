@@ -179,11 +179,17 @@ def parse_number_rows(buf, starts, ends, width):
         Bit k set when token k (k < width) is NUMBER_INEXACT.
     """
     rows = len(starts)
-    values = np.full((rows, width), np.nan)
-    status = np.zeros(rows, np.int8)
-    bad_token = np.full(rows, -1, np.int64)
-    inexact = np.zeros(rows, np.int64)
+    # np.empty and loops: np.full and np.zeros compile an implementation each (~0.2 s)
+    values = np.empty((rows, width))
+    status = np.empty(rows, np.int8)
+    bad_token = np.empty(rows, np.int64)
+    inexact = np.empty(rows, np.int64)
     for r in range(rows):
+        for k in range(width):
+            values[r, k] = np.nan
+        status[r] = NUMBER_OK
+        bad_token[r] = -1
+        inexact[r] = 0
         i = next_token(buf, starts[r], ends[r])[1]  # after the keyword
         k = 0
         while i < ends[r]:
