@@ -39,7 +39,7 @@ def _inputs(models: list[str]) -> list[Path]:
     for name in models:
         path = Path(name)
         if path.is_dir():
-            found = sorted(p for p in path.iterdir() if p.suffix.lower() == ".obj" and p.is_file())
+            found = sorted(p for p in path.iterdir() if p.suffix.lower() == ".obj" and not p.is_dir())
             if not found:
                 raise UsageError(f"{path}: no .obj files in this folder")
             paths.extend(found)

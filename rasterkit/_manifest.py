@@ -4,13 +4,20 @@ The manifest has one JSON object per line, one per model, appended as its result
 each line with one ``write`` to a file opened for appending: a run that is killed leaves
 every finished model's line and no half line (a reader skips a line that does not parse,
 in case the disk filled up in the middle of one). Fields: ``input``, ``output``,
-``status`` (``"ok"`` or ``"error"``), ``error`` (the one-line message, or null; the
-command line prints it after ``rasterkit: error:``, or ``rasterkit: internal error:`` for a
-bug of rasterkit or a worker that died),
-``seconds`` (the model's own time in its worker), ``triangles`` (null when it did not load),
-``warnings`` (the loader's warning lines).
-A new run starts a new manifest; a ``--resume`` run appends to the old one, and writes no
-line for the models it skips (their line is in the manifest already).
+``status`` (``"ok"``, ``"error"``, or ``"skipped"`` by ``--resume``), ``error`` (the
+one-line message, or null; the command line prints it after ``rasterkit: error:``, or
+``rasterkit: internal error:`` for a bug of rasterkit or a worker that died),
+``seconds`` (the model's own time in its worker), ``triangles`` (null when it did not load
+or was skipped), ``warnings`` (the loader's warning lines).
+A new run starts a new manifest; a ``--resume`` run appends to the old one, a line for every
+model, ``"skipped"`` for those whose image was complete and newer than the model: a run that
+was killed may have written an image and not its line, so the last line of each model
+says what it is now.
+
+File names are bytes on POSIX and stay so: a name that is not UTF-8 has its undecodable
+bytes as ``\\udcXX`` escapes in the JSON (the ``surrogateescape`` code points Python gives
+them, so ``os.fsencode`` of the ``input`` a reader gets is the file's name again); the rest
+of the file is UTF-8.
 
 Pure standard library.
 """
@@ -38,7 +45,9 @@ class Manifest:
         self._fd = os.open(self.path, flags, 0o666)  # the umask decides the permissions
 
     def write(self, record: dict) -> None:
-        line = (json.dumps(record, ensure_ascii=False) + "\n").encode()
+        # json.dumps leaves a name's surrogate escapes as they are; "backslashreplace"
+        # writes each as the JSON escape \udcXX, which json.loads turns back into it
+        line = (json.dumps(record, ensure_ascii=False) + "\n").encode("utf-8", "backslashreplace")
         os.write(self._fd, line)
 
     def close(self) -> None:
@@ -56,7 +65,7 @@ class Manifest:
 def read_manifest(path: str | os.PathLike) -> list[dict]:
     """The records of a manifest, in order; lines that do not parse are left out."""
     records = []
-    with open(path, encoding="utf-8") as f:
+    with open(path, encoding="utf-8", errors="surrogateescape") as f:
         for line in f:
             try:
                 record = json.loads(line)
