@@ -105,8 +105,11 @@ class _Stop(BaseException):
     """SIGTERM in a worker: unwinds the render (temporary files are removed) and exits."""
 
 
-def _worker_main(conn, threads: int, options, limit_state) -> None:
-    """A worker process: render the models that arrive on ``conn`` until ``None`` does."""
+def _worker_main(conn, threads: int, options, limit_state, parent: int, inherited: list) -> None:
+    """A worker process: render the models that arrive on ``conn`` until ``None`` does, or
+    until the parent process (``parent``, its pid) has gone. ``inherited``: the parent's ends
+    of the workers' pipes that a forked worker holds copies of, closed at once (else the
+    pipe of a parent killed outright would never end, and its worker would wait on it)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the parent decides
 
     def stop(signum, frame):
@@ -114,10 +117,13 @@ def _worker_main(conn, threads: int, options, limit_state) -> None:
         raise _Stop()
 
     signal.signal(signal.SIGTERM, stop)
+    for end in inherited:
+        end.close()
     from . import limits
 
     limits._max_file_size, limits._memory_limit = limit_state
     try:
+        _die_with(parent)
         while True:
             task = conn.recv()
             if task is None:
@@ -125,6 +131,40 @@ def _worker_main(conn, threads: int, options, limit_state) -> None:
             conn.send(run_task(task[0], task[1], options, threads))
     except (_Stop, EOFError, BrokenPipeError):
         return
+
+
+def _die_with(parent: int) -> None:
+    """Have this process get SIGTERM (:class:`_Stop`: its temporary file is removed) when
+    ``parent`` dies, even by SIGKILL: from the kernel on Linux (``PR_SET_PDEATHSIG``),
+    elsewhere from a thread that looks for a new parent process every second. A parent that
+    has gone already stops it now."""
+    import sys
+
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGTERM), 0, 0, 0)
+        except (OSError, AttributeError):
+            _watch_parent(parent)
+    else:
+        _watch_parent(parent)
+    if os.getppid() != parent:
+        raise _Stop()
+
+
+_PR_SET_PDEATHSIG = 1  # from <sys/prctl.h>
+
+
+def _watch_parent(parent: int) -> None:
+    import threading
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    threading.Thread(target=watch, name="rasterkit-parent-watch", daemon=True).start()
 
 
 def _start_method() -> str:
@@ -178,8 +218,10 @@ class LocalPool:
 
     def _start(self) -> dict:
         parent, child = self._ctx.Pipe()
-        process = self._ctx.Process(target=_worker_main, args=(child, self.threads, self.options, self._limits),
-                                    daemon=True, name="rasterkit-worker")
+        # a forked worker closes its copies of the parent's pipe ends; a spawned one has none
+        inherited = [w["conn"] for w in self._workers] + [parent] if self._ctx.get_start_method() == "fork" else []
+        process = self._ctx.Process(target=_worker_main, name="rasterkit-worker", daemon=True,
+                                    args=(child, self.threads, self.options, self._limits, os.getpid(), inherited))
         process.start()
         child.close()
         worker = {"process": process, "conn": parent, "task": None}
