@@ -18,7 +18,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import _report
+from . import _report, _stop
 from ._manifest import up_to_date
 from ._render_one import render_model
 from ._report import UsageError
@@ -112,6 +112,7 @@ def _attempt(job: Job, args) -> int:
             render_model(job.source, job.output, args, say=_say)
             return 0
         except Exception as e:
+            _stop.check()  # a signal's stop that came out as another exception (rasterkit._stop)
             code, line = _report.error_line(e)
     _say(line)
     return code

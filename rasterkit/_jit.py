@@ -43,6 +43,8 @@ import time
 import numba
 import numpy as np
 
+from . import _stop
+
 FASTMATH = frozenset({"nsz", "arcp", "contract", "afn", "reassoc"})
 
 _OPTIONS = dict(cache=True, nogil=True, error_model="numpy", fastmath=set(FASTMATH))
@@ -294,6 +296,7 @@ def run_workers(worker, *args, threads: int | None = None) -> list:
 
 
 def _run(worker, args, threads, counted):
+    _stop.check()  # a signal's stop that a C extension lost on its way out (rasterkit._stop)
     pool = _pool
     n = get_threads() if threads is None else threads
     token = object()

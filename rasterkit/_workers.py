@@ -16,7 +16,8 @@ model through its own pipe and waits on the pipes and the processes at once
 (``multiprocessing.connection.wait``): a worker that dies (a crash, the OOM killer) costs
 only its model, recorded as an error, and a new worker takes its place. On Ctrl-C or
 SIGTERM the parent stops the workers with SIGTERM; each removes the temporary file of the
-image it was writing.
+image it was writing. A parent killed outright (SIGKILL) takes its workers with it: each
+gets SIGTERM when its parent dies (:func:`_die_with`).
 
 Compiling happens once, not once per worker: a worker whose kernels are not in Numba's
 disk cache yet renders its first model holding a lock file (``rasterkit-compile.lock`` in
@@ -34,7 +35,7 @@ import time
 from collections import deque
 from pathlib import Path
 
-from . import _report
+from . import _report, _stop
 
 __all__ = ["LocalPool", "compile_lock", "cores", "run_task", "warm_up"]
 
@@ -94,6 +95,7 @@ def run_task(source: str, output: str, options, threads: int | None = None) -> d
             with compile_lock(options):
                 triangles = render_model(Path(source), Path(output), options, say=warnings.append)
         except Exception as e:
+            _stop.check()  # a signal's stop that came out as another exception (rasterkit._stop)
             code, line = _report.error_line(e)
             prefix = "rasterkit: error: " if code == 2 else "rasterkit: internal error: "
             record.update(status="error", error=line.removeprefix(prefix), code=code)
