@@ -7,7 +7,8 @@ dispatcher may clear it and carry on), or come out as a ``SystemError``. So the 
 also records the stop here (:func:`request`); the thread pool raises it again at the start
 of every parallel pass (:func:`check`, in :func:`rasterkit._jit.run_parallel`), so a render
 that went on stops at its next pass; and the command line, having caught it, clears it
-(:func:`clear`). Nothing here is set unless the command line's handlers are installed.
+(:func:`clear`). A batch's worker process records its own SIGTERM here too. Nothing here
+is set unless those handlers are installed.
 
 Pure standard library.
 """

@@ -116,6 +116,7 @@ def _worker_main(conn, threads: int, options, limit_state, parent: int, inherite
 
     def stop(signum, frame):
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        _stop.request(_Stop)  # raised again if this one is lost on its way (rasterkit._stop)
         raise _Stop()
 
     signal.signal(signal.SIGTERM, stop)
@@ -142,14 +143,15 @@ def _die_with(parent: int) -> None:
     has gone already stops it now."""
     import sys
 
+    asked = False
     if sys.platform.startswith("linux"):
         try:
             import ctypes
 
-            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGTERM), 0, 0, 0)
+            asked = ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGTERM), 0, 0, 0) == 0
         except (OSError, AttributeError):
-            _watch_parent(parent)
-    else:
+            pass
+    if not asked:
         _watch_parent(parent)
     if os.getppid() != parent:
         raise _Stop()
