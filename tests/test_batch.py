@@ -277,28 +277,31 @@ def _running(pid: int) -> bool:
 @pytest.mark.parametrize("busy", [True, False])
 def test_workers_stop_when_the_batch_process_is_killed_outright(tmp_path, busy):
     """kill -9 of the batch: its workers stop too (busy: while rendering, their temporary
-    files removed; idle: while waiting for a model), and a --resume run then records every model."""
+    files removed; idle: the parent stopped first, so they wait on their pipes), and a
+    --resume run then records every model."""
     folder = tmp_path / "models"
     folder.mkdir()
-    for k in range(8):
+    count = 8 if busy else 40  # idle: more than the workers render before the parent is stopped
+    for k in range(count):
         _write_obj(folder / f"s{k:02d}.obj", shapes.icosphere(4))
     out = tmp_path / "out"
-    if busy:
-        options = ["--size", "1600x1200", "--samples", "64"]
-        argv = [sys.executable, "-m", "rasterkit", "render", str(folder), "-o", str(out), *options, "--jobs", "2"]
-    else:  # the parent stops before it hands the workers anything: they wait on their pipes
-        options = ["--size", "32x24"]
-        argv = [sys.executable, "-c", _STALLED_PARENT, str(folder), str(out)]
-    child = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                             env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+    options = ["--size", "1600x1200", "--samples", "64"] if busy else ["--size", "320x240"]
+    child = subprocess.Popen([sys.executable, "-m", "rasterkit", "render", str(folder), "-o", str(out), *options,
+                              "--jobs", "2"], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.PIPE, env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+    workers = []
     try:
         deadline = time.monotonic() + 120
         while time.monotonic() < deadline and not (len(_workers_of(child.pid)) == 2 and (
                 not busy or (out / "manifest.jsonl").exists() and (out / "manifest.jsonl").read_text())):
             assert child.poll() is None, child.stderr.read()
-            time.sleep(0.02)
+            time.sleep(0.01 if busy else 0.002)
         workers = _workers_of(child.pid)
         assert len(workers) == 2
+        if not busy:
+            child.send_signal(signal.SIGSTOP)  # it hands out no more models
+            time.sleep(2)  # the workers finish theirs and wait for the next
+            assert len(list(out.glob("*.png"))) < count
         child.kill()
         child.wait()
         deadline = time.monotonic() + 30
@@ -309,31 +312,14 @@ def test_workers_stop_when_the_batch_process_is_killed_outright(tmp_path, busy):
         child.kill()
         child.wait()
         child.stderr.close()
+        for pid in filter(_running, workers):  # a failed test leaves no process behind
+            os.kill(pid, signal.SIGKILL)
     assert not [p.name for p in out.iterdir() if p.name.endswith(".tmp")]
     resumed = subprocess.run([sys.executable, "-m", "rasterkit", "render", str(folder), "-o", str(out), "--size",
                               "32x24", "--resume", "--jobs", "2"], capture_output=True, text=True, timeout=300)
     assert resumed.returncode == 0, resumed.stderr
     last = {Path(r["input"]).name: r["status"] for r in read_manifest(out / "manifest.jsonl")}
-    assert sorted(last) == [f"s{k:02d}.obj" for k in range(8)] and set(last.values()) <= {"ok", "skipped"}
-
-
-_STALLED_PARENT = """
-import sys, threading
-import rasterkit._workers as workers
-from rasterkit.cli import main
-
-handed = []
-give = workers.LocalPool._give
-
-def stalled(self, worker, pending):  # both workers started, the parent stops: they wait on their pipes
-    handed.append(worker)
-    if len(handed) == 2:
-        threading.Event().wait()
-    give(self, worker, pending)
-
-workers.LocalPool._give = stalled
-sys.exit(main(["render", sys.argv[1], "-o", sys.argv[2], "--size", "32x24", "--jobs", "2"]))
-"""
+    assert sorted(last) == [f"s{k:02d}.obj" for k in range(count)] and set(last.values()) <= {"ok", "skipped"}
 
 
 def test_workers_are_forked_only_when_no_other_thread_runs():
