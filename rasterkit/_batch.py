@@ -19,7 +19,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import _report
+from . import _report, _stop
 from ._manifest import up_to_date
 from ._outputs import check_distinct, check_writable, named_outputs
 from ._render_one import render_model
@@ -41,7 +41,7 @@ def _inputs(models: list[str]) -> list[Path]:
     for name in models:
         path = Path(name)
         if path.is_dir():
-            found = sorted(p for p in path.iterdir() if p.suffix.lower() == ".obj" and p.is_file())
+            found = sorted(p for p in path.iterdir() if p.suffix.lower() == ".obj" and not p.is_dir())
             if not found:
                 raise UsageError(f"{path}: no .obj files in this folder")
             paths.extend(found)
@@ -135,6 +135,7 @@ def _attempt(job: Job, args) -> int:
             render_model(job.source, job.output, args, say=_say)
             return 0
         except Exception as e:
+            _stop.check()  # a signal's stop that came out as another exception (rasterkit._stop)
             code, line = _report.error_line(e)
     _say(line)
     return code

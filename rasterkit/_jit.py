@@ -43,6 +43,8 @@ import time
 import numba
 import numpy as np
 
+from . import _stop
+
 FASTMATH = frozenset({"nsz", "arcp", "contract", "afn", "reassoc"})
 
 _OPTIONS = dict(cache=True, nogil=True, error_model="numpy", fastmath=set(FASTMATH))
@@ -137,9 +139,27 @@ def _steps_for(seconds: float) -> int:
     return max(1, int(_watch_steps * seconds))
 
 
+def _wake(lock) -> None:
+    """Release ``lock`` as a wake-up call: already released means a wake-up is pending, and
+    one is enough (the woken thread reads the counters, which say what happened)."""
+    try:
+        lock.release()
+    except RuntimeError:
+        pass
+
+
 class _Worker:
-    """A thread that runs one call at a time, handed over through two locks; both sides
-    watch a flag for a moment before they sleep on the lock (:mod:`rasterkit.kernels.handoff`)."""
+    """A thread that runs the calls handed to it, one at a time; both sides watch a flag for a
+    moment before they sleep on a lock (:mod:`rasterkit.kernels.handoff`).
+
+    What happened is in two counters, each written by one side: ``_handed`` (calls handed
+    over, by the caller) and ``_finished`` (calls finished, their result stored, by the
+    helper). The locks ``_start`` and ``_done`` only wake the other side, which then reads
+    the counters: a wake-up that comes twice or finds the work already done costs one more
+    look. So an exception raised in the caller's thread at any point (a signal handler's:
+    Ctrl-C, the command line's SIGTERM, raised in the main thread between any two steps,
+    also right after a lock was acquired) cannot lose a call, nor wait for one that never
+    comes: the caller's next look at the counters sets it right."""
 
     def __init__(self, claims):
         from rasterkit.kernels import handoff
@@ -148,6 +168,7 @@ class _Worker:
         self._steps = _steps_for(WATCH_SECONDS)
         self._flags = np.zeros(64, np.int64)
         self._handed = 0
+        self._finished = 0
         self._start, self._done = threading.Lock(), threading.Lock()
         self._start.acquire()
         self._done.acquire()
@@ -156,50 +177,83 @@ class _Worker:
         threading.Thread(target=self._loop, args=(claims,), name="rasterkit-worker", daemon=True).start()
 
     def _loop(self, claims):
-        flags, finished = self._flags, 0
+        flags = self._flags
         while True:
-            self._handoff.finish_and_watch(flags, _FINISHED, finished, _HANDED, claims, _CLAIMS, self._steps)
-            self._start.acquire()
+            self._handoff.finish_and_watch(flags, _FINISHED, self._finished, _HANDED, claims, _CLAIMS, self._steps)
+            while self._handed == self._finished:
+                self._start.acquire()
+            (fn, args), self._call = self._call, None
             try:
-                fn, args = self._call
-                self._result = (True, fn(*args))
+                result = (True, fn(*args))
             except BaseException as error:  # handed to the caller by wait()
-                self._result = (False, error)
-            self._call = None
-            finished += 1
-            self._done.release()
+                result = (False, error)
+            self._result = result
+            self._finished += 1
+            _wake(self._done)
 
     def submit(self, fn, args):
+        """Hand ``fn(*args)`` to the helper. A call that an interrupted caller left running
+        (``_run`` stopped by a second signal before it had waited) is waited for first."""
+        if self._handed != self._finished:
+            interrupted = self.drop()
+            if interrupted is not None:
+                raise interrupted
         self._call = (fn, args)
         self._handed += 1
         self._flags[_HANDED] = self._handed
-        self._start.release()
+        _wake(self._start)
 
     def wait(self):
-        """The call's result (or its exception). An interrupt (Ctrl-C) while waiting is
-        raised only once the call has finished: the next call must not find this one's
-        result, nor share the thread with it."""
-        self._handoff.wait_for(self._flags, _FINISHED, self._handed, self._steps)
-        interrupted = None
-        while True:
-            try:
-                self._done.acquire()
-                break
-            except BaseException as error:  # noqa: PERF203 - KeyboardInterrupt: wait on
-                interrupted = interrupted or error
-        ok, value = self._result
-        self._result = None
+        """The result (or the exception) of the call handed last; None if none is running.
+        An exception raised in this thread while waiting (Ctrl-C) is raised once the call
+        has finished: the next call must not find this one's result, nor share the thread
+        with it."""
+        interrupted = self._join()
+        result, self._result = self._result, None
         if interrupted is not None:
             raise interrupted
+        if result is None:
+            return None
+        ok, value = result
         if not ok:
             raise value
         return value
+
+    def drop(self):
+        """Wait for the call handed last and forget its result (or its exception); returns
+        the exception raised in this thread meanwhile, as :meth:`_join` does. For a caller
+        that an exception stopped, perhaps inside :meth:`submit`: the helper is woken first,
+        in case the call was counted but the helper not yet woken."""
+        _wake(self._start)
+        interrupted = self._join()
+        self._result = None
+        return interrupted
+
+    def _join(self):
+        """Wait until the helper has finished every call handed to it; returns the exception
+        raised in this thread meanwhile (the first; None if none came), for the caller to
+        raise when the helper no longer uses the call's arguments."""
+        interrupted = None
+        while True:
+            try:
+                if interrupted is None:
+                    self._handoff.wait_for(self._flags, _FINISHED, self._handed, self._steps)
+                while self._finished != self._handed:
+                    self._done.acquire()
+                return interrupted
+            except BaseException as error:  # noqa: PERF203 - wait on, then raise it
+                if interrupted is None:
+                    interrupted = error
+                _wake(self._start)  # a submit cut short after counting its call woke nobody
 
 
 class _Pool:
     def __init__(self):
         self.workers: list[_Worker] = []
-        self.busy = threading.Lock()  # one parallel call at a time uses the workers
+        # One parallel call at a time uses the workers: the one whose token is owner[0].
+        # dict.setdefault takes it atomically, and a call that an exception (Ctrl-C) stops
+        # right after taking it still sees that it has it, and gives it back (see _run).
+        self.owner: dict = {}
         # flags[_CLAIMS]: the work counter of the call in progress, which the helpers
         # watch for the caller's first claim
         self.flags = np.zeros(64, np.int64)
@@ -247,39 +301,42 @@ def run_workers(worker, *args, threads: int | None = None) -> list:
 
 
 def _run(worker, args, threads, counted):
+    _stop.check()  # a signal's stop that a C extension lost on its way out (rasterkit._stop)
     pool = _pool
     n = get_threads() if threads is None else threads
-    parallel = n > 1 and pool.busy.acquire(blocking=False)
-    if counted:  # the pool's counter, which its helpers watch; a fresh one without them
-        counter = pool.counter if parallel else np.zeros(1, np.int64)
-        counter[0] = 0
-        args = (counter, *args)
-    if _intercept is not None:
-        result = _intercept(worker, args)
-        if result is not None:
-            if parallel:
-                pool.busy.release()
-            return result
-    if getattr(worker, "overloads", True) == {} and not cached(worker):  # its first compile: from a fresh stack
-        compile_apart(worker, (0, *args))
-    if not parallel:
-        return [worker(0, *args)]
+    token = object()
     try:
+        parallel = n > 1 and pool.owner.setdefault(0, token) is token
+        if counted:  # the pool's counter, which its helpers watch; a fresh one without them
+            counter = pool.counter if parallel else np.zeros(1, np.int64)
+            counter[0] = 0
+            args = (counter, *args)
+        if _intercept is not None:
+            result = _intercept(worker, args)
+            if result is not None:
+                return result
+        if getattr(worker, "overloads", True) == {} and not cached(worker):  # its first compile: from a fresh stack
+            compile_apart(worker, (0, *args))
+        if not parallel:
+            return [worker(0, *args)]
         if not counted:
             pool.counter[0] = 1  # nothing to watch for
         while len(pool.workers) < n - 1:
             pool.workers.append(_Worker(pool.flags))
         helpers = pool.workers[: n - 1]
-        for slot, helper in enumerate(helpers, start=1):
-            helper.submit(worker, (slot, *args))
         try:
+            for slot, helper in enumerate(helpers, start=1):
+                helper.submit(worker, (slot, *args))
             first = worker(0, *args)
         except BaseException:
-            _wait_all(helpers)  # the helpers still read the arguments: let them finish
+            _settle(helpers)  # the helpers still read the arguments: let them finish
             raise
         return [first, *_wait_all(helpers)]
     finally:
-        pool.busy.release()
+        # No call here: Python runs a signal's handler after a call returns, so a Ctrl-C
+        # that arrives now is raised after the workers are given back, not before.
+        if pool.owner == {0: token}:
+            del pool.owner[0]
 
 
 def cached(dispatcher) -> bool:
@@ -311,6 +368,17 @@ def compile_apart(worker, args) -> None:
     thread.join()
     if failed:
         raise failed[0]
+
+
+def _settle(helpers) -> None:
+    """After an exception in the caller: wait until no helper runs a call of it (those
+    handed before the exception; their results are dropped). An exception raised in this
+    thread meanwhile (Ctrl-C) is raised once they have finished."""
+    interrupted = None
+    for helper in helpers:
+        interrupted = helper.drop() or interrupted
+    if interrupted is not None:
+        raise interrupted
 
 
 def _wait_all(helpers):

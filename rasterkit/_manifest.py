@@ -5,13 +5,20 @@ each line with one ``write`` to a file opened for appending: a run that is kille
 every finished model's line and no half line (a reader skips a line that does not parse,
 in case the disk filled up in the middle of one; the line after a failed write starts on a
 line of its own, so it is not spoilt too). Fields: ``input``, ``output``,
-``status`` (``"ok"`` or ``"error"``), ``error`` (the one-line message, or null; the
-command line prints it after ``rasterkit: error:``, or ``rasterkit: internal error:`` for a
-bug of rasterkit or a worker that died),
-``seconds`` (the model's own time in its worker), ``triangles`` (null when it did not load),
-``warnings`` (the loader's warning lines).
-A new run starts a new manifest; a ``--resume`` run appends to the old one, and writes no
-line for the models it skips (their line is in the manifest already).
+``status`` (``"ok"``, ``"error"``, or ``"skipped"`` by ``--resume``), ``error`` (the
+one-line message, or null; the command line prints it after ``rasterkit: error:``, or
+``rasterkit: internal error:`` for a bug of rasterkit or a worker that died),
+``seconds`` (the model's own time in its worker), ``triangles`` (null when it did not load
+or was skipped), ``warnings`` (the loader's warning lines).
+A new run starts a new manifest; a ``--resume`` run appends to the old one, a line for every
+model, ``"skipped"`` for those whose image was complete and newer than the model: a run that
+was killed may have written an image and not its line, so the last line of each model
+says what it is now.
+
+File names are bytes on POSIX and stay so: a name that is not UTF-8 has its undecodable
+bytes as ``\\udcXX`` escapes in the JSON (the ``surrogateescape`` code points Python gives
+them, so ``os.fsencode`` of the ``input`` a reader gets is the file's name again); the rest
+of the file is UTF-8.
 
 Pure standard library.
 """
@@ -43,7 +50,9 @@ class Manifest:
     def write(self, record: dict) -> None:
         """Append ``record`` as one line. An ``OSError`` (a full disk) names the manifest;
         the line after a failed one starts on a line of its own."""
-        line = (json.dumps(record, ensure_ascii=False) + "\n").encode()
+        # json.dumps leaves a name's surrogate escapes as they are; "backslashreplace"
+        # writes each as the JSON escape \udcXX, which json.loads turns back into it
+        line = (json.dumps(record, ensure_ascii=False) + "\n").encode("utf-8", "backslashreplace")
         if self._torn:
             line = b"\n" + line
         try:
@@ -69,7 +78,7 @@ class Manifest:
 def read_manifest(path: str | os.PathLike) -> list[dict]:
     """The records of a manifest, in order; lines that do not parse are left out."""
     records = []
-    with open(path, encoding="utf-8") as f:
+    with open(path, encoding="utf-8", errors="surrogateescape") as f:
         for line in f:
             try:
                 record = json.loads(line)

@@ -1,7 +1,8 @@
 """The batch engine: many models into one folder, by one of three engines, with a manifest.
 
 1. ``--resume``: models whose image is complete and newer than the model are skipped
-   without loading them (:func:`rasterkit._manifest.up_to_date`).
+   without loading them (:func:`rasterkit._manifest.up_to_date`); each still gets its
+   manifest line, status ``skipped``.
 2. The rest render on one engine — this process (``jobs=1``), a pool of ``jobs`` local
    worker processes (:class:`rasterkit._workers.LocalPool`), or a Dask cluster
    (:mod:`rasterkit._dask`) — each model through :func:`rasterkit._workers.run_task`, so the
@@ -67,10 +68,11 @@ def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1
     report = Progress(len(pairs), enabled=progress)
     say = report.say
     started = time.monotonic()
-    todo = []
+    todo, skipped = [], []
     for source, output in pairs:
         if resume and up_to_date(source, output):
             summary.skipped += 1
+            skipped.append(_skipped(source, output))
             report.advance(source.name, "skipped")
         else:
             todo.append((os.fspath(source), os.fspath(output)))
@@ -80,6 +82,9 @@ def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1
     codes, unrecorded = [], []
     with Manifest(out_dir, append=resume) as manifest:
         summary.manifest = manifest.path
+        for record in skipped:  # the manifest lists every model, also those a killed run
+            manifest.write(record)  # rendered without writing their line
+            summary.records.append(record)
 
         def on_result(record: dict) -> None:
             code = record.pop("code", 0 if record["status"] == "ok" else 1)
@@ -117,6 +122,11 @@ def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1
     summary.seconds = time.monotonic() - started
     summary.exit_code = 1 if 1 in codes else max(codes, default=0)
     return summary
+
+
+def _skipped(source: Path, output: Path) -> dict:
+    return {"input": os.fspath(source), "output": os.fspath(output), "status": "skipped", "error": None,
+            "seconds": None, "triangles": None, "warnings": []}
 
 
 def _engine(todo, options, jobs, client, on_result) -> None:

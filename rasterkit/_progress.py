@@ -5,13 +5,15 @@ name``. Otherwise (a log file, a pipe) each finished model is a line of its own:
 name ok 0.41 s``. Messages (:meth:`Progress.say`) take the bar away, print their line and
 let the bar come back with the next model.
 
-Pure standard library.
+Pure standard library (and :mod:`rasterkit._report`).
 """
 
 from __future__ import annotations
 
 import sys
 import time
+
+from ._report import printable
 
 __all__ = ["Progress"]
 
@@ -32,6 +34,7 @@ class Progress:
     def advance(self, name: str, status: str, seconds: float | None = None) -> None:
         """One more model finished (``status``: ok, error, skipped)."""
         self.done += 1
+        name = printable(name)
         if not self.enabled:
             return
         if self.tty:
@@ -54,7 +57,7 @@ class Progress:
     def say(self, line: str) -> None:
         """Print ``line`` on a line of its own (always, even when disabled)."""
         self._clear()
-        print(line, file=self.stream, flush=True)
+        print(printable(line), file=self.stream, flush=True)
 
     def close(self) -> None:
         self._clear()

@@ -21,7 +21,7 @@ import sys
 import warnings
 from typing import Iterator
 
-__all__ = ["BAD_INPUT", "UsageError", "error_line", "model", "one_line", "one_line_warnings"]
+__all__ = ["BAD_INPUT", "UsageError", "error_line", "model", "one_line", "one_line_warnings", "printable"]
 
 
 class UsageError(ValueError):
@@ -37,8 +37,19 @@ _model: str | None = None  # the model being worked on, named in messages
 
 
 def one_line(text: object) -> str:
-    """``text`` on one line: its lines joined with spaces."""
-    return " ".join(part.strip() for part in str(text).splitlines() if part.strip())
+    """``text`` on one line: its lines joined with spaces, each :func:`printable`."""
+    return " ".join(printable(part.strip()) for part in str(text).splitlines() if part.strip())
+
+
+def printable(text: str) -> str:
+    """``text`` with every character that a terminal would not show as itself escaped: a
+    byte of a file name that is not UTF-8 (Python's surrogate escape for it) as ``\\xNN``,
+    a control character as Python writes it in a string (``\\t``, ``\\x1b``)."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else
+                   f"\\x{ord(c) - 0xDC00:02x}" if "\udc80" <= c <= "\udcff" else
+                   repr(c)[1:-1] for c in text)
 
 
 def _describe(e: BaseException) -> str:

@@ -16,7 +16,8 @@ model through its own pipe and waits on the pipes and the processes at once
 (``multiprocessing.connection.wait``): a worker that dies (a crash, the OOM killer) costs
 only its model, recorded as an error, and a new worker takes its place. On Ctrl-C or
 SIGTERM the parent stops the workers with SIGTERM; each removes the temporary file of the
-image it was writing.
+image it was writing. A parent killed outright (SIGKILL) takes its workers with it: each
+gets SIGTERM when its parent dies (:func:`_die_with`).
 
 Compiling happens once, not once per worker: a worker whose kernels are not in Numba's
 disk cache yet renders its first model holding a lock file (``rasterkit-compile.lock`` in
@@ -34,7 +35,7 @@ import time
 from collections import deque
 from pathlib import Path
 
-from . import _report
+from . import _report, _stop
 
 __all__ = ["LocalPool", "compile_lock", "cores", "run_task", "warm_up"]
 
@@ -94,6 +95,7 @@ def run_task(source: str, output: str, options, threads: int | None = None) -> d
             with compile_lock(options):
                 triangles = render_model(Path(source), Path(output), options, say=warnings.append)
         except Exception as e:
+            _stop.check()  # a signal's stop that came out as another exception (rasterkit._stop)
             code, line = _report.error_line(e)
             prefix = "rasterkit: error: " if code == 2 else "rasterkit: internal error: "
             record.update(status="error", error=line.removeprefix(prefix), code=code)
@@ -105,19 +107,26 @@ class _Stop(BaseException):
     """SIGTERM in a worker: unwinds the render (temporary files are removed) and exits."""
 
 
-def _worker_main(conn, threads: int, options, limit_state) -> None:
-    """A worker process: render the models that arrive on ``conn`` until ``None`` does."""
+def _worker_main(conn, threads: int, options, limit_state, parent: int, inherited: list) -> None:
+    """A worker process: render the models that arrive on ``conn`` until ``None`` does, or
+    until the parent process (``parent``, its pid) has gone. ``inherited``: the parent's ends
+    of the workers' pipes that a forked worker holds copies of, closed at once (else the
+    pipe of a parent killed outright would never end, and its worker would wait on it)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the parent decides
 
     def stop(signum, frame):
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        _stop.request(_Stop)  # raised again if this one is lost on its way (rasterkit._stop)
         raise _Stop()
 
     signal.signal(signal.SIGTERM, stop)
+    for end in inherited:
+        end.close()
     from . import limits
 
     limits._max_file_size, limits._memory_limit = limit_state
     try:
+        _die_with(parent)
         while True:
             task = conn.recv()
             if task is None:
@@ -125,6 +134,41 @@ def _worker_main(conn, threads: int, options, limit_state) -> None:
             conn.send(run_task(task[0], task[1], options, threads))
     except (_Stop, EOFError, BrokenPipeError):
         return
+
+
+def _die_with(parent: int) -> None:
+    """Have this process get SIGTERM (:class:`_Stop`: its temporary file is removed) when
+    ``parent`` dies, even by SIGKILL: from the kernel on Linux (``PR_SET_PDEATHSIG``),
+    elsewhere from a thread that looks for a new parent process every second. A parent that
+    has gone already stops it now."""
+    import sys
+
+    asked = False
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            asked = ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGTERM), 0, 0, 0) == 0
+        except (OSError, AttributeError):
+            pass
+    if not asked:
+        _watch_parent(parent)
+    if os.getppid() != parent:
+        raise _Stop()
+
+
+_PR_SET_PDEATHSIG = 1  # from <sys/prctl.h>
+
+
+def _watch_parent(parent: int) -> None:
+    import threading
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    threading.Thread(target=watch, name="rasterkit-parent-watch", daemon=True).start()
 
 
 def _start_method() -> str:
@@ -180,8 +224,10 @@ class LocalPool:
 
     def _start(self) -> dict:
         parent, child = self._ctx.Pipe()
-        process = self._ctx.Process(target=_worker_main, args=(child, self.threads, self.options, self._limits),
-                                    daemon=True, name="rasterkit-worker")
+        # a forked worker closes its copies of the parent's pipe ends; a spawned one has none
+        inherited = [w["conn"] for w in self._workers] + [parent] if self._ctx.get_start_method() == "fork" else []
+        process = self._ctx.Process(target=_worker_main, name="rasterkit-worker", daemon=True,
+                                    args=(child, self.threads, self.options, self._limits, os.getpid(), inherited))
         process.start()
         child.close()
         worker = {"process": process, "conn": parent, "task": None}

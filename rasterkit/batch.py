@@ -27,8 +27,8 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
         ``turntable``); two models of one name are refused.
     out_dir : path
         The folder of the images (made if missing) and of ``manifest.jsonl``: one JSON
-        record per model (``input``, ``output``, ``status`` "ok" or "error", ``error``,
-        ``seconds``, ``triangles``), appended as results arrive.
+        record per model (``input``, ``output``, ``status`` "ok", "error" or "skipped",
+        ``error``, ``seconds``, ``triangles``), appended as results arrive.
     jobs : int
         Local worker processes (0: one per core). Each renders with ``cores // jobs``
         kernel threads, so the cores are never oversubscribed.
@@ -36,8 +36,8 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
         Render on this Dask cluster instead (``pip install 'rasterkit[dask]'``): its workers
         read the models and write the images, so both paths must be reachable from them.
     resume : bool
-        Skip models whose image is complete and newer than the model (no line is written
-        for them; the manifest is appended to instead of started anew).
+        Skip models whose image is complete and newer than the model (each gets a line of
+        status "skipped"; the manifest is appended to instead of started anew).
     progress : bool
         Show the progress on stderr (a bar on a terminal, lines otherwise).
     contact_sheet : path, optional

@@ -29,7 +29,7 @@ import sys
 import threading
 from typing import Iterator
 
-from . import _report, limits
+from . import _report, _stop, limits
 from ._report import UsageError
 from ._cli_args import (add_limits, add_view_arguments, attach_number_lists, framed_camera, read_camera_file,
                         finite, integers, point, positive_int, samples, unit_interval, whole_number)
@@ -329,8 +329,10 @@ def _limits(args) -> Iterator[None]:
 def _stop_signals() -> Iterator[None]:
     """Within the block, SIGINT raises KeyboardInterrupt and SIGTERM :class:`Terminated`, once:
     a second signal is ignored while the first one's clean-up runs (a temporary file is
-    removed on the way out). A signal that was ignored (``nohup``, a background job) or
-    has a handler of the program's own is left alone, and so is any thread but the main one."""
+    removed on the way out). The stop is also recorded (:mod:`rasterkit._stop`): a render
+    whose exception a C extension lost stops at its next parallel pass. A signal that was
+    ignored (``nohup``, a background job) or has a handler of the program's own is left
+    alone, and so is any thread but the main one."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -341,7 +343,9 @@ def _stop_signals() -> Iterator[None]:
     def stop(signum, frame):
         for s in caught:
             signal.signal(s, signal.SIG_IGN)
-        raise KeyboardInterrupt if signum == signal.SIGINT else Terminated()
+        exception = KeyboardInterrupt if signum == signal.SIGINT else Terminated
+        _stop.request(exception)  # raised again if this one is lost on its way (rasterkit._stop)
+        raise exception()
 
     try:
         for s in caught:
@@ -350,6 +354,15 @@ def _stop_signals() -> Iterator[None]:
     finally:
         for s in caught:
             signal.signal(s, saved[s])
+        _stop.clear()
+
+
+def _stopped(interrupted: bool) -> int:
+    """Ctrl-C (``interrupted``) or SIGTERM stopped the command: its line and exit code."""
+    _stop.clear()
+    _stop_helper()
+    print(f"rasterkit: {'interrupted' if interrupted else 'terminated'}", file=sys.stderr)
+    return 130 if interrupted else 143
 
 
 def _stop_helper() -> None:
@@ -377,11 +390,10 @@ def main(argv: list[str] | None = None) -> int:
             with _limits(args):
                 return {"render": _render, "info": _info, "explain": _explain}[args.command](args)
         except (KeyboardInterrupt, Terminated) as e:
-            _stop_helper()
-            interrupted = isinstance(e, KeyboardInterrupt)
-            print(f"rasterkit: {'interrupted' if interrupted else 'terminated'}", file=sys.stderr)
-            return 130 if interrupted else 143
+            return _stopped(isinstance(e, KeyboardInterrupt))
         except Exception as e:  # bad input (2), or a bug of ours (1): one line either way
+            if _stop.pending() is not None:  # the signal's exception, turned into another on its way
+                return _stopped(_stop.pending() is KeyboardInterrupt)
             if isinstance(e, BrokenPipeError) and e.filename is None:  # stdout: info | head
                 _quiet_stdout()  # whoever read it has gone: stop without a word
                 return 141

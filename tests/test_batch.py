@@ -84,12 +84,30 @@ def test_resume_skips_complete_newer_images_only(models, tmp_path):
     (out / "c_torus.png").unlink()
     second = rasterkit.render_many(models, out, resume=True, **OPTIONS)
     assert (second.done, second.skipped, second.failed) == (3, 1, 1)
-    assert sorted(Path(r["input"]).name for r in second.records) == [
-        "a_cube.obj", "b_sphere.obj", "c_torus.obj", "e_broken.obj"]
+    assert sorted((Path(r["input"]).name, r["status"]) for r in second.records) == [
+        ("a_cube.obj", "ok"), ("b_sphere.obj", "ok"), ("c_torus.obj", "ok"), ("d_tetra.obj", "skipped"),
+        ("e_broken.obj", "error")]
     assert (out / "a_cube.png").read_bytes() == data
-    assert len(read_manifest(out / "manifest.jsonl")) == 5 + 4  # appended, not started anew
+    assert read_manifest(out / "manifest.jsonl")[5:] == second.records  # appended, not started anew
     third = rasterkit.render_many(models, out, **OPTIONS)  # no resume: a new manifest
     assert third.done == 4 and len(read_manifest(out / "manifest.jsonl")) == 5
+
+
+def test_resume_records_the_models_it_skips_so_the_manifest_lists_every_model(models, tmp_path):
+    """A killed run can leave images whose manifest line it never wrote: here every line
+    but the first is gone. A resumed run skips those images and still records each one."""
+    out = tmp_path / "out"
+    rasterkit.render_many(models, out, **OPTIONS)
+    manifest = out / "manifest.jsonl"
+    manifest.write_text(manifest.read_text().splitlines()[0] + "\n")
+    resumed = rasterkit.render_many(models, out, resume=True, **OPTIONS)
+    assert (resumed.done, resumed.skipped, resumed.failed) == (0, 4, 1)
+    last = {Path(r["input"]).name: r for r in read_manifest(manifest)}  # each model's last line
+    assert sorted(last) == sorted(p.name for p in models.iterdir())
+    assert {name: r["status"] for name, r in last.items()} == {
+        "a_cube.obj": "skipped", "b_sphere.obj": "skipped", "c_torus.obj": "skipped", "d_tetra.obj": "skipped",
+        "e_broken.obj": "error"}
+    assert last["b_sphere.obj"]["output"] == str(out / "b_sphere.png") and last["b_sphere.obj"]["error"] is None
 
 
 def test_complete_image_knows_png_and_gif(tmp_path):
@@ -228,6 +246,80 @@ def test_sigterm_stops_the_workers_and_leaves_no_temporary_file(tmp_path):
     for p in out.glob("*.png"):
         assert complete_image(p)
     assert all(json.loads(line)["status"] == "ok" for line in (out / "manifest.jsonl").read_text().splitlines())
+
+
+def _workers_of(pid: int) -> list[int]:
+    """The batch workers of process ``pid``: its children, but a first run's compiling helper."""
+    found = []
+    for entry in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            with open(f"/proc/{entry}/stat") as f:
+                parent = int(f.read().rsplit(")", 1)[1].split()[1])
+            with open(f"/proc/{entry}/cmdline", "rb") as f:
+                helper = b"rasterkit._warm" in f.read()
+        except (OSError, IndexError):
+            continue
+        if parent == pid and not helper:
+            found.append(int(entry))
+    return found
+
+
+def _running(pid: int) -> bool:
+    """Whether ``pid`` is a process that has not exited (a zombie has)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs /proc")
+@pytest.mark.parametrize("busy", [True, False])
+def test_workers_stop_when_the_batch_process_is_killed_outright(tmp_path, busy):
+    """kill -9 of the batch: its workers stop too (busy: while rendering, their temporary
+    files removed; idle: the parent stopped first, so they wait on their pipes), and a
+    --resume run then records every model."""
+    folder = tmp_path / "models"
+    folder.mkdir()
+    count = 8 if busy else 40  # idle: more than the workers render before the parent is stopped
+    for k in range(count):
+        _write_obj(folder / f"s{k:02d}.obj", shapes.icosphere(4))
+    out = tmp_path / "out"
+    options = ["--size", "1600x1200", "--samples", "64"] if busy else ["--size", "320x240"]
+    child = subprocess.Popen([sys.executable, "-m", "rasterkit", "render", str(folder), "-o", str(out), *options,
+                              "--jobs", "2"], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.PIPE, env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+    workers = []
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and not (len(_workers_of(child.pid)) == 2 and (
+                not busy or (out / "manifest.jsonl").exists() and (out / "manifest.jsonl").read_text())):
+            assert child.poll() is None, child.stderr.read()
+            time.sleep(0.01 if busy else 0.002)
+        workers = _workers_of(child.pid)
+        assert len(workers) == 2
+        if not busy:
+            child.send_signal(signal.SIGSTOP)  # it hands out no more models
+            time.sleep(2)  # the workers finish theirs and wait for the next
+            assert len(list(out.glob("*.png"))) < count
+        child.kill()
+        child.wait()
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline and any(map(_running, workers)):
+            time.sleep(0.05)
+        assert not any(map(_running, workers)), "the workers outlived the batch"
+    finally:
+        child.kill()
+        child.wait()
+        child.stderr.close()
+        for pid in filter(_running, workers):  # a failed test leaves no process behind
+            os.kill(pid, signal.SIGKILL)
+    assert not [p.name for p in out.iterdir() if p.name.endswith(".tmp")]
+    resumed = subprocess.run([sys.executable, "-m", "rasterkit", "render", str(folder), "-o", str(out), "--size",
+                              "32x24", "--resume", "--jobs", "2"], capture_output=True, text=True, timeout=300)
+    assert resumed.returncode == 0, resumed.stderr
+    last = {Path(r["input"]).name: r["status"] for r in read_manifest(out / "manifest.jsonl")}
+    assert sorted(last) == [f"s{k:02d}.obj" for k in range(count)] and set(last.values()) <= {"ok", "skipped"}
 
 
 def test_workers_are_forked_only_when_no_other_thread_runs():

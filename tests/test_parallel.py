@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import rasterkit
+from hostile import run_python
 from rasterkit import shapes
 from rasterkit._jit import MAX_THREADS, get_threads, run_parallel, set_threads
 from rasterkit.camera import Camera
@@ -186,6 +187,49 @@ def test_calls_after_an_interrupted_call_get_their_own_results():
     done = _python(INTERRUPTED, timeout=60)
     assert done.stdout.splitlines() == [
         "interrupted", "done [[('second', 0), ('second', 1)], [('third', 0), ('third', 1)]]"], done.stdout + done.stderr
+
+
+SIGNALS_EVERYWHERE = """
+import faulthandler, random, signal, sys
+from rasterkit._jit import run_parallel
+
+faulthandler.dump_traceback_later(40, exit=True)  # a hang: every thread's stack, exit 1
+
+class Stop(BaseException):  # what the command line's SIGTERM handler raises, like Ctrl-C's
+    pass
+
+fired = []
+
+def stop(signum, frame):
+    fired.append(signum)
+    raise Stop
+
+signal.signal(signal.SIGALRM, stop)
+work = lambda slot, call: (call, slot)
+run_parallel(work, 0, threads=2)
+rng = random.Random(1)
+for call in range(1, ROUNDS + 1):
+    fired.clear()
+    try:
+        signal.setitimer(signal.ITIMER_REAL, rng.uniform(1e-6, 150e-6))
+        run_parallel(work, call, threads=2)
+        while not fired:  # the signal lands inside this try, wherever the call had got to
+            pass
+    except Stop:
+        pass
+    assert run_parallel(work, -call, threads=2) == [(-call, 0), (-call, 1)], call
+print("ok")
+"""
+
+
+@needs_two
+def test_a_signal_raising_anywhere_in_a_parallel_call_neither_hangs_nor_mixes_up_calls():
+    """A signal handler that raises (Ctrl-C, the command line's SIGTERM) runs in the main
+    thread between any two steps of the hand-over, also right after a lock was acquired:
+    thousands of them, at random moments of the calls. Each later call still gets all its
+    slots' results and only its own (the old two-lock protocol hung within a few hundred)."""
+    done = run_python(SIGNALS_EVERYWHERE.replace("ROUNDS", "5000"), timeout=60)
+    assert (done.code, done.stdout) == (0, "ok\n"), done.describe()
 
 
 # --- callers on several Python threads --------------------------------------------------------
