@@ -15,10 +15,12 @@ from typing import Iterator
 
 from numba.core import event
 
-# The time: 10-20 s for a first render on two busy cores, less when other kernels are already
-# cached (a first `info` takes about 7 s, a first solid render after a hidden one 1 s).
-MESSAGE = ("rasterkit: compiling the kernels for first use "
-           "(up to about 20 s; cached for later runs)...")
+# No time in it: what compiles depends on the command, its mode and what earlier runs left in
+# the cache (measured on two cores: a first `info` 5-7 s, a first solid render of a model
+# 12-18 s, a first hidden-line one 24 s, a solid render after a hidden one 1 s), and one core
+# takes about twice as long.
+MESSAGE = ("rasterkit: compiling the kernels for first use, once "
+           "(later runs load them from the cache)...")
 
 _shown = False
 
