@@ -17,8 +17,7 @@ Quads with one vertex repeated on neighbouring corners are the triangle of the o
 a polygon with no normal (its corners on one line) is the fan from corner 0. Polygons the
 kernels treat specially are left to them: other repeated vertex indices (a cycle walked
 twice), two neighbouring corners at one place in the plane, or more corners than ear clipping
-takes
-(:data:`~rasterkit.kernels.obj_ears.EAR_CLIP_LIMIT`). The arithmetic is the kernels' in plain
+takes (:data:`~rasterkit.kernels.obj_ears.EAR_CLIP_LIMIT`). The arithmetic is the kernels' in plain
 IEEE double precision where the kernels use fast-math (fused multiply-adds): a corner that is
 straight to the last bit may be taken as turning the other way, which splits the polygon
 differently but covers it all the same.

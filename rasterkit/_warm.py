@@ -67,16 +67,11 @@ _cached = _jit.cached  # (a name of this module: tests replace it)
 
 def helped_workers(style: dict, loading: bool) -> list:
     """The workers a helper compiles for a render with ``style``, in the order the render
-    runs them: the band worker, and for a solid render of a model also the vertex pass and
-    the binning of the triangles (about 1.4 s), which this process would compile after the
-    model's reader and the face pass: the halves then come out about even (this process:
-    reader 6 s, face pass 3.5 s; the helper: band worker 6.5 s and these)."""
-    workers = [_band_worker(style)]
-    if loading and style["mode"] == "solid":
-        from .kernels import setup, tiles
-
-        workers = [setup.setup_vertices, tiles.bin_records, *workers]
-    return workers
+    runs them: the band worker alone. It is the largest kernel (about 11 s on two busy
+    cores, with the helper's start 12.5 s), as long as this process's share (the OBJ reader
+    4.5 s, the vertex pass, face pass and binning 5.5 s, its own start); giving the helper
+    the vertex pass and binning too made it the longer one (14 s)."""
+    return [_band_worker(style)]
 
 
 def start(style: dict, depth: bool, loading: bool) -> None:

@@ -119,13 +119,10 @@ def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path)
     assert len(_kernel_indexes(cache, "tiles", "draw_bands")) == 1
 
 
-def test_a_solid_models_helper_compiles_the_vertex_pass_binning_and_band_worker(tmp_path):
-    """For a solid render of a model the helper compiles the vertex pass, the binning and
-    the band worker (naming each as it is cached), and the render's own process compiles
-    none of them (it compiles the face pass)."""
+def test_a_helper_of_several_workers_names_each_and_the_render_loads_them(tmp_path):
+    """A helper given several workers compiles them in the render's order, naming each as it
+    is cached, and the render's own process compiles none of them."""
     assert [w.py_func.__name__ for w in _warm.helped_workers(SOLID_ORDER["style"], loading=True)] \
-        == ["setup_vertices", "bin_records", "draw_bands"]
-    assert [w.py_func.__name__ for w in _warm.helped_workers(SOLID_ORDER["style"], loading=False)] \
         == ["draw_bands"]
     cache = tmp_path / "cache"
     env = _env(cache)
