@@ -44,8 +44,7 @@ BAND_WORKERS = ("draw_bands", "draw_wire_bands", "draw_edge_bands", "draw_antial
 PARSER = (("obj_scan", "scan_statements"), ("obj_numbers", "parse_number_rows"),
           ("obj_corners", "parse_corners"))
 
-_helper: subprocess.Popen | None = None
-_helped: set[str] = set()  # the workers the helper compiles and has not reported yet
+_helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the helper compiling it
 _parser_helper: subprocess.Popen | None = None
 
 
@@ -65,33 +64,44 @@ def _band_worker(style: dict):
 _cached = _jit.cached  # (a name of this module: tests replace it)
 
 
-def helped_workers(style: dict, loading: bool) -> list:
-    """The workers a helper compiles for a render with ``style``, in the order the render
-    runs them: the band worker alone. It is the largest kernel (about 11 s on two busy
-    cores, with the helper's start 12.5 s), as long as this process's share (the OBJ reader
-    4.5 s, the vertex pass, face pass and binning 5.5 s, its own start); giving the helper
-    the vertex pass and binning too made it the longer one (14 s)."""
-    return [_band_worker(style)]
+def helped_workers(style: dict) -> list[list]:
+    """The workers helpers compile for a render with ``style``: a list per helper process,
+    each in the order the render runs them. The band worker is the largest kernel (about
+    11 s on two busy cores, with the helper's start 12.5 s), as long as this process's share
+    of a solid render (the OBJ reader 4.5 s, the vertex pass, face pass and binning 5.5 s, its
+    own start): one helper for it. A mode that draws faces and edges (hidden, solid+wire)
+    compiles the edges' band worker and setup too (about 10 s more): a second helper for
+    those, three processes on two cores."""
+    helpers = [[_band_worker(style)]]
+    if style["mode"] in ("hidden", "solid+wire"):
+        from .kernels import edge_setup, edges_tested, edges_wu
+
+        edge_worker = edges_wu.draw_antialiased_bands if style["aa"] else edges_tested.draw_edge_bands
+        helpers.append([edge_setup.project_vertices, edge_setup.plain_setup, edge_worker])
+    return helpers
 
 
 def start(style: dict, depth: bool, loading: bool) -> None:
-    """Start the helper for a render with ``style`` (``mode``, ``cull``, ``shading``,
+    """Start the helpers for a render with ``style`` (``mode``, ``cull``, ``shading``,
     ``background``, ``aa``, and the vision maps asked for: ``ids``, ``normals``,
-    ``camera_depth``, which the band worker makes too) when its band worker is not cached
-    (any variant: a first vision render after plain ones compiles its variant here); ``depth``: the depth
-    buffer is read too; ``loading``: a model file is read (its parser compiles here
-    meanwhile). A wireframe of the built-in model leaves too little to do here while the
-    helper works to make up for starting it: no helper then."""
-    global _helper, _helped
-    worker = _band_worker(style)
-    if _helper is not None or _cached(worker) or (style["mode"] == "wire" and not loading):
-        if not loading and _helper is None:
-            _start_parser_helper()
+    ``camera_depth``, which the band worker makes too) for the workers of
+    :func:`helped_workers` that are not cached (any variant: a first vision render after plain
+    ones compiles its variant here); ``depth``: the depth buffer is read too; ``loading``: a
+    model file is read (its parser compiles here meanwhile). A wireframe of the built-in
+    model leaves too little to do here while a helper works to make up for starting it: no
+    helper then. Once per process."""
+    if _helpers:
         return
-    names = [w.py_func.__name__ for w in helped_workers(style, loading) if not _cached(w)]
-    _helper = _spawn({"style": style, "depth": depth, "workers": names}, report=True)
-    if _helper is not None:
-        _helped = set(names)
+    lists = [] if style["mode"] == "wire" and not loading else [
+        names for names in ([w.py_func.__name__ for w in workers if not _cached(w)]
+                            for workers in helped_workers(style)) if names]
+    if not loading and not lists:
+        _start_parser_helper()
+    for names in lists:
+        helper = _spawn({"style": style, "depth": depth, "workers": names}, report=True)
+        if helper is not None:
+            _helpers.update(dict.fromkeys(names, helper))
+    if _helpers:
         _jit.intercept(_wait_for_helper)
 
 
@@ -121,16 +131,16 @@ def _start_parser_helper() -> None:
 
 
 def stop() -> None:
-    """Stop the helper now (the command line was interrupted or stopped): it compiles
+    """Stop the helpers now (the command line was interrupted or stopped): they compile
     nothing more. Numba writes a cache file under a temporary name and renames it, so no
     cache file is left half-written (a helper stopped during those milliseconds leaves the
     temporary one in Numba's cache folder)."""
-    global _helper, _parser_helper
-    helpers = [h for h in (_helper, _parser_helper) if h is not None]
-    if _helper is not None:
+    global _parser_helper
+    helpers = list(dict.fromkeys(_helpers.values())) + ([_parser_helper] if _parser_helper else [])
+    if _helpers:
         _jit.intercept(None)
-    _helper = _parser_helper = None
-    _helped.clear()
+    _helpers.clear()
+    _parser_helper = None
     for helper in helpers:
         try:
             helper.terminate()
@@ -142,22 +152,24 @@ def stop() -> None:
 
 
 def _wait_for_helper(worker, args):
-    """In this process: before a worker the helper compiles runs, wait until the helper has
+    """In this process: before a worker a helper compiles runs, wait until that helper has
     reported it compiled (or has ended: then this process compiles what is missing)."""
-    global _helper
     name = worker.py_func.__name__
-    if name not in _helped or _helper is None:
+    helper = _helpers.get(name)
+    if helper is None:
         return None
-    while name in _helped:
-        line = _helper.stdout.readline()
-        if not line:  # the helper ended (or failed): nothing more will come
-            _helped.clear()
+    mine = [n for n, h in _helpers.items() if h is helper]
+    while name in _helpers:
+        line = helper.stdout.readline()
+        if not line:  # the helper ended (or failed): nothing more will come from it
+            for n in mine:
+                _helpers.pop(n, None)
             break
-        _helped.discard(line.decode("ascii", "replace").strip())
-    if not _helped:
-        _helper.wait()
-        _helper.stdout.close()
-        _helper = None
+        _helpers.pop(line.decode("ascii", "replace").strip(), None)
+    if not any(h is helper for h in _helpers.values()):
+        helper.wait()
+        helper.stdout.close()
+    if not _helpers:
         _jit.intercept(None)
     return None
 

@@ -122,8 +122,13 @@ def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path)
 def test_a_helper_of_several_workers_names_each_and_the_render_loads_them(tmp_path):
     """A helper given several workers compiles them in the render's order, naming each as it
     is cached, and the render's own process compiles none of them."""
-    assert [w.py_func.__name__ for w in _warm.helped_workers(SOLID_ORDER["style"], loading=True)] \
-        == ["draw_bands"]
+    def names(style):
+        return [[w.py_func.__name__ for w in workers] for workers in _warm.helped_workers(style)]
+
+    assert names(SOLID_ORDER["style"]) == [["draw_bands"]]
+    hidden = {**SOLID_ORDER["style"], "mode": "hidden"}
+    assert names(hidden) == [["draw_bands"], ["project_vertices", "plain_setup", "draw_edge_bands"]]
+    assert names({**hidden, "aa": True})[1][-1] == "draw_antialiased_bands"
     cache = tmp_path / "cache"
     env = _env(cache)
     order = {**SOLID_ORDER, "workers": ["setup_vertices", "bin_records", "draw_bands"]}
@@ -219,7 +224,7 @@ def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(mon
     orders = []
     monkeypatch.setattr(_warm, "_spawn", lambda order: orders.append(order) or object())
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: dispatcher.py_func.__name__ == "draw_wire_bands")
-    monkeypatch.setattr(_warm, "_helper", None)
+    monkeypatch.setattr(_warm, "_helpers", {})
     monkeypatch.setattr(_warm, "_parser_helper", None)
     wire = {"mode": "wire", "cull": "back", "shading": "flat", "background": "white", "aa": False}
     monkeypatch.setattr(rasterkit._jit, "_threads", 1)
@@ -235,3 +240,19 @@ def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(mon
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: True)
     _warm.start(wire, depth=False, loading=False)  # all cached: no helper
     assert orders == [{"obj": True}]
+
+
+def test_a_hidden_render_of_a_model_starts_a_helper_for_each_band_worker(monkeypatch):
+    """Faces and edges: one helper for the triangles' band worker, one for the edges' setup
+    and band worker; only the workers that are not cached; none when all are."""
+    orders = []
+    monkeypatch.setattr(_warm, "_spawn", lambda order, report=False: orders.append(order) or None)
+    monkeypatch.setattr(_warm, "_helpers", {})
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: dispatcher.py_func.__name__ == "project_vertices")
+    hidden = {**SOLID_ORDER["style"], "mode": "hidden"}
+    _warm.start(hidden, depth=False, loading=True)
+    assert [order["workers"] for order in orders] == [["draw_bands"], ["plain_setup", "draw_edge_bands"]]
+    orders.clear()
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: True)
+    _warm.start(hidden, depth=False, loading=True)
+    assert orders == []
