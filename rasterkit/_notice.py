@@ -17,7 +17,7 @@ from numba.core import event
 
 # No time in it: what compiles depends on the command, its mode and what earlier runs left in
 # the cache (measured on two cores: a first `info` 5-7 s, a first solid render of a model
-# 12-18 s, a first hidden-line one 24 s, a solid render after a hidden one 1 s), and one core
+# 12-18 s, a first hidden-line one 20 s, a solid render after a hidden one 1 s), and one core
 # takes about twice as long.
 MESSAGE = ("rasterkit: compiling the kernels for first use, once "
            "(later runs load them from the cache)...")
