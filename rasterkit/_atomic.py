@@ -40,7 +40,7 @@ import threading
 from pathlib import Path
 from typing import Iterator
 
-__all__ = ["ENDS_IN_SEPARATOR", "all_or_none", "atomic_write", "creation_mode", "link_target", "temporary_prefix"]
+__all__ = ["ENDS_IN_SEPARATOR", "all_or_none", "atomic_write", "creation_mode", "link_target", "remove_temporaries", "temporary_prefix"]
 
 _umask_lock = threading.Lock()
 
@@ -136,6 +136,20 @@ def _remove(*names) -> None:
     for name in names:
         with contextlib.suppress(OSError):
             os.unlink(name)
+
+
+def remove_temporaries(path: str | os.PathLike) -> None:
+    """Remove the temporary files that writing ``path`` left behind (``.NAME.*.tmp`` beside
+    the file it replaces): what a writer killed outright (SIGKILL) could not remove itself.
+    Only for a caller that knows no other writer of ``path`` is at work."""
+    try:
+        target = Path(link_target(os.fsdecode(os.fspath(path))))
+        prefix = temporary_prefix(target)
+        names = [entry.path for entry in os.scandir(target.parent)
+                 if entry.name.startswith(prefix) and entry.name.endswith(".tmp")]
+    except OSError:
+        return
+    _remove(*names)
 
 
 @contextlib.contextmanager

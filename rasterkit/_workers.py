@@ -36,6 +36,7 @@ from collections import deque
 from pathlib import Path
 
 from . import _report, _stop
+from ._atomic import remove_temporaries
 
 __all__ = ["LocalPool", "compile_lock", "cores", "run_task", "warm_up"]
 
@@ -273,6 +274,7 @@ class LocalPool:
         source, output = worker["task"]  # it died while rendering this model
         code = worker["process"].exitcode
         why = f"signal {-code}" if code is not None and code < 0 else f"exit code {code}"
+        remove_temporaries(output)  # what it was writing when it died: it cannot remove that itself
         on_result({"input": source, "output": output, "status": "error", "code": 1,
                    "error": f"{source}: the worker process died ({why})",
                    "seconds": None, "triangles": None})
@@ -294,5 +296,7 @@ class LocalPool:
             if worker["process"].is_alive():
                 worker["process"].kill()
                 worker["process"].join()
+                if worker["task"] is not None:
+                    remove_temporaries(worker["task"][1])
             worker["conn"].close()
         self._workers = []

@@ -397,3 +397,22 @@ sys.exit(main(argv))""")
         f"rasterkit: error: {model}: {old['n.npy']}: File too large"]
     assert all(path.read_bytes() == b"old" for path in old.values())  # all or none: none
     assert sorted(p.name for p in tmp_path.iterdir() if ".tmp" in p.name) == []
+
+
+def test_the_temporaries_a_killed_writer_left_are_removed_and_nothing_else(tmp_path):
+    from rasterkit._atomic import atomic_write, remove_temporaries
+
+    target = tmp_path / "a.png"
+    keep = [tmp_path / "a.png", tmp_path / ".b.png.12345678.tmp", tmp_path / ".a.png.txt", tmp_path / "a.png.1.tmp"]
+    for path in keep:
+        path.write_bytes(b"x")
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_write(target) as tmp:  # as a worker killed mid-write leaves it: the file stays
+            tmp.write_bytes(b"half")
+            stray = tmp.with_name(tmp.name.replace(".tmp", "x.tmp"))
+            os.link(tmp, stray)
+            raise KeyboardInterrupt
+    assert stray.exists()
+    remove_temporaries(target)
+    assert not stray.exists() and sorted(tmp_path.iterdir()) == sorted(keep)
+    remove_temporaries(tmp_path / "missing" / "a.png")  # a folder that is gone is no error
