@@ -43,9 +43,11 @@ import time
 import numba
 import numpy as np
 
-from . import _stop
+from . import _numba_inline, _stop
 
 FASTMATH = frozenset({"nsz", "arcp", "contract", "afn", "reassoc"})
+
+_numba_inline.install()  # before anything compiles: Numba's inliner does each piece of work once
 
 _OPTIONS = dict(cache=True, nogil=True, error_model="numpy", fastmath=set(FASTMATH))
 
