@@ -5,16 +5,17 @@ lines."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import numpy as np
 
-from ._obj_document import Document
+from ._obj_document import Document, decode
 from ._obj_errors import Report, count, readable
 from .kernels.obj_corners import (
     INDEX_BEFORE_FIRST, INDEX_MALFORMED, INDEX_OK, INDEX_ZERO, parse_corners,
 )
-from .kernels.obj_numbers import NUMBER_MALFORMED, parse_number_rows
+from .kernels.obj_numbers import NUMBER_OTHER, parse_number_rows
 from .kernels.obj_scan import KIND_OTHER, KIND_P, KIND_V, KIND_VN, KIND_VT, split_tokens
 
 __all__ = ["Elements", "latest_above", "note_skipped", "read_elements", "read_numbers",
@@ -22,6 +23,9 @@ __all__ = ["Elements", "latest_above", "note_skipped", "read_elements", "read_nu
 
 _REPARSE_CHUNK = 1 << 16  # statements re-parsed at once
 _LONG_TOKEN = 64  # a chunk with a longer token is re-parsed token by token
+
+#: NaN and infinity as MSVC prints them (``1.#IND``, ``-1.#INF``, ``1.#QNAN``, ``1.#SNAN``).
+_MSVC = re.compile(rb"([+-]?)[0-9]+\.#(?:(ind|qnan|snan)|(inf))\Z", re.IGNORECASE)
 
 _ATTRIBUTES = (("vertex", "v"), ("texture coordinate", "vt"), ("normal", "vn"))
 _NUMBER_COUNTS = {KIND_V: ("v", (3, 4, 6), "3 (x y z), 4 (x y z w) or 6 (x y z r g b)"),
@@ -32,17 +36,95 @@ _NUMBER_COUNTS = {KIND_V: ("v", (3, 4, 6), "3 (x y z), 4 (x y z w) or 6 (x y z r
 def read_numbers(doc: Document, kind: int, width: int, report: Report) -> np.ndarray:
     """(S, width) float64 numbers of the statements of one kind (v, vt or vn)."""
     rows = doc.of_kind(kind)
-    values, status, bad_token, inexact = parse_number_rows(
-        doc.buf, doc.starts[rows], doc.ends[rows], width)
+    values, status, inexact = parse_number_rows(doc.buf, doc.starts[rows], doc.ends[rows], width)
     keyword, counts, spec = _NUMBER_COUNTS[kind]
-    for r in np.flatnonzero(status == NUMBER_MALFORMED)[:1]:
-        token = doc.tokens(rows[r])[1 + bad_token[r]]
+    bad = _read_others(doc, rows, values, np.flatnonzero(status == NUMBER_OTHER))
+    if bad is not None:
+        r, token = bad
         report.error(doc.line(rows[r]), f"malformed number {token!r} in a {keyword} line")
     for r in np.flatnonzero(~np.isin(doc.ntokens[rows], counts))[:1]:
         report.error(doc.line(rows[r]),
                      f"{keyword} needs {spec} numbers, got {doc.ntokens[rows[r]]}")
     _reparse_exactly(doc, rows, values, inexact)
     return values
+
+
+def _read_others(doc: Document, rows: np.ndarray, values: np.ndarray, others: np.ndarray):
+    """Read the statements ``rows[others]``, whose numbers the kernel left to this module
+    (not all plain decimals: NaN or infinity among them), into ``values`` (NaN beyond their
+    tokens), a bounded chunk of statements at a time; the first token that is no number, as
+    ``(index into rows, token)``, or None."""
+    width = values.shape[1]
+    for first in range(0, len(others), _REPARSE_CHUNK):
+        part = others[first:first + _REPARSE_CHUNK]
+        starts, ends = doc.starts[rows[part]], doc.ends[rows[part]]
+        n = doc.ntokens[rows[part]].astype(np.int64)
+        tokens = _statement_tokens(doc.buf, starts, ends)
+        numbers = np.delete(np.arange(len(tokens)), np.cumsum(n + 1) - (n + 1))  # not the keywords
+        row = np.repeat(part, n)
+        column = np.arange(len(numbers)) - np.repeat(np.cumsum(n) - n, n)
+        read, ok = _numbers([tokens[k] for k in numbers.tolist()])
+        if not ok.all():
+            k = int(np.argmin(ok))
+            return int(row[k]), decode(tokens[numbers[k]])
+        values[part] = np.nan
+        kept = column < width
+        values[row[kept], column[kept]] = read[kept]
+    return None
+
+
+def _statement_tokens(buf: np.ndarray, starts: np.ndarray, ends: np.ndarray) -> list[bytes]:
+    """The tokens of the statements ``buf[starts[i]:ends[i]]`` (in file order, apart), in
+    order: the span they cover with every byte outside them made a space, split once."""
+    lo, hi = int(starts[0]), int(ends[-1])
+    marks = np.zeros(hi - lo + 1, np.int8)
+    marks[starts - lo] += 1
+    marks[ends - lo] -= 1
+    inside = np.cumsum(marks[:-1], dtype=np.int8) > 0
+    return split_tokens(np.where(inside, buf[lo:hi], np.uint8(32)).tobytes())
+
+
+def _numbers(tokens: list[bytes]) -> tuple[np.ndarray, np.ndarray]:
+    """The values of number tokens as the kernel's grammar and :data:`_MSVC` spell them, and
+    which are numbers at all. Plain ones by NumPy (which reads as Python's float does:
+    correctly rounded, as the kernel, and ``nan``, ``inf``, ``infinity`` in any case with a
+    sign), MSVC's with NumPy's string functions; token by token when a token is long."""
+    if not tokens or max(map(len, tokens)) > _LONG_TOKEN:  # NumPy would make every token as long as the longest
+        read = [_number(t) for t in tokens]
+        return np.array([np.nan if v is None else v for v in read], np.float64), np.array([v is not None for v in read])
+    text = np.array(tokens)
+    values, ok = np.full(len(tokens), np.nan), np.zeros(len(tokens), bool)
+    msvc = np.char.find(text, b"#") >= 0
+    plain = ~msvc & (np.char.find(text, b"_") < 0) & (text.view(np.uint8).reshape(len(tokens), -1) < 128).all(axis=1)
+    try:  # float() takes 1_0 and other digits too: those are no numbers here
+        with np.errstate(over="ignore", under="ignore"):
+            values[plain] = text[plain].astype(np.float64)
+        ok[plain] = True
+    except ValueError:  # one is no number: find it (the file is refused)
+        for k in np.flatnonzero(plain):
+            value = _number(tokens[k])
+            values[k], ok[k] = (np.nan, False) if value is None else (value, True)
+    if msvc.any():
+        head, dot, word = np.char.partition(np.char.lower(text[msvc]), b".#").T
+        digits = np.char.lstrip(head, b"+-")
+        signs = np.char.str_len(head) - np.char.str_len(digits)
+        nan, inf = np.isin(word, [b"ind", b"qnan", b"snan"]), word == b"inf"
+        ok[msvc] = (dot == b".#") & np.char.isdigit(digits) & (signs <= 1) & (nan | inf)
+        values[msvc] = np.where(nan, np.nan, np.where(np.char.startswith(head, b"-"), -np.inf, np.inf))
+    return values, ok
+
+
+def _number(token: bytes) -> float | None:
+    """:func:`_numbers` for one token: its value, or None."""
+    if token.isascii() and b"_" not in token:
+        try:
+            return float(token)
+        except ValueError:
+            pass
+    match = _MSVC.match(token)
+    if match is None:
+        return None
+    return np.nan if match[2] else -np.inf if match[1] == b"-" else np.inf
 
 
 def _reparse_exactly(doc: Document, rows: np.ndarray, values: np.ndarray, inexact: np.ndarray):

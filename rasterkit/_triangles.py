@@ -222,7 +222,7 @@ def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads, transf
     run_workers(setup_vertices, clip, width, height, pad, corners, depths, points, matrix, threads=threads)
     tri_xy, tri_z, tri_box = _records(ws, m)
     cut_mask, n_fan = ws.reserve("cut_mask", (m,), np.int8), ws.reserve("n_fan", (m,), np.int8)
-    band_counts = np.zeros((N_CHUNKS, n_bands(height)), np.int64)
+    band_counts = np.zeros((N_CHUNKS, n_bands.py_func(height)), np.int64)  # no compile for it
     # a row of 128 bytes per chunk: the threads count faces into rows of their own cache
     # lines (rows of 48 bytes cost ogre's face pass 10 % at 2 threads: false sharing)
     tally = np.zeros((N_CHUNKS, 16), np.int64)

@@ -66,13 +66,18 @@ _cached = _jit.cached  # (a name of this module: tests replace it)
 
 def helped_workers(style: dict) -> list[list]:
     """The workers helpers compile for a render with ``style``: a list per helper process,
-    each in the order the render runs them. The band worker is the largest kernel (about
-    11 s on two busy cores, with the helper's start 12.5 s), as long as this process's share
-    of a solid render (the OBJ reader 4.5 s, the vertex pass, face pass and binning 5.5 s, its
-    own start): one helper for it. A mode that draws faces and edges (hidden, solid+wire)
-    compiles the edges' band worker and setup too (about 10 s more): a second helper for
-    those, three processes on two cores."""
+    each in the order the render runs them. The band worker is the largest kernel, about as
+    long to compile as this process's share of a solid render (the OBJ reader, the vertex and
+    face passes, its own start): one helper for it, which also compiles the binning (and the
+    depth offset of a mode with edges) that this process would run just before it. A mode
+    that draws faces and edges (hidden, solid+wire) compiles the edges' setup and band worker
+    too, about as much again: a second helper for those, three processes on two cores."""
     helpers = [[_band_worker(style)]]
+    if style["mode"] != "wire":
+        from .kernels import tiles, triangle
+
+        edges = style["mode"] in ("hidden", "solid+wire")
+        helpers[0][:0] = [tiles.bin_records, triangle.offset_depths] if edges else [tiles.bin_records]
     if style["mode"] in ("hidden", "solid+wire"):
         from .kernels import edge_setup, edges_tested, edges_wu
 

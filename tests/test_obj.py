@@ -288,6 +288,25 @@ def test_any_decimal_text_reads_as_pythons_float(tmp_path_factory, numbers):
     np.testing.assert_array_equal(mesh.vertices.ravel(), [float(t) for t in numbers])
 
 
+number_like = st.one_of(
+    decimal_text, st.sampled_from(["nan", "-NaN", "+inf", "-Infinity", "INF", "1.#IND", "-12.#inf", "+1.#QNAN",
+                                   "7.#snan", "1.#", "--1.#INF", ".#IND", "1.#INDx", "1_0", "nanx", "1e", "\u0661"]),
+    st.text("0123456789+-.eE#nafiINDQS_", min_size=1, max_size=8),
+)
+
+
+@settings(deadline=None, max_examples=150)
+@given(tokens=st.lists(number_like, min_size=1, max_size=12), long=st.booleans())
+def test_numbers_left_to_python_are_read_at_once_as_one_by_one(tokens, long):
+    from rasterkit._obj_statements import _number, _numbers
+
+    raw = [t.encode() for t in tokens] + ([b"1" * 80] if long else [])  # a long token: one by one
+    values, ok = _numbers(raw)
+    one_by_one = [_number(t) for t in raw]
+    assert ok.tolist() == [v is not None for v in one_by_one]
+    np.testing.assert_array_equal(values[ok], [v for v in one_by_one if v is not None])
+
+
 @pytest.mark.parametrize("text", ["nan", "-nan", "NaN", "inf", "-Infinity", "1.#IND", "-1.#IND",
                                   "1.#INF", "-1.#INF", "1.#QNAN", "1e999"])
 def test_nan_and_infinity_spellings_are_read_and_their_faces_dropped(tmp_path, text):

@@ -708,3 +708,18 @@ def test_depth_offset_pushes_faces_back_by_slope_and_units():
     assert np.allclose(pushed[drawn] - plain[drawn], 2 * 0.001 + 1e-4, atol=1e-6)
     with pytest.raises(ValueError):
         rasterize_triangles(None, plain, clip, faces, depth_offset=(np.nan, 0))
+
+
+@pytest.mark.parametrize("n_bands", [0, 1, 2, 5, 34])
+def test_bin_cursors_are_an_exclusive_scan_in_band_then_chunk_order(n_bands):
+    from rasterkit.kernels.tiles import N_CHUNKS, bin_cursors
+
+    counts = np.random.default_rng(n_bands).integers(0, 9, (N_CHUNKS, n_bands)).astype(np.int64)
+    expected, start, total = counts.copy(), [], 0
+    for b in range(n_bands):  # the counting sort's cursors, one at a time
+        start.append(total)
+        for ch in range(N_CHUNKS):
+            expected[ch, b], total = total, total + counts[ch, b]
+    band_start = bin_cursors(counts)
+    assert band_start.tolist() == start + [total] and band_start.dtype == np.int64
+    assert np.array_equal(counts, expected)

@@ -125,9 +125,11 @@ def test_a_helper_of_several_workers_names_each_and_the_render_loads_them(tmp_pa
     def names(style):
         return [[w.py_func.__name__ for w in workers] for workers in _warm.helped_workers(style)]
 
-    assert names(SOLID_ORDER["style"]) == [["draw_bands"]]
+    assert names(SOLID_ORDER["style"]) == [["bin_records", "draw_bands"]]
     hidden = {**SOLID_ORDER["style"], "mode": "hidden"}
-    assert names(hidden) == [["draw_bands"], ["project_vertices", "plain_setup", "draw_edge_bands"]]
+    assert names(hidden) == [["bin_records", "offset_depths", "draw_bands"],
+                             ["project_vertices", "plain_setup", "draw_edge_bands"]]
+    assert names({**hidden, "mode": "wire"}) == [["draw_wire_bands"]]
     assert names({**hidden, "aa": True})[1][-1] == "draw_antialiased_bands"
     cache = tmp_path / "cache"
     env = _env(cache)
@@ -243,15 +245,16 @@ def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(mon
 
 
 def test_a_hidden_render_of_a_model_starts_a_helper_for_each_band_worker(monkeypatch):
-    """Faces and edges: one helper for the triangles' band worker, one for the edges' setup
-    and band worker; only the workers that are not cached; none when all are."""
+    """Faces and edges: one helper for the triangles' binning, depth offset and band worker,
+    one for the edges' setup and band worker; only the workers that are not cached; none when all are."""
     orders = []
     monkeypatch.setattr(_warm, "_spawn", lambda order, report=False: orders.append(order) or None)
     monkeypatch.setattr(_warm, "_helpers", {})
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: dispatcher.py_func.__name__ == "project_vertices")
     hidden = {**SOLID_ORDER["style"], "mode": "hidden"}
     _warm.start(hidden, depth=False, loading=True)
-    assert [order["workers"] for order in orders] == [["draw_bands"], ["plain_setup", "draw_edge_bands"]]
+    assert [order["workers"] for order in orders] == [["bin_records", "offset_depths", "draw_bands"],
+                                                      ["plain_setup", "draw_edge_bands"]]
     orders.clear()
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: True)
     _warm.start(hidden, depth=False, loading=True)

@@ -2,8 +2,11 @@
 
 Every value is the correctly rounded float64 of its text: the kernels round exactly where one
 rounding suffices (Clinger's fast path) and flag the other tokens for the caller
-(:mod:`rasterkit._obj_statements`) to convert again. They never raise on bad input: they return
-status codes, so the caller can name the first bad line of the file.
+(:mod:`rasterkit._obj_statements`) to convert again. A token that is not a plain decimal number
+is flagged too: the caller reads NaN and infinity (``nan``, ``inf``, MSVC's ``1.#IND``...),
+rare enough that compiling them here would cost every first run more than it saves, and
+names the token when it is no number at all. The kernels never raise on bad input: they
+return status codes.
 """
 
 from __future__ import annotations
@@ -13,58 +16,15 @@ import numpy as np
 from rasterkit._jit import kernel
 from rasterkit.kernels.obj_scan import MINUS, PLUS, ZERO, is_digit, next_token
 
-# Status of one parsed number.
-NUMBER_OK, NUMBER_INEXACT, NUMBER_MALFORMED = 0, 1, 2
+# Status of one parsed number: read; to convert again exactly; not a plain decimal number
+# (NaN, infinity or no number: the caller decides).
+NUMBER_OK, NUMBER_INEXACT, NUMBER_OTHER = 0, 1, 2
 
 # 10**k for k = 0..22: every one is exact in float64, so m * 10**k and m / 10**k round once.
 _POW10 = np.array([10.0**k for k in range(23)])
 _EXACT_MANTISSA = 1 << 53
 
 _DOT = 46
-
-_NAN = np.frombuffer(b"nan", np.uint8)
-_INF = np.frombuffer(b"inf", np.uint8)
-_INFINITY = np.frombuffer(b"infinity", np.uint8)
-_MSVC_NAN = (np.frombuffer(b"#ind", np.uint8), np.frombuffer(b"#qnan", np.uint8),
-             np.frombuffer(b"#snan", np.uint8))
-_MSVC_INF = np.frombuffer(b"#inf", np.uint8)
-
-
-@kernel
-def _is_word(buf, a, b, word):
-    """True when buf[a:b] is word (lower-case ASCII), in any case."""
-    if b - a != len(word):
-        return False
-    for k in range(len(word)):
-        if buf[a + k] | 32 != word[k]:
-            return False
-    return True
-
-
-@kernel
-def _parse_special(buf, a, b):
-    """NaN or infinity spelled ``nan``, ``inf``, ``infinity`` (any case, optional sign) or as
-    MSVC prints them (``1.#IND``, ``-1.#INF``, ``1.#QNAN``, ``1.#SNAN``): (value, ok)."""
-    sign = 1.0
-    if buf[a] == PLUS or buf[a] == MINUS:
-        sign = -1.0 if buf[a] == MINUS else 1.0
-        a += 1
-    if _is_word(buf, a, b, _NAN):
-        return np.nan, True
-    if _is_word(buf, a, b, _INF) or _is_word(buf, a, b, _INFINITY):
-        return sign * np.inf, True
-    i = a
-    while i < b and is_digit(buf[i]):
-        i += 1
-    if i == a or i + 1 >= b or buf[i] != _DOT:
-        return 0.0, False
-    for word in _MSVC_NAN:
-        if _is_word(buf, i + 1, b, word):
-            return np.nan, True
-    if _is_word(buf, i + 1, b, _MSVC_INF):
-        return sign * np.inf, True
-    return 0.0, False
-
 
 @kernel(inline="always")
 def _scale(mantissa, exponent):
@@ -105,7 +65,7 @@ def _parse_number(buf, a, b):
     """Parse the number token buf[a:b].
 
     Accepts ``[+-]digits[.digits][(e|E)[+-]digits]`` (digits on at least one side of the
-    point), and NaN and infinity as :func:`_parse_special` spells them.
+    point).
 
     Returns
     -------
@@ -113,7 +73,7 @@ def _parse_number(buf, a, b):
     status : int
         NUMBER_OK; NUMBER_INEXACT when the value may be off by one unit in the last place
         (more than 15 significant digits or an exponent beyond +-22: the caller re-parses
-        those tokens exactly); NUMBER_MALFORMED when the token is not a number.
+        those tokens exactly); NUMBER_OTHER when the token is not a plain decimal number.
     """
     i = a
     sign = 1.0
@@ -141,16 +101,14 @@ def _parse_number(buf, a, b):
             truncated = truncated or buf[i] > ZERO
         i += 1
     if i - first == (1 if point else 0):  # no digit at all
-        value, ok = _parse_special(buf, a, b)
-        return value, NUMBER_OK if ok else NUMBER_MALFORMED
+        return 0.0, NUMBER_OTHER
     if i < b and buf[i] | 32 == 101:  # e or E
         e, i, ok = _parse_exponent(buf, i + 1, b)
         if not ok:
-            return 0.0, NUMBER_MALFORMED
+            return 0.0, NUMBER_OTHER
         exponent += e
     if i != b:
-        value, ok = _parse_special(buf, a, b)
-        return value, NUMBER_OK if ok else NUMBER_MALFORMED
+        return 0.0, NUMBER_OTHER
     value, exact = _scale(mantissa, exponent)
     return sign * value, NUMBER_OK if exact and not truncated else NUMBER_INEXACT
 
@@ -172,9 +130,8 @@ def parse_number_rows(buf, starts, ends, width):
     values : (S, width) float64
         Parsed numbers; NaN where a statement has fewer tokens.
     status : (S,) int8
-        Worst NUMBER_* status of the statement's tokens.
-    bad_token : (S,) int64
-        0-based index of the first malformed token, or -1.
+        Worst NUMBER_* status of the statement's tokens (NUMBER_OTHER: the caller reads
+        the statement's tokens itself; its values here are incomplete).
     inexact : (S,) int64
         Bit k set when token k (k < width) is NUMBER_INEXACT.
     """
@@ -182,22 +139,19 @@ def parse_number_rows(buf, starts, ends, width):
     # np.empty and loops: np.full and np.zeros compile an implementation each (~0.2 s)
     values = np.empty((rows, width))
     status = np.empty(rows, np.int8)
-    bad_token = np.empty(rows, np.int64)
     inexact = np.empty(rows, np.int64)
     for r in range(rows):
         for k in range(width):
             values[r, k] = np.nan
         status[r] = NUMBER_OK
-        bad_token[r] = -1
         inexact[r] = 0
         i = next_token(buf, starts[r], ends[r])[1]  # after the keyword
         k = 0
         while i < ends[r]:
             a, i = next_token(buf, i, ends[r])
             value, s = _parse_number(buf, a, i)
-            if s == NUMBER_MALFORMED:
-                status[r] = NUMBER_MALFORMED
-                bad_token[r] = k
+            if s == NUMBER_OTHER:
+                status[r] = NUMBER_OTHER
                 break
             if k < width:
                 values[r, k] = value
@@ -205,4 +159,4 @@ def parse_number_rows(buf, starts, ends, width):
                     inexact[r] |= np.int64(1) << k
                     status[r] = NUMBER_INEXACT
             k += 1
-    return values, status, bad_token, inexact
+    return values, status, inexact
