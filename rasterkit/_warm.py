@@ -28,10 +28,13 @@ unless the command line is interrupted.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import signal
 import subprocess
 import sys
+import time
 
 import numpy as np
 
@@ -110,15 +113,80 @@ def start(style: dict, depth: bool, loading: bool) -> None:
         _jit.intercept(_wait_for_helper)
 
 
-def _spawn(order: dict, report: bool = False) -> subprocess.Popen | None:
-    """The helper process for ``order``; ``report``: its standard output is a pipe on which
-    it names each worker it has compiled."""
+def _spawn(order: dict, report: bool = False):
+    """The helper process for ``order`` (a ``subprocess.Popen`` or a :class:`_Forked`);
+    ``report``: its standard output is a pipe on which it names each worker it has compiled.
+    Forked on Linux when this process runs no other thread (it has imported everything the
+    helper needs: a new interpreter would spend most of a second importing it again), else a
+    new interpreter."""
+    import threading
+
+    if sys.platform.startswith("linux") and threading.active_count() == 1:
+        return _fork(order, report)
     try:
         return subprocess.Popen([sys.executable, "-m", "rasterkit._warm", json.dumps(order)],
                                 stdin=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                 stdout=subprocess.PIPE if report else subprocess.DEVNULL)
     except OSError:
         return None
+
+
+class _Forked:
+    """A forked helper, with the part of ``subprocess.Popen`` this module uses."""
+
+    def __init__(self, pid: int, stdout):
+        self.pid, self.stdout, self.returncode = pid, stdout, None
+
+    def terminate(self) -> None:
+        if self.returncode is None:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(self.pid, signal.SIGTERM)
+
+    def wait(self, timeout: float | None = None) -> int:
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while self.returncode is None:
+            pid, status = os.waitpid(self.pid, 0 if deadline is None else os.WNOHANG)
+            if pid:
+                self.returncode = os.waitstatus_to_exitcode(status)
+            elif time.monotonic() >= deadline:
+                raise subprocess.TimeoutExpired("rasterkit helper", timeout)
+            else:
+                time.sleep(0.01)
+        return self.returncode
+
+
+def _fork(order: dict, report: bool) -> _Forked | None:
+    read, write = os.pipe() if report else (-1, -1)
+    for stream in (sys.stdout, sys.stderr):  # nothing buffered here is written twice
+        with contextlib.suppress(Exception):
+            stream.flush()
+    try:
+        pid = os.fork()
+    except OSError:
+        for fd in (read, write):
+            if fd >= 0:
+                os.close(fd)
+        return None
+    if pid == 0:  # the helper: it never returns into the caller's code
+        code = 1
+        try:
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                signal.signal(sig, signal.SIG_DFL)
+            null = os.open(os.devnull, os.O_RDWR)
+            os.dup2(null, 0)
+            os.dup2(null, 2)
+            os.dup2(write if report else null, 1)
+            if report:
+                os.close(read)
+            sys.stdout = os.fdopen(1, "w", closefd=False)  # the reports go to the pipe, whatever sys.stdout was
+            _run(order)
+            sys.stdout.flush()
+            code = 0
+        finally:
+            os._exit(code)
+    if report:
+        os.close(write)
+    return _Forked(pid, os.fdopen(read, "rb") if report else None)
 
 
 def _start_parser_helper() -> None:
@@ -232,7 +300,11 @@ p 4
 
 
 def _helper_main(order: str) -> None:
-    order = json.loads(order)
+    _run(json.loads(order))
+
+
+def _run(order: dict) -> None:
+    """In the helper: do what ``order`` says."""
     if order.get("obj"):  # nothing waits for it: it yields the core to anything that does
         _lower_priority()
         _read_sample_obj()

@@ -259,3 +259,46 @@ def test_a_hidden_render_of_a_model_starts_a_helper_for_each_band_worker(monkeyp
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: True)
     _warm.start(hidden, depth=False, loading=True)
     assert orders == []
+
+
+def test_a_forked_helper_can_be_waited_for_and_stopped():
+    import signal
+    import time
+
+    import pytest
+
+    if not hasattr(os, "fork"):
+        pytest.skip("no fork on this platform")
+    pid = os.fork()
+    if pid == 0:  # the child only sleeps
+        time.sleep(30)
+        os._exit(0)
+    helper = _warm._Forked(pid, None)
+    with pytest.raises(subprocess.TimeoutExpired):
+        helper.wait(timeout=0.05)
+    helper.terminate()
+    assert helper.wait(timeout=10) == -signal.SIGTERM
+    helper.terminate()  # ended: nothing to stop, no error
+    assert helper.wait() == -signal.SIGTERM
+
+
+FORKED_HELPER = """
+import json, sys
+from rasterkit import _warm
+helper = _warm._spawn({"style": json.loads(sys.argv[1]), "depth": False, "workers": ["bin_records"]}, report=True)
+print(json.dumps({"forked": isinstance(helper, _warm._Forked), "reports": helper.stdout.read().decode().split(),
+                  "code": helper.wait(timeout=120)}))
+"""
+
+
+def test_a_helper_is_forked_on_linux_and_reports_on_its_pipe(tmp_path):
+    """Forked (no new interpreter) on Linux when no other thread runs, as at the start of a
+    command-line render; it names what it compiled on its pipe as a new interpreter's does."""
+    import pytest
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("forks only on Linux")
+    done = _run([sys.executable, "-c", FORKED_HELPER, json.dumps(SOLID_ORDER["style"])], _env(tmp_path / "cache"))
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout) == {"forked": True, "reports": ["bin_records"], "code": 0}
+    assert _kernel_indexes(tmp_path / "cache", "tiles", "bin_records")
