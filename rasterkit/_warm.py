@@ -105,8 +105,8 @@ def start(style: dict, depth: bool, loading: bool) -> None:
                             for workers in helped_workers(style)) if names]
     if not loading and not lists:
         _start_parser_helper()
-    for names in lists:
-        helper = _spawn({"style": style, "depth": depth, "workers": names}, report=True)
+    for k, names in enumerate(lists):  # the first compiles the face normals' kernel, the others need not
+        helper = _spawn({"style": style, "depth": depth, "workers": names, "normals": k == 0}, report=True)
         if helper is not None:
             _helpers.update(dict.fromkeys(names, helper))
     if _helpers:
@@ -314,9 +314,20 @@ def _run(order: dict) -> None:
 
     _jit.intercept(_compile_only(order["workers"]))
     camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
-    fb = render(shapes.icosphere(1), camera, **order["style"])
+    mesh = shapes.icosphere(1)
+    if not order.get("normals", True):  # another helper compiles the kernel: these are the same numbers
+        a, b, c = (mesh.vertices[mesh.faces[:, k]] for k in range(3))
+        normals = np.cross(b - a, c - a)
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        mesh.__dict__["face_normals"] = _readonly(normals.astype(np.float32))
+    fb = render(mesh, camera, **order["style"])
     if order["depth"]:
         fb.depth  # noqa: B018 - reading it runs the depth pass
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
 
 
 def _lower_priority() -> None:
