@@ -9,7 +9,8 @@ process compiles the OBJ reader and the other kernels. The helper prints each wo
 as soon as that worker is in the cache; before this process runs a helped worker, it waits
 for that line (or for the helper's end), and the worker then loads from the cache. On two
 cores a first render takes about as long as the larger half of its compiling instead of all
-of it.
+of it. A helper is this process forked (on Linux, when no other thread runs: everything it
+needs is imported already) or, elsewhere, a new interpreter (``python -m rasterkit._warm``).
 
 The helper renders a tiny mesh in the same mode through the ordinary drivers, with
 :func:`rasterkit._jit.run_parallel` intercepted: its workers are compiled for the argument
@@ -21,7 +22,7 @@ compiles the kernels itself: the images never depend on it.
 The built-in demo (no model to load) gets a helper of another kind on a machine with two
 cores or more: while this process compiles the demo's kernels, it compiles the OBJ reader's
 (:data:`PARSER`, by reading a small triangle OBJ with every kind of statement), which the
-first real model would otherwise compile for about 6 seconds. This process does not wait for
+first real model would otherwise compile for about 4 seconds. This process does not wait for
 it (it has nothing to wait for); the helper runs to its end on its own, in a few seconds,
 unless the command line is interrupted.
 """
