@@ -166,7 +166,8 @@ def render(mesh, camera: Camera | None = None, mode: str = "wire", *, cull: str 
         return render_distorted(seen_by, lambda ideal: render(
             mesh, ideal, mode, cull=cull, shading=shading, color=color, line_color=line_color,
             background=background, light=light, aa=aa, ids=ids, samples=samples, vignette=vignette,
-            normals=normals, points=points, point_size=point_size, point_color=point_color))
+            normals=normals, points=points, point_size=point_size, point_color=point_color, edges=edges,
+            crease_angle=crease_angle))
         # (the distorted depth is resampled from the undistorted one: camera_depth is made when asked)
     plan = _plan(mesh, camera, mode, cull=cull, shading=shading, color=color, line_color=line_color,
                  background=background, light=light, aa=aa, ids=ids, samples=samples, vignette=vignette,
