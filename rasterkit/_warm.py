@@ -96,20 +96,21 @@ def start(style: dict, depth: bool, loading: bool) -> None:
     ``camera_depth``, which the band worker makes too) for the workers of
     :func:`helped_workers` that are not cached (any variant: a first vision render after plain
     ones compiles its variant here); ``depth``: the depth buffer is read too; ``loading``: a
-    model file is read (its parser compiles here meanwhile). A wireframe of the built-in
-    model leaves too little to do here while a helper works to make up for starting it: no
-    helper then. Once per process."""
+    model file is read (its parser compiles here meanwhile; otherwise, for the built-in
+    model, a helper of low priority compiles the parser for the next run). A wireframe of the
+    built-in model leaves too little to do here while a helper works to make up for starting
+    a new interpreter: no band worker helper then, unless it is forked. Once per process."""
     if _helpers:
         return
-    lists = [] if style["mode"] == "wire" and not loading else [
+    lists = [] if style["mode"] == "wire" and not loading and not _forks() else [
         names for names in ([w.py_func.__name__ for w in workers if not _cached(w)]
                             for workers in helped_workers(style)) if names]
-    if not loading and not lists:
-        _start_parser_helper()
     for k, names in enumerate(lists):  # the first compiles the face normals' kernel, the others need not
         helper = _spawn({"style": style, "depth": depth, "workers": names, "normals": k == 0}, report=True)
         if helper is not None:
             _helpers.update(dict.fromkeys(names, helper))
+    if not loading and (_forks() or not lists):
+        _start_parser_helper()
     if _helpers:
         _jit.intercept(_wait_for_helper)
 
@@ -120,9 +121,7 @@ def _spawn(order: dict, report: bool = False):
     Forked on Linux when this process runs no other thread (it has imported everything the
     helper needs: a new interpreter would spend most of a second importing it again), else a
     new interpreter."""
-    import threading
-
-    if sys.platform.startswith("linux") and threading.active_count() == 1:
+    if _forks():
         return _fork(order, report)
     try:
         return subprocess.Popen([sys.executable, "-m", "rasterkit._warm", json.dumps(order)],
@@ -130,6 +129,13 @@ def _spawn(order: dict, report: bool = False):
                                 stdout=subprocess.PIPE if report else subprocess.DEVNULL)
     except OSError:
         return None
+
+
+def _forks() -> bool:
+    """Whether a helper is forked: on Linux, when this process runs no other thread."""
+    import threading
+
+    return sys.platform.startswith("linux") and threading.active_count() == 1
 
 
 class _Forked:

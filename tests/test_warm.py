@@ -14,6 +14,7 @@ import textwrap
 from pathlib import Path
 
 import numpy as np
+import pytest
 from PIL import Image
 
 import rasterkit
@@ -242,6 +243,24 @@ def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(mon
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: True)
     _warm.start(wire, depth=False, loading=False)  # all cached: no helper
     assert orders == [{"obj": True}]
+
+
+@pytest.mark.parametrize("forks", [True, False])
+def test_a_wire_demo_gets_a_band_worker_helper_only_where_helpers_are_forked(monkeypatch, forks):
+    """A forked helper costs no imports, so even the demo's wireframe (little else to compile
+    here) hands its band worker to one; the reader's helper of low priority starts after it.
+    A new interpreter would spend about a second importing: then only the reader's."""
+    orders = []
+    monkeypatch.setattr(_warm, "_spawn", lambda order, report=False: orders.append(order) or None)
+    monkeypatch.setattr(_warm, "_forks", lambda: forks)
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: False)
+    monkeypatch.setattr(_warm, "_helpers", {})
+    monkeypatch.setattr(_warm, "_parser_helper", None)
+    monkeypatch.setattr(rasterkit._jit, "_threads", 2)
+    wire = {"mode": "wire", "cull": "back", "shading": "flat", "background": "white", "aa": False}
+    _warm.start(wire, depth=False, loading=False)
+    band = {"style": wire, "depth": False, "workers": ["draw_wire_bands"], "normals": True}
+    assert orders == ([band] if forks else []) + [{"obj": True}]
 
 
 def test_a_hidden_render_of_a_model_starts_a_helper_for_each_band_worker(monkeypatch):
