@@ -185,6 +185,9 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
                             threads=threads)
     else:
         worker = _wu.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _tested.draw_edge_bands
-        dropped = run_workers(worker, color, depth if depth is not None else _NO_DEPTH, clip, edges, rgba, mode, bias,
-                            bounds, background, memory, threads=threads)
+        args = (color, depth if depth is not None else _NO_DEPTH, clip, edges, rgba, mode, bias, bounds, background,
+                memory)
+        dropped = run_workers(worker, *args, threads=threads)
+        if worker is _tested.draw_edge_bands and memory.blocks[_setup.BLOCK_GENERAL, :_setup.n_blocks(len(edges))].any():
+            dropped = run_workers(_tested.draw_general_edge_bands, *args, threads=threads)  # edges without a record
     return max(dropped)

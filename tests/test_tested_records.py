@@ -19,7 +19,8 @@ RGBA = np.array([200, 30, 40], np.uint8)
 
 
 def _general_only(clip, edges, depth, bias, bounds):
-    """The image of draw_edge_bands without usable records: every edge by the general path."""
+    """The image of draw_edge_bands and its second pass, draw_general_edge_bands, without
+    usable records: every edge by the general path."""
     color = np.zeros((H, W, 3), np.uint8)
     proj = np.empty((len(clip), 4))
     counts = np.zeros((max(edge_setup.VERTEX_CHUNKS, edge_setup.SETUP_CHUNKS), -(-H // edge_setup.ROWS_PER_BIN)),
@@ -31,8 +32,9 @@ def _general_only(clip, edges, depth, bias, bounds):
     recs = np.full((edge_setup.REC_FIELDS, len(edges)), -1, np.int32)
     blocks = np.ones((edge_setup.BLOCK_FIELDS, edge_setup.n_blocks(len(edges))), np.int32)
     none = EdgeScratch(proj, np.empty(0, np.int64), recs, blocks, np.empty(0, np.uint8))
-    run_workers(edges_tested.draw_edge_bands, color, depth, clip, edges, RGBA, MODE_DEPTH_TEST, bias,
-                np.asarray(bounds, np.int64), np.zeros(3, np.uint8), none, threads=1)
+    for worker in (edges_tested.draw_edge_bands, edges_tested.draw_general_edge_bands):
+        run_workers(worker, color, depth, clip, edges, RGBA, MODE_DEPTH_TEST, bias, np.asarray(bounds, np.int64),
+                    np.zeros(3, np.uint8), none, threads=1)
     return color
 
 

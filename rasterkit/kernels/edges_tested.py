@@ -6,7 +6,9 @@ the depth buffer's (the faces, drawn first with a polygon offset). The plain pat
 stepped from its record, with the depth terms of the general path made from its ends
 (:func:`_depth_terms`), and a band skips the blocks of records outside it; any other edge is
 clipped and set up per band by the general path (:mod:`rasterkit.kernels.edges`). Both give
-the same pixels, to the bit. Edges write no depth: their order changes no pixel.
+the same pixels, to the bit. Edges write no depth: their order changes no pixel, so the
+general path is a pass of its own (:func:`draw_general_edge_bands`), run only when some edge
+needs it: a model in full view compiles none of the clipper.
 """
 
 from __future__ import annotations
@@ -16,9 +18,10 @@ import math
 import numpy as np
 
 from rasterkit._jit import kernel
-from rasterkit.kernels.edge_setup import BLOCK, REC_ROWS, REC_STEPS
+from rasterkit.kernels.edge_setup import BLOCK, BLOCK_GENERAL, REC_ROWS, REC_STEPS
 from rasterkit.kernels.edges import (DROPPED_BAND, band_buffers, band_segment, block_in_band, bresenham_start,
                                      depth_at, next_band, record_steps)
+from rasterkit.kernels.intrinsics import fetch_add
 from rasterkit.kernels.line import put_pixel
 
 
@@ -38,13 +41,11 @@ def _draw_bresenham_tested(cflat, dflat, width, channels, rgba, seg, ylo, yhi, b
 
 @kernel(refcounts=False)
 def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi, bias):
-    """Depth-tested edges' parts in rows ``ylo .. yhi`` (Bresenham); returns the number of
-    dropped edges. From the records (``recs`` and ``blocks`` of
-    :func:`rasterkit.kernels.edge_setup.plain_setup`) an edge inside the image is stepped
-    from its record with its depth terms (:func:`_depth_terms`), the blocks outside the band
-    skipped, as :func:`rasterkit.kernels.edges._band_wire` does; the others (rows -1) take
-    the general path."""
-    dropped = 0
+    """Depth-tested edges' parts in rows ``ylo .. yhi`` (Bresenham), of the edges with a
+    record (``recs`` and ``blocks`` of :func:`rasterkit.kernels.edge_setup.plain_setup`):
+    each is stepped from its record with its depth terms (:func:`_depth_terms`), the blocks
+    outside the band skipped, as :func:`rasterkit.kernels.edges._band_wire` does. The others
+    (rows -1) are :func:`_band_general_tested`'s."""
     m = edges.shape[0]
     for b in range(blocks.shape[1]):
         outside, inside = block_in_band(blocks, b, ylo, yhi)
@@ -53,11 +54,7 @@ def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, r
         for e in range(b * BLOCK, min((b + 1) * BLOCK, m)):
             if not inside:
                 rows = recs[REC_ROWS, e]
-                if rows < 0:
-                    dropped += _tested_segment(cflat, dflat, width, channels, rgba, clip, proj, edges, e, ylo, yhi,
-                                               bias)
-                    continue
-                if (rows >> 16) < ylo or (rows & 0xFFFF) > yhi:
+                if rows < 0 or (rows >> 16) < ylo or (rows & 0xFFFF) > yhi:
                     continue
             pix, count, r, two_a, two_n, ustride, vstride = record_steps(width, recs, e)
             u, u0f, du, z0, gz = _depth_terms(proj, edges, recs, e)
@@ -70,6 +67,21 @@ def _band_depth_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, r
                 step = r >= two_n
                 r -= two_n if step else 0
                 pix += ustride + (vstride if step else 0)
+
+
+@kernel(refcounts=False)
+def _band_general_tested(cflat, dflat, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi, bias):
+    """Depth-tested edges' parts in rows ``ylo .. yhi`` of the edges without a record (rows
+    -1: clipped, or crossing the image's border), by the general path; returns the number
+    of dropped edges."""
+    dropped = 0
+    m = edges.shape[0]
+    for b in range(blocks.shape[1]):
+        if blocks[BLOCK_GENERAL, b] == 0:
+            continue
+        for e in range(b * BLOCK, min((b + 1) * BLOCK, m)):
+            if recs[REC_ROWS, e] < 0:
+                dropped += _tested_segment(cflat, dflat, width, channels, rgba, clip, proj, edges, e, ylo, yhi, bias)
     return dropped
 
 
@@ -95,7 +107,7 @@ def _depth_terms(proj, edges, recs, e):
 @kernel(refcounts=False)
 def _tested_segment(cflat, dflat, width, channels, rgba, clip, proj, edges, e, ylo, yhi, bias):
     """Edge ``e`` by the general path with the depth test; 1 when it is dropped. Compiled on
-    its own (the clipper it holds is large): called from two places, compiled once."""
+    its own (the clipper it holds is large)."""
     status, seg = band_segment(clip, proj, edges, e, ylo, yhi)
     if status > 0:
         _draw_bresenham_tested(cflat, dflat, width, channels, rgba, seg, ylo, yhi, bias)
@@ -106,9 +118,10 @@ def _tested_segment(cflat, dflat, width, channels, rgba, clip, proj, edges, e, y
 def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, bounds, background, scratch):
     """Draw depth-tested edges (hidden lines, the edges of solid+wire) into a framebuffer,
     band by band: each the next band that no worker has claimed yet (through ``counter``),
-    until none are left; returns the number of edges this worker dropped (each band sees
-    every edge, so the dropped edges of any one band are all of them: the driver reads
-    band 0's, :data:`DROPPED_BAND`).
+    until none are left; returns 0. This draws the edges with a record; the driver then runs
+    :func:`draw_general_edge_bands` for the others when there are any, which returns the
+    number of edges dropped (each band sees every edge, so the dropped edges of any one band
+    are all of them: it reports band :data:`DROPPED_BAND`'s).
 
     A worker of :func:`rasterkit._jit.run_parallel`; ``slot`` is unused. The driver,
     :mod:`rasterkit._edges`, runs :func:`project_vertices` first, :func:`balanced_bands`
@@ -164,13 +177,31 @@ def draw_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, 
     """
     proj = scratch.proj
     cflat, dflat, width, row_bytes, clear, pattern = band_buffers(color, depth, background)
-    dropped = 0
     while True:  # claim the next band until none is left
         band, ylo, yhi = next_band(counter, bounds, cflat, row_bytes, clear, pattern)
         if band < 0:
             break
-        lost = _band_depth_tested(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, scratch.recs,
-                                  scratch.blocks, ylo, yhi, bias)
+        _band_depth_tested(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, scratch.recs,
+                           scratch.blocks, ylo, yhi, bias)
+    return 0
+
+
+@kernel
+def draw_general_edge_bands(slot, counter, color, depth, clip, edges, rgba, mode, bias, bounds, background, scratch):
+    """The second pass of :func:`draw_edge_bands` (same arguments; ``background`` unused:
+    the bands are cleared already): the edges without a record, by the general path, band
+    by band; returns the number of edges dropped (:data:`DROPPED_BAND`'s count). The driver
+    runs it only when :func:`rasterkit.kernels.edge_setup.plain_setup` marked such edges
+    (``blocks[BLOCK_GENERAL]``)."""
+    proj = scratch.proj
+    cflat, dflat, width = color.reshape(color.size), depth.reshape(depth.size), color.shape[1]
+    dropped = 0
+    while True:  # claim the next band until none is left
+        band = fetch_add(counter, 0, 1)
+        if band >= bounds.size - 1:
+            break
+        lost = _band_general_tested(cflat, dflat, width, color.shape[2], rgba, clip, proj, edges, scratch.recs,
+                                    scratch.blocks, bounds[band], bounds[band + 1] - 1, bias)
         if band == DROPPED_BAND:
             dropped = lost
     return dropped
