@@ -141,6 +141,12 @@ def _recorded(mode) -> bool:
     return not mode & _kernels.MODE_ANTIALIAS
 
 
+def _unrecorded(memory, edges) -> bool:
+    """Whether :func:`rasterkit.kernels.edge_setup.plain_setup` left edges without a record
+    (clipped, or crossing the image's border): they are drawn by a pass of their own."""
+    return bool(memory.blocks[_setup.BLOCK_GENERAL, :_setup.n_blocks(len(edges))].any())
+
+
 def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None, *, n_bands=None,
                threads=None, memory=None, transform=None) -> int:
     """Draw the edges ``edges`` (E, 2) int64 of the vertices ``clip`` (N, 4) float64
@@ -181,13 +187,15 @@ def draw_edges(color, depth, clip, edges, rgba, mode, bias=0.0, background=None,
                     threads=threads)
     bounds = _setup.balanced_bands(_setup.band_work(counts, _setup.ROW_WORK if plain else 0, height), n_bands, height)
     if plain:  # a kernel of its own: a wireframe compiles nothing of the other modes
-        dropped = run_workers(_kernels.draw_wire_bands, color, clip, edges, rgba, bounds, background, memory,
-                            threads=threads)
+        args = (color, clip, edges, rgba, bounds, background, memory)
+        dropped = run_workers(_kernels.draw_wire_bands, *args, threads=threads)
+        if _unrecorded(memory, edges):
+            dropped = run_workers(_kernels.draw_general_wire_bands, *args, threads=threads)
     else:
         worker = _wu.draw_antialiased_bands if mode & _kernels.MODE_ANTIALIAS else _tested.draw_edge_bands
         args = (color, depth if depth is not None else _NO_DEPTH, clip, edges, rgba, mode, bias, bounds, background,
                 memory)
         dropped = run_workers(worker, *args, threads=threads)
-        if worker is _tested.draw_edge_bands and memory.blocks[_setup.BLOCK_GENERAL, :_setup.n_blocks(len(edges))].any():
+        if worker is _tested.draw_edge_bands and _unrecorded(memory, edges):
             dropped = run_workers(_tested.draw_general_edge_bands, *args, threads=threads)  # edges without a record
     return max(dropped)

@@ -169,15 +169,12 @@ def block_in_band(blocks, b, ylo, yhi):
 
 @kernel(refcounts=False)
 def _band_wire(cflat, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi):
-    """Plain edges' parts in rows ``ylo .. yhi``: an edge with a record that lies wholly in
-    the band is stepped from its record, any other by the general path without a depth
-    test (stepping a record that crosses the band's edge with a test per pixel instead
-    saved some 20 us a frame and made this kernel compile 0.8 s longer: the demo's first
-    run); a block of plain records wholly outside the band is skipped, one wholly inside
-    stepped without testing each edge. ``channels`` 1 is a band's mask. Returns the number
-    of dropped edges. (One place steps records and one draws the general path: each is
-    compiled once; two places made the wireframe's first run compile 2 s longer.)"""
-    dropped = 0
+    """Plain edges' parts in rows ``ylo .. yhi``, of the edges with a record: a record that
+    lies wholly in the band is stepped as it is, one that crosses the band's edge with a
+    test per pixel; a block of plain records wholly outside the band is skipped, one wholly
+    inside stepped without testing each edge. ``channels`` 1 is a band's mask. The edges
+    without a record are :func:`_band_general_wire`'s (a pass of its own: a model in full
+    view compiles no clipper)."""
     m = edges.shape[0]
     for b in range(blocks.shape[1]):
         outside, inside = block_in_band(blocks, b, ylo, yhi)
@@ -187,17 +184,41 @@ def _band_wire(cflat, width, channels, rgba, clip, proj, edges, recs, blocks, yl
             record = inside
             if not inside:
                 rows = recs[REC_ROWS, e]
-                if rows >= 0:
-                    jlo, jhi = rows & 0xFFFF, rows >> 16
-                    if jhi < ylo or jlo > yhi:
-                        continue
-                    record = jlo >= ylo and jhi <= yhi
+                if rows < 0:
+                    continue
+                jlo, jhi = rows & 0xFFFF, rows >> 16
+                if jhi < ylo or jlo > yhi:
+                    continue
+                record = jlo >= ylo and jhi <= yhi
+            pix, count, r, two_a, two_n, ustride, vstride = record_steps(width, recs, e)
             if record:
-                pix, count, r, two_a, two_n, ustride, vstride = record_steps(width, recs, e)
                 if channels == 1:  # a band's mask
                     step_mask(cflat, rgba[0], pix, count, r, two_a, two_n, ustride, vstride)
                 else:
                     step_line(cflat, channels, rgba, pix, count, r, two_a, two_n, ustride, vstride)
+                continue
+            plo, phi = ylo * width, (yhi + 1) * width  # the band's pixels of a record crossing its edge
+            for _ in range(count):
+                if plo <= pix < phi:
+                    put_pixel(cflat, pix, channels, rgba)
+                r += two_a
+                step = r >= two_n
+                r -= two_n if step else 0
+                pix += ustride + (vstride if step else 0)
+
+
+@kernel(refcounts=False)
+def _band_general_wire(cflat, width, channels, rgba, clip, proj, edges, recs, blocks, ylo, yhi):
+    """Plain edges' parts in rows ``ylo .. yhi`` of the edges without a record (rows -1:
+    clipped, or crossing the image's border), by the general path; returns the number of
+    dropped edges."""
+    dropped = 0
+    m = edges.shape[0]
+    for b in range(blocks.shape[1]):
+        if blocks[BLOCK_GENERAL, b] == 0:
+            continue
+        for e in range(b * BLOCK, min((b + 1) * BLOCK, m)):
+            if recs[REC_ROWS, e] >= 0:
                 continue
             status, seg = band_segment(clip, proj, edges, e, ylo, yhi)
             dropped += status < 0
@@ -240,7 +261,8 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
     from :func:`plain_setup`. With a background and a ``mask`` of H * W bytes, each band
     first marks its edges' pixels in the mask (one byte store per pixel, in a buffer a third
     the size of an RGB image that stays in the thread's cache), then clears its colour rows
-    and paints the marked pixels 8 at a time."""
+    and paints the marked pixels 8 at a time. Returns 0: the edges without a record are
+    :func:`draw_general_wire_bands`' (run after this one when there are any)."""
     proj, recs, blocks, mask = scratch.proj, scratch.recs, scratch.blocks, scratch.mask
     height, width, channels = color.shape
     cflat = color.reshape(color.size)
@@ -252,7 +274,6 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
     one = np.ones(1, np.uint8)
     zeros = np.zeros(PATTERN_BYTES, np.uint8)
     target, target_channels, ink = (mask, 1, one) if marked else (cflat, channels, rgba)
-    dropped = 0
     while True:  # claim the next band until none is left
         band = fetch_add(counter, 0, 1)
         if band >= bounds.size - 1:
@@ -262,11 +283,29 @@ def draw_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background,
             fill_bytes(mask, lo, hi, zeros)
         elif clear:
             fill_bytes(cflat, lo * channels, hi * channels, pattern)
-        lost = _band_wire(target, width, target_channels, ink, clip, proj, edges, recs, blocks,
-                          bounds[band], bounds[band + 1] - 1)
-        if band == DROPPED_BAND:
-            dropped = lost
+        _band_wire(target, width, target_channels, ink, clip, proj, edges, recs, blocks, bounds[band],
+                   bounds[band + 1] - 1)
         if marked:
             fill_bytes(cflat, lo * channels, hi * channels, pattern)
             paint_marked(cflat, mask, lo, hi, rgba, select, paint)
+    return 0
+
+
+@kernel
+def draw_general_wire_bands(slot, counter, color, clip, edges, rgba, bounds, background, scratch):
+    """The second pass of :func:`draw_wire_bands` (same arguments; ``background`` unused: the
+    bands are drawn already): the edges without a record, by the general path, band by band;
+    returns the number of edges dropped (:data:`DROPPED_BAND`'s count). The driver runs it
+    only when :func:`rasterkit.kernels.edge_setup.plain_setup` marked such edges
+    (``blocks[BLOCK_GENERAL]``)."""
+    cflat, width, channels = color.reshape(color.size), color.shape[1], color.shape[2]
+    dropped = 0
+    while True:  # claim the next band until none is left
+        band = fetch_add(counter, 0, 1)
+        if band >= bounds.size - 1:
+            break
+        lost = _band_general_wire(cflat, width, channels, rgba, clip, scratch.proj, edges, scratch.recs,
+                                  scratch.blocks, bounds[band], bounds[band + 1] - 1)
+        if band == DROPPED_BAND:
+            dropped = lost
     return dropped
