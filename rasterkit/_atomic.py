@@ -40,7 +40,7 @@ import threading
 from pathlib import Path
 from typing import Iterator
 
-__all__ = ["ENDS_IN_SEPARATOR", "all_or_none", "atomic_write", "creation_mode", "link_target", "remove_temporaries", "temporary_prefix"]
+__all__ = ["ENDS_IN_SEPARATOR", "all_or_none", "atomic_write", "creation_mode", "link_target", "remove_temporaries", "remove_temporaries_of", "temporary_prefix"]
 
 _umask_lock = threading.Lock()
 
@@ -150,6 +150,25 @@ def remove_temporaries(path: str | os.PathLike) -> None:
     except OSError:
         return
     _remove(*names)
+
+
+def remove_temporaries_of(paths) -> None:
+    """:func:`remove_temporaries` for many paths at once: each folder is listed once."""
+    by_folder: dict[Path, set[str]] = {}
+    for path in paths:
+        try:
+            target = Path(link_target(os.fsdecode(os.fspath(path))))
+        except OSError:
+            continue
+        by_folder.setdefault(target.parent, set()).add(temporary_prefix(target))
+    random_part = 8 + len(".tmp")  # tempfile's eight characters, then the suffix
+    for folder, prefixes in by_folder.items():
+        try:
+            names = [entry.path for entry in os.scandir(folder)
+                     if entry.name.endswith(".tmp") and entry.name[:-random_part] in prefixes]
+        except OSError:
+            continue
+        _remove(*names)
 
 
 @contextlib.contextmanager

@@ -27,6 +27,7 @@ from __future__ import annotations
 import uuid
 
 from . import _workers
+from ._atomic import remove_temporaries_of
 from ._report import UsageError
 
 __all__ = ["CONNECT_SECONDS", "check_address", "client_for", "run"]
@@ -140,6 +141,7 @@ def run(client, tasks, options, on_result) -> None:
     """Render ``tasks`` (``(source, output)`` pairs) on ``client``'s cluster, calling
     ``on_result(record)`` here as each completes."""
     distributed = _distributed()
+    tasks = list(tasks)
     threads = _threads_by_host(client)
     run_id = uuid.uuid4().hex[:8]
     futures = {}
@@ -158,3 +160,5 @@ def run(client, tasks, options, on_result) -> None:
             on_result(record)
     finally:
         client.cancel(list(futures))
+    # A worker that died while writing left its temporary file (its task ran again elsewhere)
+    remove_temporaries_of(output for _, output in tasks)

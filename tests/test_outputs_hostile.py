@@ -416,3 +416,20 @@ def test_the_temporaries_a_killed_writer_left_are_removed_and_nothing_else(tmp_p
     remove_temporaries(target)
     assert not stray.exists() and sorted(tmp_path.iterdir()) == sorted(keep)
     remove_temporaries(tmp_path / "missing" / "a.png")  # a folder that is gone is no error
+
+
+def test_the_temporaries_of_many_outputs_are_removed_in_one_listing_per_folder(tmp_path, monkeypatch):
+    from rasterkit import _atomic
+
+    (tmp_path / "b").mkdir()
+    left = [tmp_path / ".x.png.abcd1234.tmp", tmp_path / "b" / ".y.png.zzzzzzzz.tmp"]
+    kept = [tmp_path / ".x.png.abcd123.tmp", tmp_path / ".z.png.abcd1234.tmp", tmp_path / "b" / ".x.png.abcd1234.tmp",
+            tmp_path / "x.png"]
+    for path in left + kept:
+        path.write_bytes(b"x")
+    listed, scandir = [], os.scandir
+    monkeypatch.setattr(_atomic.os, "scandir", lambda folder: listed.append(folder) or scandir(folder))
+    _atomic.remove_temporaries_of([tmp_path / "x.png", tmp_path / "b" / "y.png", tmp_path / "b" / "w.png",
+                                   tmp_path / "gone" / "v.png"])
+    assert not any(p.exists() for p in left) and all(p.exists() for p in kept)
+    assert sorted(map(str, listed)) == sorted(map(str, [tmp_path, tmp_path / "b", tmp_path / "gone"]))
