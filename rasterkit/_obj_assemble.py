@@ -69,6 +69,8 @@ def _in_polygon_order(parts, polygons: int):
     """The triangles of parts [(polygon of each row (K,), rows (K, 3))] merged into polygon
     order (each polygon's rows come from one part, in order there), without the rows that are
     no triangle (-1, a repeated vertex); and the count (P,) of each polygon's."""
+    if not parts:  # no polygon kept (each has a corner that is not finite)
+        return np.zeros((0, 3), np.int64), np.zeros(polygons, np.int64)
     kept = []
     for polygon, rows in parts:
         a, b, c = rows.T

@@ -518,3 +518,10 @@ def test_binary_or_wide_text_is_an_error(tmp_path, data, line, words):
     with pytest.raises(ObjError) as caught:
         load_obj(path)
     assert caught.value.line == line and words in str(caught.value)
+
+
+def test_a_file_whose_every_polygon_has_a_nan_corner_loads_with_no_triangles(tmp_path):
+    """Found by the long fuzz run: every quad dropped left nothing to merge into polygon order."""
+    mesh = load(tmp_path, "v 0 0 0\nv 1 nan 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nl 1 3\n")
+    assert mesh.faces.shape == (0, 3)
+    assert any("NaN or infinite" in w for w in mesh.warnings)
