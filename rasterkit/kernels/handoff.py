@@ -15,6 +15,8 @@ GIL at once instead of sleeping on it while the caller starts its call.
 
 from __future__ import annotations
 
+import numpy as np
+
 from rasterkit._jit import kernel
 from rasterkit.kernels.intrinsics import load_acquire, pause
 
@@ -40,4 +42,4 @@ def finish_and_watch(flags, finished_at, finished, handed_at, claims, claims_at,
     flags[finished_at] = finished
     if not wait_for(flags, handed_at, finished + 1, steps):
         return False
-    return wait_for(claims, claims_at, 1, steps)
+    return wait_for(claims, claims_at, np.int64(1), steps)  # not a literal 1: one compiled wait_for

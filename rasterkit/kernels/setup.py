@@ -303,7 +303,7 @@ def _setup_chunk(
     on, normals, base, scale, light, ambient, two_sided, packed = lit
     seen, n_listed = listed
     cut = 0
-    n_seen = 0
+    n_seen = np.int64(0)  # not a literal 0: flat_colors would compile for Literal[int](0) too
     n_vertices = np.uint64(corners.shape[0])
     scattered = _scattered(faces, start, stop)
     for f in range(np.uint64(start), np.uint64(stop)):
