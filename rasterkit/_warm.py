@@ -75,7 +75,8 @@ def helped_workers(style: dict) -> list[list]:
     face passes, its own start): one helper for it, which also compiles the binning (and the
     depth offset of a mode with edges) that this process would run just before it. A mode
     that draws faces and edges (hidden, solid+wire) compiles the edges' setup and band worker
-    too, about as much again: a second helper for those, three processes on two cores."""
+    too, about as much again: a second helper for those and for the face pass (which this
+    process would compile after reading the model), three processes on two cores."""
     helpers = [[_band_worker(style)]]
     if style["mode"] != "wire":
         from .kernels import tiles, triangle
@@ -83,10 +84,10 @@ def helped_workers(style: dict) -> list[list]:
         edges = style["mode"] in ("hidden", "solid+wire")
         helpers[0][:0] = [tiles.bin_records, triangle.offset_depths] if edges else [tiles.bin_records]
     if style["mode"] in ("hidden", "solid+wire"):
-        from .kernels import edge_setup, edges_tested, edges_wu
+        from .kernels import edge_setup, edges_tested, edges_wu, setup
 
         edge_worker = edges_wu.draw_antialiased_bands if style["aa"] else edges_tested.draw_edge_bands
-        helpers.append([edge_setup.project_vertices, edge_setup.plain_setup, edge_worker])
+        helpers.append([setup.setup_faces, edge_setup.project_vertices, edge_setup.plain_setup, edge_worker])
     return helpers
 
 
@@ -105,8 +106,13 @@ def start(style: dict, depth: bool, loading: bool) -> None:
     lists = [] if style["mode"] == "wire" and not loading and not _forks() else [
         names for names in ([w.py_func.__name__ for w in workers if not _cached(w)]
                             for workers in helped_workers(style)) if names]
-    for k, names in enumerate(lists):  # the first compiles the face normals' kernel, the others need not
-        helper = _spawn({"style": style, "depth": depth, "workers": names, "normals": k == 0}, report=True)
+    if lists and _forks():
+        _prepare_numba()
+    for names in lists:
+        # a lone helper compiles the face normals' kernel (before the binning it compiles);
+        # with two, this process does (it has the least to compile), the helpers need not
+        helper = _spawn({"style": style, "depth": depth, "workers": names, "normals": len(lists) == 1},
+                        report=True)
         if helper is not None:
             _helpers.update(dict.fromkeys(names, helper))
     if not loading and (_forks() or not lists):
@@ -129,6 +135,19 @@ def _spawn(order: dict, report: bool = False):
                                 stdout=subprocess.PIPE if report else subprocess.DEVNULL)
     except OSError:
         return None
+
+
+def _prepare_numba() -> None:
+    """Before forking helpers: load Numba's typing registries here (about 0.4 s of the first
+    compile of every process), so that the helpers inherit them instead of each loading them
+    again."""
+    try:
+        from numba.core.registry import cpu_target
+
+        cpu_target.typing_context.refresh()
+        cpu_target.target_context.refresh()
+    except Exception:  # another Numba: each process loads them on its first compile, as usual
+        pass
 
 
 def _forks() -> bool:

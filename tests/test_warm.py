@@ -129,20 +129,23 @@ def test_a_helper_of_several_workers_names_each_and_the_render_loads_them(tmp_pa
     assert names(SOLID_ORDER["style"]) == [["bin_records", "draw_bands"]]
     hidden = {**SOLID_ORDER["style"], "mode": "hidden"}
     assert names(hidden) == [["bin_records", "offset_depths", "draw_bands"],
-                             ["project_vertices", "plain_setup", "draw_edge_bands"]]
+                             ["setup_faces", "project_vertices", "plain_setup", "draw_edge_bands"]]
     assert names({**hidden, "mode": "wire"}) == [["draw_wire_bands"]]
     assert names({**hidden, "aa": True})[1][-1] == "draw_antialiased_bands"
     cache = tmp_path / "cache"
     env = _env(cache)
-    order = {**SOLID_ORDER, "workers": ["setup_vertices", "bin_records", "draw_bands"]}
+    # without "normals" the helper takes the face normals from NumPy: the face pass it
+    # compiles with them is the one the render (normals from the kernel) loads
+    workers = ["setup_vertices", "setup_faces", "bin_records", "draw_bands"]
+    order = {**SOLID_ORDER, "workers": workers, "normals": False}
     helper = _run([sys.executable, "-m", "rasterkit._warm", json.dumps(order)], env)
     assert helper.returncode == 0, helper.stderr
-    assert helper.stdout.split() == ["setup_vertices", "bin_records", "draw_bands"]
+    assert helper.stdout.split() == workers
     main = _run([sys.executable, "-c", textwrap.dedent(SOLID_RENDER)], env)
     assert main.returncode == 0, main.stderr
     report = json.loads(main.stdout.splitlines()[-1])
-    assert not {"setup_vertices", "bin_records", "draw_bands"} & set(report["compiled"])
-    assert "setup_faces" in report["compiled"]
+    assert not set(workers) & set(report["compiled"])
+    assert "face_normals" in report["compiled"]
     assert report["colours"] > 2
 
 
@@ -265,7 +268,8 @@ def test_a_wire_demo_gets_a_band_worker_helper_only_where_helpers_are_forked(mon
 
 def test_a_hidden_render_of_a_model_starts_a_helper_for_each_band_worker(monkeypatch):
     """Faces and edges: one helper for the triangles' binning, depth offset and band worker,
-    one for the edges' setup and band worker; only the workers that are not cached; none when all are."""
+    one for the face pass and the edges' setup and band worker; only the workers that are not
+    cached; none when all are."""
     orders = []
     monkeypatch.setattr(_warm, "_spawn", lambda order, report=False: orders.append(order) or None)
     monkeypatch.setattr(_warm, "_helpers", {})
@@ -273,7 +277,8 @@ def test_a_hidden_render_of_a_model_starts_a_helper_for_each_band_worker(monkeyp
     hidden = {**SOLID_ORDER["style"], "mode": "hidden"}
     _warm.start(hidden, depth=False, loading=True)
     assert [order["workers"] for order in orders] == [["bin_records", "offset_depths", "draw_bands"],
-                                                      ["plain_setup", "draw_edge_bands"]]
+                                                      ["setup_faces", "plain_setup", "draw_edge_bands"]]
+    assert [order["normals"] for order in orders] == [False, False]  # this process compiles them
     orders.clear()
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: True)
     _warm.start(hidden, depth=False, loading=True)
