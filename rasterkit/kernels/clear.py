@@ -1,13 +1,15 @@
 """Clearing framebuffer memory: colour bytes to a repeated background, fast.
 
 A colour buffer is cleared 8 bytes at a time: the background repeated to 24 bytes (a
-whole number of pixels for 3 and 4 channels) is three 64-bit words. Byte by byte, with a
+whole number of pixels for 3 and 4 channels) is three 64-bit words, stored with
+:func:`rasterkit.kernels.intrinsics.store_word`. Byte by byte, with a
 loop over the channels, the same clear is about 40 times slower.
 """
 
 import numpy as np
 
 from .._jit import kernel
+from .intrinsics import load_word, store_word
 
 PATTERN_BYTES = 24
 
@@ -31,13 +33,12 @@ def fill_bytes(flat, lo, hi, pattern):
         k += 1
     n_blocks = (hi - k) // PATTERN_BYTES
     if n_blocks > 0:
-        words = flat[k: k + n_blocks * PATTERN_BYTES].view(np.uint64)
-        p = pattern.view(np.uint64)
-        w0, w1, w2 = p[0], p[1], p[2]
+        w0, w1, w2 = load_word(pattern, 0), load_word(pattern, 8), load_word(pattern, 16)
         for q in range(n_blocks):
-            words[3 * q] = w0
-            words[3 * q + 1] = w1
-            words[3 * q + 2] = w2
+            at = k + q * PATTERN_BYTES
+            store_word(flat, at, w0)
+            store_word(flat, at + 8, w1)
+            store_word(flat, at + 16, w2)
         k += n_blocks * PATTERN_BYTES
     while k < hi:
         flat[k] = pattern[k % PATTERN_BYTES]
