@@ -5,6 +5,7 @@ the marked pixels of the band's colour rows 8 at a time (:func:`paint_marked`)."
 import numpy as np
 
 from rasterkit._jit import kernel
+from rasterkit.kernels.intrinsics import load_word, store_word
 from rasterkit.kernels.line import put_pixel
 
 #: ``bits = (word * _GATHER) >> 56`` turns 8 mask bytes of 0 or 1 into 8 bits (bit k = byte k).
@@ -41,17 +42,16 @@ def paint_marked(cflat, mflat, lo, hi, rgba, select, paint):
         p += 1
     groups = (hi - p) // 8
     if groups > 0:
-        marks = mflat[p: p + 8 * groups].view(np.uint64)
-        words = cflat[p * channels: (p + 8 * groups) * channels].view(np.uint64)
+        first_byte = p * channels
         for g in range(groups):
-            mark = marks[g]
+            mark = load_word(mflat, p + 8 * g)
             if mark == 0:
                 continue
             bits = (mark * np.uint64(_GATHER)) >> np.uint64(56)
             for k in range(channels):
                 sel = select[bits, k]
-                w = g * channels + k
-                words[w] = (words[w] & ~sel) | (paint[k] & sel)
+                at = first_byte + 8 * (g * channels + k)
+                store_word(cflat, at, (load_word(cflat, at) & ~sel) | (paint[k] & sel))
         p += 8 * groups
     while p < hi:
         if mflat[p]:
