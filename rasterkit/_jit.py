@@ -49,7 +49,9 @@ FASTMATH = frozenset({"nsz", "arcp", "contract", "afn", "reassoc"})
 
 _numba_inline.install()  # before anything compiles: Numba's inliner does each piece of work once
 
-_OPTIONS = dict(cache=True, nogil=True, error_model="numpy", fastmath=set(FASTMATH))
+# no_cfunc_wrapper: no kernel is ever passed as a first-class function, so none needs the C
+# wrapper Numba otherwise builds and optimises for each (about 4 % of a first render's compiling)
+_OPTIONS = dict(cache=True, nogil=True, error_model="numpy", fastmath=set(FASTMATH), no_cfunc_wrapper=True)
 
 #: Most threads a parallel kernel may use: Numba's ``NUMBA_NUM_THREADS`` (the environment
 #: variable, else the number of CPUs).
