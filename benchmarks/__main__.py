@@ -7,6 +7,7 @@ reason) as it comes, then writes ``results.json``, ``results.md`` and the PNG pl
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import datetime
 import importlib.metadata
 import os
@@ -18,6 +19,7 @@ from pathlib import Path
 import numba
 
 from . import aa, batch, cli, contention, cv, fill, lines2d, loading, memory, render, report, scaling, startup, svg
+from .first_models import MODES as FIRST_MODES
 from .peers import Peers
 from .settings import FULL, QUICK, TARGETS, TINY
 
@@ -54,6 +56,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--only", default=None, metavar="FAMILY,...",
                         help=f"families to run (default: {','.join(DEFAULT_FAMILIES)}; also threads)")
     parser.add_argument("--no-peers", action="store_true", help="time rasterkit alone")
+    parser.add_argument("--first-modes", default=None, metavar="MODE,...",
+                        help="modes of the startup family's first renders of ten models "
+                             "(default: solid; also wire, hidden, solid+wire)")
     return parser
 
 
@@ -107,6 +112,12 @@ def main(argv: list[str] | None = None) -> int:
         families = [f.strip() for f in args.only.split(",") if f.strip()]
     else:
         families = list(TARGET_FAMILIES if args.targets else DEFAULT_FAMILIES)
+    if args.first_modes is not None:
+        modes = tuple(m.strip() for m in args.first_modes.split(",") if m.strip())
+        if not modes or set(modes) - set(FIRST_MODES):
+            print(f"--first-modes: choose from {', '.join(FIRST_MODES)}", file=sys.stderr)
+            return 2
+        settings = dataclasses.replace(settings, first_model_modes=modes)
     unknown = sorted(set(families) - set(FAMILIES))
     if unknown:
         print(f"unknown families: {', '.join(unknown)} (choose from {', '.join(FAMILIES)})", file=sys.stderr)

@@ -1,6 +1,7 @@
 """The ``startup`` family's first models: a new user's first render of their own model.
 
-``rasterkit render MODEL -o x.png --mode solid`` for each model of :data:`MODELS` alone, in a
+``rasterkit render MODEL -o x.png --mode solid`` (or each mode of
+``settings.first_model_modes``: ``--first-modes``) for each model of :data:`MODELS` alone, in a
 new, empty ``NUMBA_CACHE_DIR`` (so every kernel it needs compiles, the reader's included),
 as a whole process started by :func:`benchmarks.startup.launch`: wall seconds and user CPU
 seconds (the process and the compiling helper it starts). Repetitions alternate the order of
@@ -34,37 +35,50 @@ MODELS = (
 )
 
 
+#: The modes a first render may be measured in; records of a mode other than solid are named
+#: ``startup/first-model/MODE/MODEL``.
+MODES = ("solid", "wire", "hidden", "solid+wire")
+
+
 def run(settings, results, scratch: Path) -> None:
-    """Each present model's first render, ``settings.first_model_runs`` times (0: skipped)."""
+    """:func:`run_mode` for each mode of ``settings.first_model_modes``."""
+    for mode in settings.first_model_modes:
+        run_mode(settings, results, scratch, mode)
+
+
+def run_mode(settings, results, scratch: Path, mode: str) -> None:
+    """Each present model's first render in ``mode``, ``settings.first_model_runs`` times (0:
+    skipped)."""
     from .startup import child_environment, launch, rasterkit_command
 
     runs = settings.first_model_runs
+    prefix = "startup/first-model" + ("" if mode == "solid" else f"/{mode}")
     if runs == 0:
-        results.skip(FAMILY, "startup/first-model", f"not measured in the {settings.name} profile "
+        results.skip(FAMILY, prefix, f"not measured in the {settings.name} profile "
                      "(each render compiles every kernel it needs: about 10 s a model)")
         return
     present = [(name, MODELS_DIR / path) for name, path in MODELS if (MODELS_DIR / path).is_file()]
     for name, path in MODELS:
         if not (MODELS_DIR / path).is_file():
-            results.skip(FAMILY, f"startup/first-model/{name}", f"model file {MODELS_DIR / path} not found")
+            results.skip(FAMILY, f"{prefix}/{name}", f"model file {MODELS_DIR / path} not found")
     measured: dict[str, list[dict]] = {name: [] for name, _ in present}
     for round_ in range(runs):
         for name, path in present if round_ % 2 == 0 else present[::-1]:
             env = child_environment(NUMBA_CACHE_DIR=tempfile.mkdtemp(dir=scratch, prefix="numba-cache-"))
-            argv = rasterkit_command() + ["render", str(path), "-o", str(scratch / "first.png"), "--mode", "solid"]
+            argv = rasterkit_command() + ["render", str(path), "-o", str(scratch / "first.png"), "--mode", mode]
             try:
                 measured[name].append(launch(argv, env, scratch))
             except RuntimeError as error:
-                results.skip(FAMILY, f"startup/first-model/{name}", f"failed: {error}")
-    note = "new process, empty NUMBA_CACHE_DIR, --mode solid at the default size"
+                results.skip(FAMILY, f"{prefix}/{name}", f"failed: {error}")
+    note = f"new process, empty NUMBA_CACHE_DIR, --mode {mode} at the default size"
     for name, done in measured.items():
         if not done:
             continue
         sizes = {"model": name}
         wall = statistics.median(r["seconds"] for r in done)
         user = statistics.median(r["user"] for r in done)
-        results.add(Record(family=FAMILY, name=f"startup/first-model/{name}", peer=None, sizes=sizes,
+        results.add(Record(family=FAMILY, name=f"{prefix}/{name}", peer=None, sizes=sizes,
                            rasterkit=wall, runs=len(done), note=note))
-        results.add(Record(family=FAMILY, name=f"startup/first-model/{name}/user-cpu", peer=None,
+        results.add(Record(family=FAMILY, name=f"{prefix}/{name}/user-cpu", peer=None,
                            sizes=sizes, rasterkit=user, runs=len(done), note=note + "; user CPU seconds"))
-        print(f"  first render of {name}: {wall:.2f} s ({user:.1f} s user CPU)", flush=True)
+        print(f"  first {mode} render of {name}: {wall:.2f} s ({user:.1f} s user CPU)", flush=True)

@@ -72,6 +72,8 @@ class Settings:
     first_model_runs : int
         Repetitions of the first renders of ten real models, each in an empty cache
         (``benchmarks/first_models.py``); 0 leaves them out.
+    first_model_modes : tuple of str
+        The modes of those first renders, each in its own empty cache (``--first-modes``).
     contention_processes : tuple of int
         How many rasterkit (and llvmpipe) processes render at once, one configuration each.
     contention_seconds : float
@@ -117,6 +119,7 @@ class Settings:
     startup_cold_runs: int = 1
     startup_sequence: bool = True
     first_model_runs: int = 1
+    first_model_modes: tuple = ("solid",)
     contention_processes: tuple = (1, 2, 4)
     contention_seconds: float = 2.0
     aa_model: str = "ogre"

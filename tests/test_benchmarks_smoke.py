@@ -116,3 +116,35 @@ def test_thread_watch_runs_each_checkout_and_rejects_other_folders(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "benchmarks.thread_watch", str(tmp_path)],
                          check=False, cwd=ROOT, capture_output=True, text=True, timeout=60, env=env)
     assert bad.returncode == 2 and "not a rasterkit checkout" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_first_renders_in_each_mode_asked_for(tmp_path, monkeypatch):
+    """``--first-modes``: each model's first render in every mode asked for, each in a cache
+    of its own; solid keeps its record names, the other modes are named after the mode."""
+    import dataclasses
+
+    from benchmarks import first_models, report, startup
+    from benchmarks.__main__ import main
+    from benchmarks.settings import TINY
+
+    for _, path in first_models.MODELS:
+        (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / path).write_text("v 0 0 0\n")
+    monkeypatch.setattr(first_models, "MODELS_DIR", tmp_path)
+    launched = []
+
+    def launch(argv, env, scratch):
+        launched.append((argv[argv.index("--mode") + 1], env["NUMBA_CACHE_DIR"]))
+        return {"seconds": 3.0, "user": 5.0}
+
+    monkeypatch.setattr(startup, "launch", launch)
+    results = report.Results()
+    settings = dataclasses.replace(TINY, first_model_runs=1, first_model_modes=("solid", "hidden"))
+    first_models.run(settings, results, tmp_path)
+    n = len(first_models.MODELS)
+    assert [mode for mode, _ in launched] == ["solid"] * n + ["hidden"] * n
+    assert len({cache for _, cache in launched}) == 2 * n  # every render in an empty cache of its own
+    names = {r.name: r.rasterkit for r in results.records}
+    assert names["startup/first-model/beast"] == 3.0
+    assert names["startup/first-model/hidden/beast/user-cpu"] == 5.0
+    assert main(["--only", "startup", "--first-modes", "solid,dashed"]) == 2
