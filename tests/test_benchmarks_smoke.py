@@ -123,6 +123,7 @@ def test_first_renders_in_each_mode_asked_for(tmp_path, monkeypatch):
     of its own; solid keeps its record names, the other modes are named after the mode."""
     import dataclasses
 
+    monkeypatch.syspath_prepend(str(ROOT))  # the suite is not installed with the package
     from benchmarks import first_models, report, startup
     from benchmarks.__main__ import main
     from benchmarks.settings import TINY
