@@ -1,7 +1,7 @@
 """Anti-aliasing: rasterkit's ``samples=4`` against llvmpipe's 4x MSAA, solid frames.
 
 rasterkit's frame is one ``rasterkit.render(mesh, camera, "solid", samples=4)`` call (four
-jittered samples per pixel, averaged: :mod:`rasterkit._accumulate`); llvmpipe's is clear +
+jittered samples per pixel, averaged: :mod:`rasterkit.raster.accumulate`); llvmpipe's is clear +
 draw into a 4-sample multisampled framebuffer + resolve (``copy_framebuffer``) + read back
 (:meth:`benchmarks.peers.Llvmpipe.draw` with ``samples=4``). Same triangles, camera and flat
 Lambert shading as the ``render`` family's solid frames.

@@ -48,9 +48,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from rasterkit.kernels.shade import face_normals, lambert
-from rasterkit._vertex import transform_points
-from rasterkit.triangles import rasterize_triangles
+from rasterkit.raster.kernels.shade import face_normals, lambert
+from rasterkit.raster.vertex import transform_points
+from rasterkit.raster.triangles import rasterize_triangles
 
 WIDTH, HEIGHT = 1920, 1080
 MODELS = Path(__file__).resolve().parents[1] / ".." / "shared" / "models"

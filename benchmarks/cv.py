@@ -3,7 +3,7 @@ plain solid frame.
 
 The ``rasterkit`` side is one ``rasterkit.render(mesh, camera, "solid", ids=True,
 normals=True, camera_depth=True)`` followed by ``fb.camera_depth()``: colour, face ids,
-camera-space normals and the metric depth (:mod:`rasterkit.vision`), made band by band by the
+camera-space normals and the metric depth (:mod:`rasterkit.raster.vision`), made band by band by the
 drawing threads. The other side, ``plain solid``, is ``rasterkit.render(mesh, camera,
 "solid")`` alone: the ratio is what the maps cost on top of the image.
 """

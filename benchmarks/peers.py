@@ -16,7 +16,7 @@ import numpy as np
 LIGHTGRAY = (211 / 255, 211 / 255, 211 / 255)
 AMBIENT = 0.25
 """Surface colour and ambient fraction: rasterkit's defaults (``color='lightgray'``,
-``rasterkit.render.AMBIENT``), so both sides shade alike."""
+``rasterkit.raster.render.AMBIENT``), so both sides shade alike."""
 
 POLYGON_OFFSET = (1.0, 1.0)
 """glPolygonOffset(factor, units) pushing the faces back in the depth pass of hidden-line

@@ -1,6 +1,6 @@
 """Pixel sets of simple shapes in raster space, returned as arrays of (x, y) pixels.
 
-Thin validating wrappers over :mod:`rasterkit.kernels`: each function checks its arguments
+Thin validating wrappers over :mod:`rasterkit.raster.kernels`: each function checks its arguments
 and raises ``TypeError`` / ``ValueError`` before any kernel runs. Pixels are ``(x, y)``
 integer pairs, x to the right and y down; index an image with ``image[y, x]``.
 """
@@ -12,13 +12,13 @@ import numbers
 import numpy as np
 
 from rasterkit._arrays import real_array
-from rasterkit._edges import draw_edges, scratch_bytes
+from rasterkit.raster.edge_pass import draw_edges, scratch_bytes
 from rasterkit.limits import check_memory
-from rasterkit.kernels import line as _line
-from rasterkit.kernels.clip import SEGMENT_GUARD_BAND
-from rasterkit.kernels.edges import MODE_ANTIALIAS, MODE_PLAIN
-from rasterkit.kernels import triangle as _triangle
-from rasterkit.kernels.clip import GUARD_BAND as _TRIANGLE_LIMIT
+from rasterkit.raster.kernels import line as _line
+from rasterkit.raster.kernels.clip import SEGMENT_GUARD_BAND
+from rasterkit.raster.kernels.edges import MODE_ANTIALIAS, MODE_PLAIN
+from rasterkit.raster.kernels import triangle as _triangle
+from rasterkit.raster.kernels.clip import GUARD_BAND as _TRIANGLE_LIMIT
 
 __all__ = ["LINE_METHODS", "line", "lines", "triangle"]
 
@@ -36,7 +36,7 @@ _COORD_LIMIT = 2**29
 _LINE_BYTES_PER_PIXEL = 40
 #: Bytes :func:`lines` needs per segment: its float64 row (32, and as much again for a
 #: conversion), two homogeneous points (64), the edge (16) and the edge path's scratch
-#: (:func:`rasterkit._edges.scratch_bytes`).
+#: (:func:`rasterkit.raster.edge_pass.scratch_bytes`).
 _LINES_BYTES_PER_SEGMENT = 32 * 2 + 64 + 16
 
 

@@ -19,8 +19,8 @@ from functools import cached_property
 
 import numpy as np
 
-from ._arrays import real_array
-from .limits import check_memory
+from rasterkit._arrays import real_array
+from rasterkit.limits import check_memory
 
 __all__ = ["Mesh", "as_mesh", "mesh_bytes", "polygon_edges", "unique_edges"]
 
@@ -57,7 +57,7 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
         N: every index is in 0..N-1.
     keys : (J,) int64, optional
         More edges, as keys ``lo * N + hi`` (lo < hi), as
-        :func:`rasterkit._obj_assemble.polygon_sides` makes them.
+        :func:`rasterkit.obj.assemble.polygon_sides` makes them.
     """
     pairs = np.asarray(pairs)
     if pairs.dtype.kind not in "iu" and pairs.size:
@@ -273,19 +273,19 @@ class Mesh:
 
     @cached_property
     def _feature_sides(self) -> tuple:
-        """The camera-independent part of the feature edges (:func:`rasterkit._features.sides`:
+        """The camera-independent part of the feature edges (:func:`rasterkit.raster.features.sides`:
         the face sides sorted into edges, their dihedral angles and material changes), worked
         out on first use and kept: a turntable or an animation of ``edges="feature"`` sorts
         the 3M face sides once, not once a frame."""
-        from ._features import sides
+        from rasterkit.raster.features import sides
         self.check_intact()
         return sides(self)
 
     @cached_property
     def _spatial_edges(self) -> np.ndarray:
-        """The edges in a spatial order (:func:`rasterkit._edges.spatial_edges`), in which
+        """The edges in a spatial order (:func:`rasterkit.raster.edge_pass.spatial_edges`), in which
         the plain wireframe draws them (the same pixels); worked out on first use and kept."""
-        from ._edges import spatial_edges
+        from rasterkit.raster.edge_pass import spatial_edges
         self.check_intact()
         return spatial_edges(self.vertices, self.edges)
 
@@ -302,7 +302,7 @@ class Mesh:
         seen from the front points out), zero for a degenerate face, NaN for a face with a
         non-finite corner. Worked out on first use and kept: flat shading needs them in every
         frame, and they do not depend on the camera."""
-        from .kernels.shade import face_normals
+        from rasterkit.raster.kernels.shade import face_normals
         self.check_intact()
         return seal(face_normals(self.vertices, self.faces).astype(np.float32))
 

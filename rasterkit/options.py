@@ -4,7 +4,7 @@ Pure Python: importing this module imports neither NumPy nor Numba, so the comma
 builds its parser, answers ``--help`` and rejects bad arguments without loading the kernels.
 """
 
-from .kernels.limits import MAX_IMAGE_SIZE
+from rasterkit.raster.kernels.limits import MAX_IMAGE_SIZE
 
 __all__ = ["CULL", "EDGES", "HIDDEN", "MAX_IMAGE_SIZE", "MODES", "PROJECTIONS", "SHADING", "SVG_MODES", "check_choice"]
 
@@ -13,7 +13,7 @@ __all__ = ["CULL", "EDGES", "HIDDEN", "MAX_IMAGE_SIZE", "MODES", "PROJECTIONS", 
 MODES = ("wire", "hidden", "solid", "solid+wire")
 
 #: Which edges are drawn: those of the original polygons, or the feature edges (silhouettes,
-#: boundaries, creases, material boundaries: :mod:`rasterkit._features`).
+#: boundaries, creases, material boundaries: :mod:`rasterkit.raster.features`).
 EDGES = ("all", "feature")
 
 #: What :func:`rasterkit.render_svg` draws: every edge, or only their visible parts.

@@ -11,12 +11,12 @@ from typing import Sequence
 
 import numpy as np
 
-from .camera import Camera
-from .colors import ColorLike, parse_color
-from ._arrays import real_array
-from .limits import check_memory
-from .mesh import Mesh, as_mesh, mesh_bytes
-from .transform import apply_normals, apply_points
+from rasterkit.camera import Camera
+from rasterkit.colors import ColorLike, parse_color
+from rasterkit._arrays import real_array
+from rasterkit.limits import check_memory
+from rasterkit.mesh import Mesh, as_mesh, mesh_bytes
+from rasterkit.transform import apply_normals, apply_points
 
 __all__ = ["Scene", "SceneObject"]
 

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._arrays import real_number
-from .limits import check_memory
-from .mesh import Mesh, mesh_bytes, polygon_edges
+from rasterkit._arrays import real_number
+from rasterkit.limits import check_memory
+from rasterkit.mesh import Mesh, mesh_bytes, polygon_edges
 
 __all__ = ["cube", "tetrahedron", "octahedron", "icosahedron", "icosphere", "torus", "grid", "demo"]
 

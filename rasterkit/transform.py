@@ -15,8 +15,8 @@ from typing import Sequence
 
 import numpy as np
 
-from ._arrays import describe, real_array, real_number
-from .limits import check_memory
+from rasterkit._arrays import describe, real_array, real_number
+from rasterkit.limits import check_memory
 
 __all__ = [
     "identity",
@@ -95,7 +95,7 @@ def rotate_z(theta: float) -> np.ndarray:
     return _rotation(theta, 0, 1)
 
 
-def _vector3(v: Sequence[float], name: str) -> np.ndarray:
+def vector3(v: Sequence[float], name: str) -> np.ndarray:
     a = real_array(v, name)
     if a.shape != (3,) or not np.all(np.isfinite(a)):
         raise ValueError(f"{name} must be 3 finite numbers, got {describe(v)}")
@@ -138,8 +138,8 @@ def rotate_axis(
     ``axis`` (counter-clockwise when the axis points at the viewer). ``axis`` need not be
     unit length but must not be zero.
     """
-    r = _vector3(axis, "axis")
-    o = _vector3(origin, "origin")
+    r = vector3(axis, "axis")
+    o = vector3(origin, "origin")
     length = math.hypot(*r)
     if length == 0.0:
         raise ValueError("axis must not be the zero vector")
@@ -185,8 +185,8 @@ def reflect_plane(point: Sequence[float], normal: Sequence[float]) -> np.ndarray
 
     Householder form: ``p' = p - 2 ((p - q)·n) n`` with unit ``n``.
     """
-    q = _vector3(point, "point")
-    n = _vector3(normal, "normal")
+    q = vector3(point, "point")
+    n = vector3(normal, "normal")
     length = math.hypot(*n)
     if length == 0.0:
         raise ValueError("normal must not be the zero vector")

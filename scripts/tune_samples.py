@@ -8,8 +8,8 @@
 straight edge is nearest the area on that side (half-planes: the pixels one edge crosses),
 then, keeping that, whose errors over wedges (the pixels a corner is in or near) are
 smallest on average (:mod:`coverage_error`), and prints the pattern as offsets from the
-pixel centre in 1/256 pixel, the table of :mod:`rasterkit.samples`, with its worst errors.
-``measure`` prints the worst errors of the patterns :func:`rasterkit.samples.pixel_offsets`
+pixel centre in 1/256 pixel, the table of :mod:`rasterkit.raster.samples`, with its worst errors.
+``measure`` prints the worst errors of the patterns :func:`rasterkit.raster.samples.pixel_offsets`
 gives, on grids denser than the search's and shifted from them.
 
 The search is simulated annealing on positions (not only on shuffles of a stratified
@@ -148,7 +148,7 @@ def main(argv=None) -> int:
         print(f"{args.n}: {tuple(offsets)},")
         points = q / UNITS
     else:
-        from rasterkit.samples import pixel_offsets
+        from rasterkit.raster.samples import pixel_offsets
 
         for n in args.n:
             worst = measure(pixel_offsets(n) + 0.5, MIN_ANGLE)

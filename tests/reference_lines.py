@@ -13,9 +13,9 @@ from fractions import Fraction
 
 import numpy as np
 
-from rasterkit.kernels.clip import MAX_COORDINATE
-from rasterkit.kernels.clip import SEGMENT_GUARD_BAND as GUARD_BAND
-from rasterkit.kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST
+from rasterkit.raster.kernels.clip import MAX_COORDINATE
+from rasterkit.raster.kernels.clip import SEGMENT_GUARD_BAND as GUARD_BAND
+from rasterkit.raster.kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST
 
 # A depth or slope closer than this to a decision boundary may land on either side of it.
 TOLERANCE = 1e-6

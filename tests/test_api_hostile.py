@@ -156,7 +156,7 @@ def test_framebuffer_size_follows_its_colour_buffer_and_a_stale_depth_recipe_is_
 
 
 def test_faces_in_the_memory_of_a_buffer_drawn_into_are_refused():
-    from rasterkit.triangles import rasterize_triangles
+    from rasterkit.raster.triangles import rasterize_triangles
 
     ids = np.full((8, 8), -1, np.int32)
     faces = ids.reshape(-1).view(np.int64)[:3].reshape(1, 3)
@@ -250,7 +250,7 @@ def test_hostile_kernel_inputs_through_rasterize_triangles_and_lines_end_cleanly
     outcome = run_python("""
         import numpy as np
         from rasterkit.draw import lines
-        from rasterkit.triangles import rasterize_triangles
+        from rasterkit.raster.triangles import rasterize_triangles
         clip = np.array([[0, 0, 0.5, 1], [8, 0, 0.5, 1], [0, 8, 0.5, 1]], float)
         for faces in ([[0, 1, 10**9]], [[0, -1, 2]], [[-2**63, 0, 1]]):
             try:

@@ -72,7 +72,7 @@ def test_a_render_of_many_faces_counts_its_per_face_scratch(limit):
 
 
 def test_the_triangle_workspace_checks_its_growth(limit):
-    from rasterkit.triangles import rasterize_triangles
+    from rasterkit.raster.triangles import rasterize_triangles
 
     n = 200_000  # 10 MiB of records
     clip = np.tile([[0.0, 0.0, 0.5, 1.0], [4.0, 0.0, 0.5, 1.0], [0.0, 4.0, 0.5, 1.0]], (n, 1))

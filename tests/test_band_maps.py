@@ -1,5 +1,5 @@
-"""The maps a render's band worker makes (rasterkit.kernels.map_rows.band_maps) against the
-passes of their own (rasterkit.vision.fill_maps, camera_depth) from the same ids and depth:
+"""The maps a render's band worker makes (rasterkit.raster.kernels.map_rows.band_maps) against the
+passes of their own (rasterkit.raster.vision.fill_maps, camera_depth) from the same ids and depth:
 normals flat and smooth, scene object ids, the metric depth of ``camera_depth=True``, in
 every mode that draws faces, on one thread and two."""
 
@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import rasterkit
-from rasterkit import Camera, Scene, shapes, transform, vision
+from rasterkit import Camera, Scene, shapes, transform
+from rasterkit.raster import vision
 
 
 def _scene():

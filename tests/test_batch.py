@@ -18,7 +18,7 @@ from PIL import Image
 
 import rasterkit
 from rasterkit import shapes
-from rasterkit._manifest import complete_image, read_manifest
+from rasterkit.batch.manifest import complete_image, read_manifest
 
 OPTIONS = dict(size=(64, 48), mode="solid+wire")
 
@@ -256,7 +256,7 @@ def _workers_of(pid: int) -> list[int]:
             with open(f"/proc/{entry}/stat") as f:
                 parent = int(f.read().rsplit(")", 1)[1].split()[1])
             with open(f"/proc/{entry}/cmdline", "rb") as f:
-                helper = b"rasterkit._warm" in f.read()
+                helper = b"rasterkit.runtime.warm" in f.read()
         except (OSError, IndexError):
             continue
         if parent == pid and not helper:
@@ -323,7 +323,7 @@ def test_workers_stop_when_the_batch_process_is_killed_outright(tmp_path, busy):
 
 
 def test_workers_are_forked_only_when_no_other_thread_runs():
-    from rasterkit._workers import _start_method
+    from rasterkit.batch.workers import _start_method
 
     expected = "fork" if sys.platform.startswith("linux") else "spawn"
     assert _start_method() == expected

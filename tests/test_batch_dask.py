@@ -13,7 +13,7 @@ import pytest
 
 import rasterkit
 from rasterkit import shapes
-from rasterkit._manifest import read_manifest
+from rasterkit.batch.manifest import read_manifest
 
 distributed = pytest.importorskip("distributed", reason="Dask's distributed is not installed ('rasterkit[dask]')")
 
@@ -55,7 +55,7 @@ def test_a_cluster_writes_the_images_of_one_process(cluster, tmp_path):
     broken = [r for r in records if r["status"] == "error"]
     assert len(broken) == 1 and "zz_broken.obj:1" in broken[0]["error"]
     # each task rendered with one kernel thread: 2 workers x 1 thread on this host's cores
-    threads = cluster.submit(lambda: __import__("rasterkit")._jit.get_threads(), pure=False).result()
+    threads = cluster.submit(lambda: __import__("rasterkit.runtime.threads").runtime.threads.get_threads(), pure=False).result()
     assert threads == max(1, len(os.sched_getaffinity(0)) // 2)
 
 
@@ -82,8 +82,8 @@ def test_killing_a_worker_still_yields_every_image_and_a_complete_manifest(clust
 
 
 def test_the_address_of_a_worker_is_not_taken_for_a_scheduler(cluster):
-    from rasterkit import _dask
-    from rasterkit._report import UsageError
+    from rasterkit.batch import dask_engine as _dask
+    from rasterkit.batch.report import UsageError
 
     worker = next(iter(cluster.scheduler_info()["workers"]))
     with pytest.raises(UsageError, match="not a Dask scheduler .it says Worker"):

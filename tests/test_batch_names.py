@@ -12,7 +12,7 @@ import pytest
 
 from hostile import run_cli, run_python
 from rasterkit import shapes
-from rasterkit._manifest import read_manifest
+from rasterkit.batch.manifest import read_manifest
 
 ODD = b"a\xff.obj"  # not UTF-8: Python names it "a\udcff.obj" (surrogateescape)
 
@@ -102,7 +102,7 @@ def test_a_broken_link_in_a_folder_fails_in_one_line_with_a_manifest_record(tmp_
 DASK_BATCH = """
 import os, sys
 import distributed, rasterkit
-from rasterkit._manifest import read_manifest
+from rasterkit.batch.manifest import read_manifest
 
 with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
                               silence_logs=50) as cluster, distributed.Client(cluster) as client:

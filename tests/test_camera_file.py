@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from hostile import run_cli
-from rasterkit._cli_args import read_camera_file
-from rasterkit._files import FileError, FileLimitError, read_file
+from rasterkit.cli.args import read_camera_file
+from rasterkit.runtime.files import FileError, FileLimitError, read_file
 from rasterkit import limits
 
 GOOD = {"K": [[100.0, 0, 32.0], [0, 100.0, 24.0], [0, 0, 1]], "R": [[1, 0, 0], [0, -1, 0], [0, 0, -1]],

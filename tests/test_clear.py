@@ -1,12 +1,12 @@
-"""Clearing colour bytes to a repeated background (rasterkit.kernels.clear), against NumPy:
+"""Clearing colour bytes to a repeated background (rasterkit.raster.kernels.clear), against NumPy:
 any byte range, any alignment of the buffer and of the range's ends."""
 
 import numba
 import numpy as np
 import pytest
 
-from rasterkit.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
-from rasterkit.kernels.intrinsics import load_word, store_word
+from rasterkit.raster.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
+from rasterkit.runtime.intrinsics import load_word, store_word
 
 
 @numba.njit

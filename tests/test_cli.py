@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from rasterkit._notice import MESSAGE
+from rasterkit.runtime.notice import MESSAGE
 from rasterkit.cli import main
 
 CUBE_OBJ = """\

@@ -21,7 +21,7 @@ from PIL import Image
 import rasterkit
 from hostile import ROOT, run_cli, run_python
 from rasterkit import limits
-from rasterkit._notice import MESSAGE
+from rasterkit.runtime.notice import MESSAGE
 from rasterkit.cli import _stop_signals, main
 
 MODELS = Path(__file__).resolve().parents[2] / "shared" / "models"
@@ -119,7 +119,7 @@ def test_an_error_while_rendering_names_the_model(tmp_path, capsys, monkeypatch,
     def render(*args, **kwargs):
         raise error
 
-    monkeypatch.setattr(_module("rasterkit.render"), "render", render)
+    monkeypatch.setattr(_module("rasterkit.raster.render"), "render", render)
     code, lines = _run(["render", model, "-o", tmp_path / "m.png"], capsys)
     assert (code, lines) == (2, [f"rasterkit: error: {model}: {message}"])
     code, lines = _run(["render", tmp_path, "-o", tmp_path / "out"], capsys)  # the same in a folder
@@ -216,7 +216,7 @@ def test_a_file_size_limit_gives_one_line_naming_the_output(tmp_path, name, extr
 WARNING_CHILD = """
 import importlib, sys, warnings
 import numpy as np
-render_module = importlib.import_module("rasterkit.render")
+render_module = importlib.import_module("rasterkit.raster.render")
 draw = render_module.render
 
 def render(*args, **kwargs):

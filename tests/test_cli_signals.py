@@ -15,7 +15,7 @@ LOST = """
 import importlib, os, signal, sys
 from rasterkit.cli import main
 
-module = importlib.import_module("rasterkit.render")
+module = importlib.import_module("rasterkit.raster.render")
 
 signal.signal(signal.SIGINT, signal.default_int_handler)  # as an interactive shell starts it
 signal.signal(signal.SIGTERM, signal.SIG_DFL)

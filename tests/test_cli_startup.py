@@ -13,7 +13,7 @@ import pytest
 
 import rasterkit
 from rasterkit import options
-from rasterkit._notice import MESSAGE
+from rasterkit.runtime.notice import MESSAGE
 from rasterkit.cli import _parser
 
 ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
@@ -63,7 +63,7 @@ def test_usage_errors_exit_2_without_numba(argv, tmp_path):
 
 
 def test_import_rasterkit_alone_imports_no_numba():
-    done = _fresh("import sys, rasterkit, rasterkit.options, rasterkit.kernels.limits\n"
+    done = _fresh("import sys, rasterkit, rasterkit.options, rasterkit.raster.kernels.limits\n"
                   "print([m for m in ('numba', 'llvmlite', 'numpy') if m in sys.modules])\n"
                   "print(rasterkit.camera.Camera.__name__)")  # submodules still load on use
     assert done.returncode == 0, done.stderr
@@ -79,7 +79,7 @@ def test_every_public_name_resolves_and_is_listed():
 
 
 def test_render_stays_the_function_after_its_module_is_imported():
-    module = importlib.import_module("rasterkit.render")
+    module = importlib.import_module("rasterkit.raster.render")
     assert rasterkit.render is module.render and callable(rasterkit.render)
 
 
@@ -95,11 +95,11 @@ def _benchmark_settings(monkeypatch):
 
 def test_each_list_of_choices_has_one_home(monkeypatch):
     from rasterkit.camera import PROJECTIONS
-    from rasterkit.kernels.clip import MAX_IMAGE_SIZE
+    from rasterkit.raster.kernels.clip import MAX_IMAGE_SIZE
 
     assert PROJECTIONS is options.PROJECTIONS is rasterkit.PROJECTIONS
     assert MAX_IMAGE_SIZE is options.MAX_IMAGE_SIZE
-    render_module = importlib.import_module("rasterkit.render")
+    render_module = importlib.import_module("rasterkit.raster.render")
     assert render_module.MODES is options.MODES  # imported, not a copy
     assert render_module.CULL is options.CULL and render_module.SHADING is options.SHADING
     assert _benchmark_settings(monkeypatch).MODES is options.MODES
@@ -110,7 +110,7 @@ def test_each_list_of_choices_has_one_home(monkeypatch):
                        "hidden": tuple(h for h in options.HIDDEN if h is not None)}
     svg_module = importlib.import_module("rasterkit.svg")
     assert svg_module.SVG_MODES is options.SVG_MODES and svg_module.HIDDEN is options.HIDDEN
-    assert importlib.import_module("rasterkit._features").EDGES is options.EDGES
+    assert importlib.import_module("rasterkit.raster.features").EDGES is options.EDGES
 
 
 def test_first_render_announces_the_compile_once_and_a_cached_run_is_silent(tmp_path):

@@ -13,9 +13,13 @@ _SCRIPT = textwrap.dedent(
     import numba
     import numpy as np
 
-    from rasterkit import _jit, _warm, render, shapes
+    from rasterkit import render, shapes
+    from rasterkit.runtime import threads as _threads
+    from rasterkit.runtime import warm as _warm
     from rasterkit.camera import Camera
-    from rasterkit.kernels import handoff, setup, shade
+    from rasterkit.raster.kernels import setup
+    from rasterkit.raster.kernels import shade
+    from rasterkit.runtime import handoff
 
     _warm.start = lambda *a, **k: None  # everything compiles here
 
@@ -28,7 +32,7 @@ _SCRIPT = textwrap.dedent(
             raise Done
         return None
 
-    _jit.intercept(hook)
+    _threads.intercept(hook)
     camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
     try:
         render(shapes.icosphere(1), camera, "solid")

@@ -10,7 +10,7 @@ import pytest
 
 import rasterkit
 from rasterkit import Camera, shapes
-from rasterkit.samples import pixel_offsets
+from rasterkit.raster.samples import pixel_offsets
 
 def _clip_area(polygon, x0, y0):
     """Area of the convex polygon ``polygon`` ([(x, y)]) within the pixel square
@@ -106,7 +106,7 @@ def test_pixel_offsets_are_whole_fixed_point_units_in_the_pixel(n):
 
 @pytest.mark.parametrize("n, bound", [(4, 0.2501), (8, 0.161), (16, 0.0958), (32, 0.074)])
 def test_tuned_pixel_samples_keep_every_half_plane_within_their_bound(n, bound):
-    """The bounds rasterkit.samples states for one straight edge across a pixel: for every
+    """The bounds rasterkit.raster.samples states for one straight edge across a pixel: for every
     direction (a 720-direction grid and the directions through every two samples) and every
     position of the edge (just before and after each sample: the top-left rule may count a
     sample on the edge either way), the fraction of samples on one side is within the bound
@@ -233,10 +233,10 @@ def test_every_edge_pixel_of_random_triangles_gets_its_covered_fraction(samples)
 
 
 def test_pixel_area_is_the_triangle_clipped_to_the_pixel():
-    """rasterkit.kernels.coverage.pixel_area (edge integrals) against clipping the
+    """rasterkit.raster.kernels.coverage.pixel_area (edge integrals) against clipping the
     triangle to each pixel square here, for random fixed-point triangles, both windings,
     corners inside and outside the pixels."""
-    from rasterkit.kernels.coverage import pixel_areas
+    from rasterkit.raster.kernels.coverage import pixel_areas
 
     rng = np.random.default_rng(11)
     pixels = np.array([(i, j) for i in range(-1, 5) for j in range(-1, 5)], np.int64)
@@ -252,7 +252,7 @@ def test_outlines_of_a_mesh_are_exact_where_one_face_meets_the_background():
     exact coverage is the hull clipped to it. With 16 samples every pixel is within 1/10,
     and the outline pixels where one face meets the background are exact (within 0.01) and
     on average closer than the samples alone give them."""
-    from rasterkit import _accumulate
+    from rasterkit.raster import accumulate as _accumulate
 
     width, height = 120, 90
     mesh = shapes.icosphere(2)

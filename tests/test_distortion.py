@@ -8,7 +8,7 @@ import pytest
 
 import rasterkit
 from rasterkit import Camera, Mesh
-from rasterkit.distortion import distort, ideal_camera, undistort
+from rasterkit.raster.distortion import distort, ideal_camera, undistort
 
 cv2 = pytest.importorskip("cv2")
 

@@ -1,4 +1,4 @@
-"""The spatial order of a plain wireframe's edges (rasterkit._edges.spatial_edges): a stable
+"""The spatial order of a plain wireframe's edges (rasterkit.raster.edge_pass.spatial_edges): a stable
 sort by grid cell against a slow reference when the given order is scattered, the given order
 kept when it is not, and the same image either way."""
 
@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 import rasterkit
-from rasterkit import _edges, shapes
-from rasterkit._edges import GRID_BITS
+from rasterkit import shapes
+from rasterkit.raster import edge_pass as _edges
+from rasterkit.raster.edge_pass import GRID_BITS
 
 
 def _reference(vertices, edges):

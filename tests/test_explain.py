@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from rasterkit import Camera
-from rasterkit._cli_args import attach_number_lists, framed_camera
+from rasterkit.cli.args import attach_number_lists, framed_camera
 from rasterkit.cli import _parser, main
 from rasterkit.draw import line
 from rasterkit.explain import chain_steps, line_steps

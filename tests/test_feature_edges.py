@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from rasterkit import Camera, Mesh, render, shapes
-from rasterkit._features import EDGE_CLASSES, feature_edges
-from rasterkit._svg_visibility import split_visible
+from rasterkit.raster.features import EDGE_CLASSES, feature_edges
+from rasterkit.svg.visibility import split_visible
 from rasterkit.mesh import polygon_edges
 from rasterkit.svg import svg_drawing
 

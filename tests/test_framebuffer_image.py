@@ -5,7 +5,7 @@ import pytest
 from PIL import Image
 
 from rasterkit.colors import parse_color
-from rasterkit.framebuffer import Framebuffer
+from rasterkit.raster.framebuffer import Framebuffer
 from rasterkit.image import save_animation, save_image
 
 
@@ -109,7 +109,7 @@ def test_encode_png_splits_a_long_stream_into_several_idat_chunks(monkeypatch):
 
     from PIL import Image
 
-    from rasterkit import image
+    from rasterkit.image import files as image
 
     pixels = np.random.default_rng(3).integers(0, 256, (40, 50, 3), dtype=np.uint8)
     monkeypatch.setattr(image, "_IDAT_BYTES", 1000)

@@ -10,8 +10,8 @@ import pytest
 from PIL import Image
 
 from hostile import run_python
-from rasterkit import _atomic
-from rasterkit.framebuffer import Framebuffer
+from rasterkit.image import atomic as _atomic
+from rasterkit.raster.framebuffer import Framebuffer
 from rasterkit.image import atomic_write, save_animation, save_image
 
 WRITERS = ("save_image", "apng", "gif", "fb.save", "atomic_write")
@@ -273,7 +273,7 @@ def test_a_long_run_of_one_frame_is_cut_where_the_delay_field_ends(tmp_path):
 
 
 def test_a_large_animation_frame_goes_in_several_fdat_chunks(tmp_path, monkeypatch):
-    from rasterkit import _png
+    from rasterkit.image import png as _png
 
     frames = _frames(3, (40, 50, 3), seed=3)
     monkeypatch.setattr(_png, "IDAT_BYTES", 1000)

@@ -1,4 +1,4 @@
-"""``--max-memory`` holds for a whole render command: the estimate of rasterkit._job_memory
+"""``--max-memory`` holds for a whole render command: the estimate of rasterkit.batch.job_memory
 covers the turntable's frames, GIF quantisation, PNG streams, the depth, normals and ids
 files and the contact sheet; a job over the limit is refused up front in one line (exit 2,
 no file), a job under it runs, and the estimate stays above the peak memory measured."""
@@ -13,7 +13,9 @@ import numpy as np
 import pytest
 
 from hostile import run_cli, run_python
-from rasterkit import _png, cli, shapes
+from rasterkit import shapes
+from rasterkit import cli
+from rasterkit.image import png as _png
 from rasterkit.image import encode_png
 
 
@@ -32,8 +34,8 @@ def model(tmp_path):
 def _estimate(model, output, size, **flags):
     """The job estimate for ``rasterkit render MODEL -o OUTPUT --size W x H`` with ``flags``
     (the command's option names), worked out here as the command does."""
-    from rasterkit._cli_args import framed_camera
-    from rasterkit._job_memory import job_bytes
+    from rasterkit.cli.args import framed_camera
+    from rasterkit.batch.job_memory import job_bytes
     from rasterkit.obj import load_obj
 
     options = cli.render_options(size=size, **{k: v for k, v in flags.items() if k not in ("depth", "normals", "ids")})
@@ -102,7 +104,8 @@ def status(key):
         if line.startswith(key):
             return int(line.split()[1]) * 1024
 
-from rasterkit import _memory, cli
+from rasterkit import cli
+from rasterkit.runtime import scratch as _memory
 argv = json.loads(sys.argv[1])
 warm = list(argv)
 warm[warm.index("--size") + 1] = "16x12"

@@ -12,9 +12,9 @@ from PIL import Image
 
 import rasterkit
 from rasterkit import Camera, shapes
-from rasterkit._notice import MESSAGE
+from rasterkit.runtime.notice import MESSAGE
 from rasterkit.cli import main
-from rasterkit.samples import MAX_SAMPLES, concentric_disc, lens_points, pixel_offsets, square
+from rasterkit.raster.samples import MAX_SAMPLES, concentric_disc, lens_points, pixel_offsets, square
 
 
 def _quad(cx, cy, half, z):
@@ -40,7 +40,7 @@ def test_square_patterns_are_stratified_in_2d_and_in_each_axis(n):
 
 def test_patterns_are_fixed():
     assert np.array_equal(square(16), square(16))
-    from rasterkit import samples
+    from rasterkit.raster import samples
 
     before = np.array(samples.square(16)), [np.array(pixel_offsets(n)) for n in (4, 16, 48)]
     samples._square.cache_clear()
@@ -240,8 +240,8 @@ def test_cli_bad_lens_options_are_one_line_errors(extra, tmp_path, capsys):
 
 
 def test_the_average_of_the_sums_rounds_like_integer_division():
-    from rasterkit._jit import run_workers
-    from rasterkit.kernels.accumulate import add_sample, average_samples
+    from rasterkit.runtime.threads import run_workers
+    from rasterkit.raster.kernels.accumulate import add_sample, average_samples
 
     for n in (2, 3, 4, 7, 16, 100, 255, 256):
         total = np.arange(255 * n + 1, dtype=np.uint16)

@@ -1,4 +1,4 @@
-"""Tests of the line kernels (rasterkit.kernels.line) and rasterkit.draw.line."""
+"""Tests of the line kernels (rasterkit.raster.kernels.line) and rasterkit.draw.line."""
 
 from __future__ import annotations
 
@@ -13,9 +13,9 @@ from hypothesis import strategies as st
 
 import rasterkit.draw
 from rasterkit.draw import line
-from rasterkit import _jit
-from rasterkit._edges import draw_edges
-from rasterkit.kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
+from rasterkit.runtime import threads as _threads
+from rasterkit.raster.edge_pass import draw_edges
+from rasterkit.raster.kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
 from reference_lines import ambiguous_edge, reference_draw_edges, reference_line
 
 METHODS = ["bresenham", "dda", "naive"]
@@ -542,7 +542,7 @@ def test_image_is_bit_identical_for_any_number_of_threads_and_bands(mode):
     serial, _ = render(clip, edges, mode, shape, depth, bias=0.01, n_bands=1, threads=1)
     for n_bands in (2, 3, 7, 50, 51):
         parallel, _ = render(clip, edges, mode, shape, depth, bias=0.01, n_bands=n_bands,
-                             threads=min(2, _jit.MAX_THREADS))
+                             threads=min(2, _threads.MAX_THREADS))
         assert np.array_equal(serial, parallel)
     assert serial.any()
 

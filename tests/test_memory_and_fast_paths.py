@@ -7,15 +7,17 @@ import numpy as np
 import pytest
 
 import rasterkit
-from rasterkit import Camera, Mesh, _jit, _memory, shapes
-from rasterkit._edges import draw_edges, scratch
-from rasterkit._jit import readonly
-from rasterkit.framebuffer import Framebuffer
-from rasterkit.kernels import edge_setup as line_kernels
-from rasterkit.kernels.edges import MODE_DEPTH_TEST, MODE_PLAIN
-from rasterkit.kernels.shade import face_normals, flat_packed, lambert, pack_colors
-from rasterkit._vertex import transform_points
-from rasterkit.triangles import FlatLambert, rasterize_triangles
+from rasterkit import Camera, Mesh, shapes
+from rasterkit.runtime import threads as _threads
+from rasterkit.runtime import scratch as _memory
+from rasterkit.raster.edge_pass import draw_edges, scratch
+from rasterkit.runtime.jit import readonly
+from rasterkit.raster.framebuffer import Framebuffer
+from rasterkit.raster.kernels import edge_setup as line_kernels
+from rasterkit.raster.kernels.edges import MODE_DEPTH_TEST, MODE_PLAIN
+from rasterkit.raster.kernels.shade import face_normals, flat_packed, lambert, pack_colors
+from rasterkit.raster.vertex import transform_points
+from rasterkit.raster.triangles import FlatLambert, rasterize_triangles
 
 BIG = (1024, 512)  # 2 MiB of RGBA: above _memory.MIN_BYTES, so recycled
 
@@ -396,7 +398,7 @@ def test_flat_lambert_is_checked_before_drawing():
 def test_prefetch_row_changes_nothing_and_takes_c_arrays_only():
     import numba
 
-    from rasterkit.kernels.intrinsics import prefetch_row
+    from rasterkit.runtime.intrinsics import prefetch_row
 
     @numba.njit
     def total(rows, flat):
@@ -416,7 +418,7 @@ def test_prefetch_row_changes_nothing_and_takes_c_arrays_only():
 def test_fetch_add_returns_the_old_value_and_counts_every_call_from_all_threads():
     import numba
 
-    from rasterkit.kernels.intrinsics import fetch_add
+    from rasterkit.runtime.intrinsics import fetch_add
 
     @numba.njit(parallel=True)
     def claim(counter, n, taken):
@@ -485,7 +487,7 @@ def test_face_pass_rejects_out_of_range_indices_before_drawing(bad):
 def test_draw_without_a_depth_buffer_gives_the_same_colours_and_ids(threads):
     """depth=None: the depth test runs in a band-sized scratch per thread (cleared per band,
     also on garbage), and colours and ids equal those of a draw with a full depth buffer."""
-    threads = min(threads, _jit.MAX_THREADS)
+    threads = min(threads, _threads.MAX_THREADS)
     rng = np.random.default_rng(12)
     _, _, clip, faces = _scene_with_cut_faces(rng)
     colours = rng.integers(0, 2**32, len(faces), dtype=np.uint64).astype(np.uint32)
@@ -508,13 +510,13 @@ def test_slot_band_buffers_lie_apart_and_draws_write_only_their_band_rows():
     after the previous slot's (and after the buffer's start); a draw writes only the band
     rows (the guard rows keep a sentinel), leaves the visibility rows all -1, and a buffer
     of more slots is reused, not refilled, by a draw on fewer threads."""
-    from rasterkit.kernels.tiles import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
-    from rasterkit._triangles import WORKSPACE
+    from rasterkit.raster.kernels.tiles import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
+    from rasterkit.raster.triangle_pass import WORKSPACE
 
     for width in (1, 7, 48, 1920, 40000):
         rows = slot_rows(width)
         assert (rows - BAND_HEIGHT) * 4 * width >= SLOT_GUARD_BYTES > (rows - BAND_HEIGHT - 1) * 4 * width
-    threads = min(2, _jit.MAX_THREADS)
+    threads = min(2, _threads.MAX_THREADS)
     rng = np.random.default_rng(13)
     _, _, clip, faces = _scene_with_cut_faces(rng)
     colours = rng.integers(0, 2**32, len(faces), dtype=np.uint64).astype(np.uint32)

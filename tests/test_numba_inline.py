@@ -1,4 +1,4 @@
-"""rasterkit's changes to Numba's inliner (rasterkit._numba_inline) compile the same
+"""rasterkit's changes to Numba's inliner (rasterkit.runtime.numba_inline) compile the same
 functions: inlined callees used at many call sites, with different types and from callers
 with different flags, give the results plain Python gives."""
 
@@ -6,8 +6,8 @@ import numba
 import numpy as np
 import pytest
 
-import rasterkit._jit  # noqa: F401  (installs the inliner's changes)
-from rasterkit import _numba_inline
+import rasterkit.runtime.jit  # noqa: F401  (installs the inliner's changes)
+from rasterkit.runtime import numba_inline as _numba_inline
 
 
 def test_the_inliner_is_changed_once():

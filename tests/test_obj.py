@@ -298,7 +298,7 @@ number_like = st.one_of(
 @settings(deadline=None, max_examples=150)
 @given(tokens=st.lists(number_like, min_size=1, max_size=12), long=st.booleans())
 def test_numbers_left_to_python_are_read_at_once_as_one_by_one(tokens, long):
-    from rasterkit._obj_statements import _number, _numbers
+    from rasterkit.obj.statements import _number, _numbers
 
     raw = [t.encode() for t in tokens] + ([b"1" * 80] if long else [])  # a long token: one by one
     values, ok = _numbers(raw)

@@ -18,7 +18,7 @@ import pytest
 from hostile import run_cli, run_python
 
 from rasterkit import limits
-from rasterkit.kernels.obj_scan import BLANKS, is_blank, split_tokens
+from rasterkit.obj.kernels.scan import BLANKS, is_blank, split_tokens
 from rasterkit.limits import LimitError
 from rasterkit.obj import ObjError, load_obj
 

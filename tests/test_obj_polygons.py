@@ -15,10 +15,10 @@ from hostile import run_python
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rasterkit.kernels.obj_ears import EAR_CLIP_LIMIT, ear_clip
-from rasterkit.kernels.obj_monotone import triangulate_monotone
-from rasterkit._obj_assemble import split_polygons
-from rasterkit.kernels.obj_polygons import EXACT, LARGE, triangulate
+from rasterkit.obj.kernels.ears import EAR_CLIP_LIMIT, ear_clip
+from rasterkit.obj.kernels.monotone import triangulate_monotone
+from rasterkit.obj.assemble import split_polygons
+from rasterkit.obj.kernels.polygons import EXACT, LARGE, triangulate
 from rasterkit.obj import load_obj
 
 IRREGULAR = "too irregular to split exactly (self-intersecting?): split as a fan"

@@ -15,9 +15,9 @@ from PIL import Image
 
 import rasterkit
 from hostile import run, run_python
-from rasterkit._notice import MESSAGE
+from rasterkit.runtime.notice import MESSAGE
 from rasterkit.cli import main
-from rasterkit.framebuffer import Framebuffer
+from rasterkit.raster.framebuffer import Framebuffer
 
 TETRA = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 CUBE = ("v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
@@ -96,7 +96,7 @@ def test_a_contact_sheet_over_an_image_of_the_batch_is_refused(tmp_path, models,
 
 
 def test_names_that_differ_in_case_collide_only_where_the_file_system_folds_case(tmp_path, model, monkeypatch, capsys):
-    from rasterkit import _outputs
+    from rasterkit.batch import outputs as _outputs
 
     os.chdir(tmp_path)
     monkeypatch.setattr(_outputs, "_folds_case", lambda folder: True)
@@ -131,7 +131,7 @@ def test_an_output_that_cannot_be_written_stops_the_render_before_any_file(tmp_p
 
 
 def test_a_rename_that_fails_at_the_end_takes_the_files_written_before_it_away(tmp_path, model, monkeypatch, capsys):
-    from rasterkit import _atomic
+    from rasterkit.image import atomic as _atomic
 
     replace = os.replace
 
@@ -270,7 +270,7 @@ def test_a_contact_sheet_of_images_above_pillows_limit(tmp_path, models, extra):
 @pytest.mark.parametrize("size, cell, channels", [((640, 480), 160, 3), ((1000, 37), 160, 4), ((37, 1000), 100, 3),
                                                   ((3001, 2000), 77, 4), ((5, 700), 16, 3), ((100, 80), 160, 4)])
 def test_thumbnails_match_pillows(tmp_path, size, cell, channels):
-    from rasterkit._thumbnails import thumbnail
+    from rasterkit.batch.thumbnails import thumbnail
     from rasterkit.image import save_image
 
     width, height = size
@@ -294,7 +294,7 @@ def test_a_thumbnail_reads_a_few_rows_at_a_time(tmp_path):
     """A 4000x3000 render's thumbnail without the 36 MB of its pixels (nor Pillow's copy)."""
     import tracemalloc
 
-    from rasterkit._thumbnails import thumbnail
+    from rasterkit.batch.thumbnails import thumbnail
     from rasterkit.image import save_image
 
     save_image(np.full((3000, 4000, 3), 200, np.uint8), tmp_path / "big.png")
@@ -344,7 +344,7 @@ def test_a_batch_into_a_full_disk_names_each_file_and_ends_with_its_summary(tmp_
 
 
 def test_a_manifest_on_a_full_disk_is_said_once_and_the_batch_goes_on(tmp_path, models, monkeypatch, capsys):
-    from rasterkit import _manifest
+    from rasterkit.batch import manifest as _manifest
 
     write = os.write
 
@@ -363,7 +363,7 @@ def test_a_manifest_on_a_full_disk_is_said_once_and_the_batch_goes_on(tmp_path, 
 
 
 def test_a_manifest_line_cut_by_a_full_disk_does_not_spoil_the_next(tmp_path, monkeypatch):
-    from rasterkit import _manifest
+    from rasterkit.batch import manifest as _manifest
 
     write, calls = os.write, []
 
@@ -400,7 +400,7 @@ sys.exit(main(argv))""")
 
 
 def test_the_temporaries_a_killed_writer_left_are_removed_and_nothing_else(tmp_path):
-    from rasterkit._atomic import atomic_write, remove_temporaries
+    from rasterkit.image.atomic import atomic_write, remove_temporaries
 
     target = tmp_path / "a.png"
     keep = [tmp_path / "a.png", tmp_path / ".b.png.12345678.tmp", tmp_path / ".a.png.txt", tmp_path / "a.png.1.tmp"]
@@ -419,7 +419,7 @@ def test_the_temporaries_a_killed_writer_left_are_removed_and_nothing_else(tmp_p
 
 
 def test_the_temporaries_of_many_outputs_are_removed_in_one_listing_per_folder(tmp_path, monkeypatch):
-    from rasterkit import _atomic
+    from rasterkit.image import atomic as _atomic
 
     (tmp_path / "b").mkdir()
     left = [tmp_path / ".x.png.abcd1234.tmp", tmp_path / "b" / ".y.png.zzzzzzzz.tmp"]

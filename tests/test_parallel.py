@@ -1,4 +1,4 @@
-"""rasterkit._jit.run_parallel and the thread count: slots, work sharing, errors, callers on
+"""rasterkit.runtime.threads.run_parallel and the thread count: slots, work sharing, errors, callers on
 several Python threads, fork safety, and no OpenMP (Numba's parallel backends never start)."""
 
 import ast
@@ -17,9 +17,9 @@ import pytest
 import rasterkit
 from hostile import run_python
 from rasterkit import shapes
-from rasterkit._jit import MAX_THREADS, get_threads, run_parallel, set_threads
+from rasterkit.runtime.threads import MAX_THREADS, get_threads, run_parallel, set_threads
 from rasterkit.camera import Camera
-from rasterkit.kernels.intrinsics import fetch_add
+from rasterkit.runtime.intrinsics import fetch_add
 
 ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
 THREAD_COUNTS = list(range(1, MAX_THREADS + 1))
@@ -149,7 +149,7 @@ def test_exceptions_in_every_helper_are_raised_once_and_leave_no_result_behind()
 
 INTERRUPTED = """
 import os, signal, threading, time
-from rasterkit._jit import run_parallel
+from rasterkit.runtime.threads import run_parallel
 
 signal.signal(signal.SIGINT, signal.default_int_handler)  # also when started as a background job
 run_parallel(lambda slot: slot, threads=2)  # compiled and started before the Ctrl-C
@@ -191,7 +191,7 @@ def test_calls_after_an_interrupted_call_get_their_own_results():
 
 SIGNALS_EVERYWHERE = """
 import faulthandler, random, signal, sys
-from rasterkit._jit import run_parallel
+from rasterkit.runtime.threads import run_parallel
 
 faulthandler.dump_traceback_later(40, exit=True)  # a hang: every thread's stack, exit 1
 
@@ -459,7 +459,7 @@ import numba
 import rasterkit
 from rasterkit import shapes
 from rasterkit.camera import Camera
-from rasterkit._jit import MAX_THREADS
+from rasterkit.runtime.threads import MAX_THREADS
 from rasterkit.options import MODES
 
 rasterkit.set_threads(MAX_THREADS)
@@ -491,11 +491,11 @@ def test_no_kernel_is_compiled_with_parallel_true():
     import importlib
     import pkgutil
 
-    import rasterkit.kernels
+    import rasterkit.raster.kernels
 
     dispatchers = []
-    for info in pkgutil.iter_modules(rasterkit.kernels.__path__):
-        module = importlib.import_module(f"rasterkit.kernels.{info.name}")
+    for info in pkgutil.iter_modules(rasterkit.raster.kernels.__path__):
+        module = importlib.import_module(f"rasterkit.raster.kernels.{info.name}")
         dispatchers += [v for v in vars(module).values() if isinstance(v, numba.core.dispatcher.Dispatcher)]
     assert len(dispatchers) > 20
     for d in dispatchers:
@@ -507,7 +507,7 @@ def test_no_kernel_is_compiled_with_parallel_true():
 
 
 def test_wait_for_sees_the_flag_or_gives_up_after_its_steps():
-    from rasterkit.kernels.handoff import finish_and_watch, wait_for
+    from rasterkit.runtime.handoff import finish_and_watch, wait_for
 
     flags = np.zeros(64, np.int64)
     assert not wait_for(flags, 8, 1, 1000)
@@ -525,7 +525,7 @@ def test_wait_for_sees_the_flag_or_gives_up_after_its_steps():
 def test_back_to_back_and_spaced_calls_share_the_pools_counter_correctly():
     # Calls closer together than the watching period are handed over by the flags, calls
     # further apart by the locks: every call's pieces are claimed exactly once either way.
-    from rasterkit._jit import WATCH_SECONDS, run_workers
+    from rasterkit.runtime.threads import WATCH_SECONDS, run_workers
 
     rng = np.random.default_rng(1)
     for k in range(300):

@@ -8,7 +8,7 @@ from reference_raster import reference_raster
 import rasterkit
 from rasterkit import Camera, shapes
 from rasterkit.mesh import as_mesh
-from rasterkit.render import AMBIENT
+from rasterkit.raster.render import AMBIENT
 
 BLACK = np.array([0, 0, 0], np.uint8)
 
@@ -134,7 +134,7 @@ def test_one_and_two_threads_give_identical_images(mode):
     try:
         rasterkit.set_threads(1)
         one = rasterkit.render(mesh, camera, mode=mode, aa=True, shading="smooth")
-        rasterkit.set_threads(min(2, rasterkit._jit.MAX_THREADS))
+        rasterkit.set_threads(min(2, rasterkit.runtime.threads.MAX_THREADS))
         two = rasterkit.render(mesh, camera, mode=mode, aa=True, shading="smooth")
     finally:
         rasterkit.set_threads(None)

@@ -6,7 +6,8 @@ from __future__ import annotations
 import pytest
 
 import rasterkit
-from rasterkit import batch, cli
+from rasterkit.batch import api as batch
+from rasterkit import cli
 
 
 def _model(tmp_path):

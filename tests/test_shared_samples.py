@@ -1,7 +1,7 @@
 """The triangle setup shared by the samples of a pinhole multi-sample render.
 
 The reference for a sample at offset ``s`` (a multiple of 1/256 pixel) is a full single
-draw (:func:`rasterkit.triangles.rasterize_triangles`, today's path) of the vertices moved
+draw (:func:`rasterkit.raster.triangles.rasterize_triangles`, today's path) of the vertices moved
 by ``-s`` in raster space, built here from the clip coordinates; the tests check that the
 move is exact in fixed point (every snapped vertex moves by exactly ``-256 s``), the premise
 of the bit-for-bit equality.
@@ -12,11 +12,11 @@ import pytest
 
 import rasterkit
 from rasterkit import Camera, shapes
-from rasterkit._jit import get_threads
-from rasterkit._shared_triangles import SharedTriangles
-from rasterkit.render import AMBIENT
-from rasterkit.samples import pixel_offsets
-from rasterkit.triangles import FlatLambert, rasterize_triangles
+from rasterkit.runtime.threads import get_threads
+from rasterkit.raster.shared_samples import SharedTriangles
+from rasterkit.raster.render import AMBIENT
+from rasterkit.raster.samples import pixel_offsets
+from rasterkit.raster.triangles import FlatLambert, rasterize_triangles
 
 W, H = 67, 45  # wider than a vertex block, two bands and a bit
 
@@ -202,7 +202,7 @@ def _uniform_and_off_the_sides(samples, clip, faces):
 @pytest.mark.parametrize("samples", [4, 16])
 def test_a_pinhole_render_averages_full_draws_at_the_rounded_sample_offsets(monkeypatch, samples):
     mesh, camera = _parallel_scene()
-    from rasterkit._vertex import transform_points
+    from rasterkit.raster.vertex import transform_points
 
     clip = transform_points(np.ascontiguousarray(mesh.vertices), np.ascontiguousarray(camera.world_to_raster()))
     assert np.all(clip[:, 3] == 1.0)
@@ -214,7 +214,7 @@ def test_a_pinhole_render_averages_full_draws_at_the_rounded_sample_offsets(monk
         color = np.empty((H, W, 3), np.uint8)
         rasterize_triangles(color, None, _moved(clip, (sx, sy)), mesh.faces, face_colors=lambert, clear=(255, 255, 255))
         total += color
-    from rasterkit import _accumulate
+    from rasterkit.raster import accumulate as _accumulate
 
     monkeypatch.setattr(_accumulate, "EXACT_COVERAGE", False)  # the frames have no exact step
     fb = rasterkit.render(mesh, camera, "solid", samples=samples)
@@ -250,13 +250,13 @@ def test_shared_renders_match_a_frame_per_sample_at_the_same_offsets(monkeypatch
     move the image by the offsets up to float rounding, which may move a snapped vertex (or
     a corner where the near plane cuts a face: ``near=0.5`` cuts some) by 1/256 pixel here
     and there (none does in these scenes)."""
-    from rasterkit import _accumulate
+    from rasterkit.raster import accumulate as _accumulate
 
     mesh = shapes.icosphere(3)
     camera = Camera.look_at((0.1, 0.2, 1.3), (0.0, 0.0, 0.0), fov_y=90.0, width=150, height=110, near=near) \
         if near else Camera.look_at((2.0, 1.5, 3.0), (0.0, 0.0, 0.0), width=150, height=110)
     if near:
-        from rasterkit._vertex import transform_points
+        from rasterkit.raster.vertex import transform_points
 
         clip = transform_points(np.ascontiguousarray(mesh.vertices), np.ascontiguousarray(camera.world_to_raster()))
         depth = np.empty((110, 150), np.float32)

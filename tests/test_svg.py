@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from rasterkit import Camera, Mesh, Scene, render_svg, shapes, transform
-from rasterkit._svg_visibility import split_visible
+from rasterkit.svg.visibility import split_visible
 from rasterkit.cli import main
 from rasterkit.mesh import polygon_edges
 from rasterkit.svg import svg_drawing

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from rasterkit import Camera, Mesh
-from rasterkit._svg_paths import chain, pen_up_distance, route
-from rasterkit._svg_visibility import DEPTH_EPS, MIN_PIECE, split_visible
+from rasterkit.svg.paths import chain, pen_up_distance, route
+from rasterkit.svg.visibility import DEPTH_EPS, MIN_PIECE, split_visible
 
 
 def _random_scene(seed, n=40):

@@ -1,4 +1,4 @@
-"""Depth-tested edges stepped from their records (rasterkit.kernels.edges_tested._band_depth_tested,
+"""Depth-tested edges stepped from their records (rasterkit.raster.kernels.edges_tested._band_depth_tested,
 _depth_terms) against the general path alone, which clips and
 sets up every edge in every band: the same pixels, to the bit, for edges in every direction,
 edges within one pixel whose real ends point the other way than their integer ones, edges
@@ -9,10 +9,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rasterkit import _edges
-from rasterkit._jit import run_workers
-from rasterkit.kernels import edge_setup, edges_tested
-from rasterkit.kernels.edges import MODE_DEPTH_TEST, EdgeScratch
+from rasterkit.raster import edge_pass as _edges
+from rasterkit.runtime.threads import run_workers
+from rasterkit.raster.kernels import edge_setup
+from rasterkit.raster.kernels import edges_tested
+from rasterkit.raster.kernels.edges import MODE_DEPTH_TEST, EdgeScratch
 
 H, W = 61, 83
 RGBA = np.array([200, 30, 40], np.uint8)

@@ -21,10 +21,10 @@ from reference_raster import (
     snap,
 )
 
-from rasterkit import _jit
-from rasterkit.kernels.shade import face_normals, lambert, vertex_normals
-from rasterkit.kernels.triangle import triangle_pixels
-from rasterkit.triangles import TriangleStats, rasterize_triangles
+from rasterkit.runtime import threads as _threads
+from rasterkit.raster.kernels.shade import face_normals, lambert, vertex_normals
+from rasterkit.raster.kernels.triangle import triangle_pixels
+from rasterkit.raster.triangles import TriangleStats, rasterize_triangles
 
 # ---------------------------------------------------------------------------- helpers
 
@@ -450,7 +450,7 @@ def test_culling_with_a_camera(cull, drawn):
 # ---------------------------------------------------------------------------- threads
 
 
-@pytest.mark.skipif(_jit.MAX_THREADS < 2, reason="needs 2 threads")
+@pytest.mark.skipif(_threads.MAX_THREADS < 2, reason="needs 2 threads")
 def test_one_and_two_threads_give_identical_images():
     rng = np.random.default_rng(3)
     width, height = 97, 83
@@ -460,15 +460,15 @@ def test_one_and_two_threads_give_identical_images():
     scene = np.concatenate([xy, z[..., None]], axis=2)
     colors = rng.uniform(0, 255, (300, 3)).astype(np.float32)
     first = draw_screen(scene, width, height, threads=1, face_colors=colors)
-    previous = _jit.get_threads()
-    _jit.set_threads(2)
+    previous = _threads.get_threads()
+    _threads.set_threads(2)
     try:
         second = draw_screen(scene, width, height, face_colors=colors)
     finally:
-        _jit.set_threads(previous)
+        _threads.set_threads(previous)
     for a, b in zip(first[:3], second[:3]):
         np.testing.assert_array_equal(a, b)
-    assert _jit.get_threads() == previous
+    assert _threads.get_threads() == previous
 
 
 # ---------------------------------------------------------------------------- colours
@@ -712,7 +712,7 @@ def test_depth_offset_pushes_faces_back_by_slope_and_units():
 
 @pytest.mark.parametrize("n_bands", [0, 1, 2, 5, 34])
 def test_bin_cursors_are_an_exclusive_scan_in_band_then_chunk_order(n_bands):
-    from rasterkit.kernels.tiles import N_CHUNKS, bin_cursors
+    from rasterkit.raster.kernels.tiles import N_CHUNKS, bin_cursors
 
     counts = np.random.default_rng(n_bands).integers(0, 9, (N_CHUNKS, n_bands)).astype(np.int64)
     expected, start, total = counts.copy(), [], 0

@@ -1,4 +1,4 @@
-"""The maps kernel of rasterkit.vision (rasterkit.kernels.maps.surface_maps) against slow NumPy
+"""The maps kernel of rasterkit.raster.vision (rasterkit.raster.kernels.maps.surface_maps) against slow NumPy
 references: flat and smooth normals and object ids for id images of every kind (background
 blocks, mixed blocks, rows whose width is no multiple of the block), on one thread and two."""
 
@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 
 import rasterkit
-from rasterkit._jit import readonly, run_workers
-from rasterkit.kernels.map_rows import BLOCK
-from rasterkit.kernels.maps import surface_maps
-from rasterkit.kernels.records import Maps
+from rasterkit.runtime.jit import readonly
+from rasterkit.runtime.threads import run_workers
+from rasterkit.raster.kernels.map_rows import BLOCK
+from rasterkit.raster.kernels.maps import surface_maps
+from rasterkit.raster.kernels.records import Maps
 
 EMPTY2 = np.empty((0, 0), np.int32)
 
@@ -82,7 +83,7 @@ def test_flat_normals_match_the_numpy_reference(width, threads):
 
 
 def test_smooth_normals_match_the_numpy_reference():
-    from rasterkit.kernels.shade import bary_matrices
+    from rasterkit.raster.kernels.shade import bary_matrices
 
     mesh = _mesh(degenerate=False)  # smooth normals of a face without area mean nothing
     height, width = 19, 2 * BLOCK + 3

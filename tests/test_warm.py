@@ -1,4 +1,4 @@
-"""rasterkit._warm, the first run's helper process: it compiles only the mode's band worker
+"""rasterkit.runtime.warm, the first run's helper process: it compiles only the mode's band worker
 into Numba's cache, the main process then loads that worker instead of compiling it, and a
 first CLI render (with the helper) draws the same image as a cached one; the demo's helper
 compiles the OBJ reader for the first model.
@@ -18,9 +18,9 @@ import pytest
 from PIL import Image
 
 import rasterkit
-from rasterkit import _warm
-from rasterkit._notice import MESSAGE
-from rasterkit._cli_args import framed_camera
+from rasterkit.runtime import warm as _warm
+from rasterkit.runtime.notice import MESSAGE
+from rasterkit.cli.args import framed_camera
 from rasterkit.cli import _parser
 from rasterkit.obj import load_obj
 
@@ -100,7 +100,7 @@ print(json.dumps({"compiled": sorted(set(compiled)), "colours": len({tuple(p) fo
 def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path):
     cache = tmp_path / "cache"
     env = _env(cache)
-    helper = _run([sys.executable, "-m", "rasterkit._warm", json.dumps(SOLID_ORDER)], env)
+    helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(SOLID_ORDER)], env)
     assert helper.returncode == 0, helper.stderr
     assert helper.stdout == "draw_bands\n"  # what it compiled, named as each is cached
     assert len(_kernel_indexes(cache, "tiles", "draw_bands")) == 1, _indexes(cache)
@@ -138,7 +138,7 @@ def test_a_helper_of_several_workers_names_each_and_the_render_loads_them(tmp_pa
     # compiles with them is the one the render (normals from the kernel) loads
     workers = ["setup_vertices", "setup_faces", "bin_records", "draw_bands"]
     order = {**SOLID_ORDER, "workers": workers, "normals": False}
-    helper = _run([sys.executable, "-m", "rasterkit._warm", json.dumps(order)], env)
+    helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(order)], env)
     assert helper.returncode == 0, helper.stderr
     assert helper.stdout.split() == workers
     main = _run([sys.executable, "-c", textwrap.dedent(SOLID_RENDER)], env)
@@ -212,10 +212,10 @@ def test_the_demos_helper_compiles_the_obj_reader_for_the_first_model(tmp_path):
     coordinates, normals and a line loads without compiling any of the reader's kernels."""
     cache = tmp_path / "cache"
     env = _env(cache)
-    helper = _run([sys.executable, "-m", "rasterkit._warm", json.dumps({"obj": True})], env)
+    helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps({"obj": True})], env)
     assert helper.returncode == 0, helper.stderr
-    for module, function in _warm.PARSER:
-        assert _kernel_indexes(cache, module, function), _indexes(cache)
+    for module, function in _warm.PARSER:  # Numba names a cache file after the module's last part
+        assert _kernel_indexes(cache, module.rsplit(".", 1)[-1], function), _indexes(cache)
     model = tmp_path / "model.obj"
     model.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0.5 0.5\nvn 0 0 1\n"
                      "f 1/1/1 2/1/1 3/1/1\nf 1//1 3//1 4//1\nf 2 3 4\nl 1 3\n")
@@ -233,10 +233,10 @@ def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(mon
     monkeypatch.setattr(_warm, "_helpers", {})
     monkeypatch.setattr(_warm, "_parser_helper", None)
     wire = {"mode": "wire", "cull": "back", "shading": "flat", "background": "white", "aa": False}
-    monkeypatch.setattr(rasterkit._jit, "_threads", 1)
+    monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 1)
     _warm.start(wire, depth=False, loading=False)
     assert orders == []  # one core: the helper would only take it from the demo
-    monkeypatch.setattr(rasterkit._jit, "_threads", 2)
+    monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 2)
     _warm.start(wire, depth=False, loading=True)  # a model: its own process compiles the reader
     assert orders == []
     _warm.start(wire, depth=False, loading=False)
@@ -259,7 +259,7 @@ def test_a_wire_demo_gets_a_band_worker_helper_only_where_helpers_are_forked(mon
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: False)
     monkeypatch.setattr(_warm, "_helpers", {})
     monkeypatch.setattr(_warm, "_parser_helper", None)
-    monkeypatch.setattr(rasterkit._jit, "_threads", 2)
+    monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 2)
     wire = {"mode": "wire", "cull": "back", "shading": "flat", "background": "white", "aa": False}
     _warm.start(wire, depth=False, loading=False)
     band = {"style": wire, "depth": False, "workers": ["draw_wire_bands"], "normals": True}
@@ -308,7 +308,7 @@ def test_a_forked_helper_can_be_waited_for_and_stopped():
 
 FORKED_HELPER = """
 import json, sys
-from rasterkit import _warm
+from rasterkit.runtime import warm as _warm
 helper = _warm._spawn({"style": json.loads(sys.argv[1]), "depth": False, "workers": ["bin_records"]}, report=True)
 print(json.dumps({"forked": isinstance(helper, _warm._Forked), "reports": helper.stdout.read().decode().split(),
                   "code": helper.wait(timeout=120)}))

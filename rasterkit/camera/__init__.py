@@ -35,8 +35,8 @@ Conventions
   ``zh = w``; ``w > 0`` in front of the eye (``w = 1`` for parallel cameras).
 """
 
-from .camera import Camera
-from .checks import Vec3  # noqa: F401  (importable from rasterkit.camera, as before the split)
-from .projections import ISOMETRIC_ELEVATION, PROJECTIONS  # noqa: F401  (likewise)
+from rasterkit.camera.camera import Camera
+from rasterkit.camera.checks import Vec3  # noqa: F401  (importable from rasterkit.camera, as before the split)
+from rasterkit.camera.projections import ISOMETRIC_ELEVATION, PROJECTIONS  # noqa: F401  (likewise)
 
 __all__ = ["Camera", "PROJECTIONS"]

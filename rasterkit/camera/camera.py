@@ -14,13 +14,13 @@ from typing import Sequence
 
 import numpy as np
 
-from ..transform import compose, from_homogeneous, to_homogeneous
-from . import projections
-from .chain import camera_frame, parallel_chain, perspective_chain
-from .checks import KINDS, Vec3, camera_fields, check_matrix
-from .interop import Interop
-from .presets import NamedProjections
-from .rays import parallel_ray, perspective_ray, window_coordinates
+from rasterkit.transform import compose, from_homogeneous, to_homogeneous
+from rasterkit.camera import projections
+from rasterkit.camera.chain import camera_frame, parallel_chain, perspective_chain
+from rasterkit.camera.checks import KINDS, Vec3, camera_fields, check_matrix
+from rasterkit.camera.interop import Interop
+from rasterkit.camera.presets import NamedProjections
+from rasterkit.camera.rays import parallel_ray, perspective_ray, window_coordinates
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -77,7 +77,7 @@ class Camera(NamedProjections, Interop):
     distortion : tuple of float
         Perspective only: OpenCV's lens distortion coefficients (k1, k2, p1, p2[, k3[, k4,
         k5, k6]]), or () for none; :func:`rasterkit.render` draws the distorted image
-        (:mod:`rasterkit.distortion`), while :meth:`matrix`, :meth:`project` and
+        (:mod:`rasterkit.raster.distortion`), while :meth:`matrix`, :meth:`project` and
         :meth:`ray` stay the pinhole's.
     """
 

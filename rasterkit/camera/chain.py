@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._arrays import unit
-from ..transform import compose, reflect, scale, shear, translate
+from rasterkit._arrays import unit
+from rasterkit.transform import compose, reflect, scale, shear, translate
 
 Factors = list[tuple[str, np.ndarray]]
 """A chain: (lecture name, (4, 4) float64 matrix) pairs, first applied first."""

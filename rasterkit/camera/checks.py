@@ -12,9 +12,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .._arrays import describe, real_array, real_number, unit
-from ..options import MAX_IMAGE_SIZE
-from ..transform import _vector3
+from rasterkit._arrays import describe, real_array, real_number, unit
+from rasterkit.options import MAX_IMAGE_SIZE
+from rasterkit.transform import vector3
 
 Vec3 = tuple[float, float, float]
 
@@ -62,7 +62,7 @@ def fov(value: float) -> float:
 
 def point(value: Sequence[float], name: str) -> Vec3:
     """Three finite numbers, e.g. a world-space point or direction."""
-    x, y, z = _vector3(value, name)
+    x, y, z = vector3(value, name)
     return (float(x), float(y), float(z))
 
 
@@ -162,9 +162,9 @@ def _check_perspective(f: dict[str, Any]) -> None:
 
 def _check_distortion(f: dict[str, Any]) -> None:
     """The distortion must leave the pixels next to the principal point an ideal point each
-    (:func:`rasterkit.distortion.undistort` finds one): coefficients so strong that the
+    (:func:`rasterkit.raster.distortion.undistort` finds one): coefficients so strong that the
     model folds, or cannot be inverted, within a pixel of the centre show nothing."""
-    from ..distortion import undistort
+    from rasterkit.raster.distortion import undistort
 
     fy = f["height"] / (2.0 * math.tan(math.radians(f["fov_y"]) / 2.0))
     fx = fy / f["pixel_aspect"]

@@ -12,10 +12,10 @@ from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
-from . import opencv, opengl
+from rasterkit.camera import opencv, opengl
 
 if TYPE_CHECKING:
-    from .camera import Camera
+    from rasterkit.camera.camera import Camera
 
 
 class Interop:
@@ -45,7 +45,7 @@ class Interop:
             Clipping distances along the optical axis, world units.
         dist : sequence of 4, 5 or 8 float, optional
             OpenCV's distortion coefficients (k1, k2, p1, p2[, k3[, k4, k5, k6]]): a render
-            shows the distorted image (:mod:`rasterkit.distortion`).
+            shows the distorted image (:mod:`rasterkit.raster.distortion`).
         """
         return cls(**opencv.from_opencv(K, R, t, width, height, near, far, dist))
 

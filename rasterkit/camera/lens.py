@@ -3,7 +3,7 @@
 :func:`rasterkit.render` with ``samples = n > 1`` draws the scene ``n`` times, each time
 through the matrix :func:`sample_matrices` gives, and averages the images. Sample ``s`` has
 a sub-pixel offset ``(j_x, j_y)`` (pixels, raster x right, y down) and a point
-``(l_x, l_y)`` on the unit lens disc (:mod:`rasterkit.samples`).
+``(l_x, l_y)`` on the unit lens disc (:mod:`rasterkit.raster.samples`).
 
 Sub-pixel jitter (every camera). To see the scene at the raster point ``p + j`` in the
 pixel whose centre is ``p``, every point's image must move by ``-j``: ``x' = x - j_x``,
@@ -53,8 +53,8 @@ import math
 
 import numpy as np
 
-from ..transform import compose, translate
-from .chain import perspective_chain
+from rasterkit.transform import compose, translate
+from rasterkit.camera.chain import perspective_chain
 
 __all__ = ["focus_distance", "sample_matrices", "vignette_factor"]
 

@@ -25,10 +25,10 @@ from typing import Any
 
 import numpy as np
 
-from .._arrays import describe, real_array
-from .checks import distortion_coefficients, image_size, positive
+from rasterkit._arrays import describe, real_array
+from rasterkit.camera.checks import distortion_coefficients, image_size, positive
 
-def _matrix(value, shape: tuple[int, int], name: str) -> np.ndarray:
+def as_matrix(value, shape: tuple[int, int], name: str) -> np.ndarray:
     m = np.array(real_array(value, name), dtype=np.float64)
     if m.shape != shape or not np.all(np.isfinite(m)):
         raise ValueError(f"{name} must be a finite {shape[0]}x{shape[1]} array, got {describe(value)}")
@@ -44,7 +44,7 @@ def _translation(value) -> np.ndarray:
 
 def rotation(value, name: str) -> np.ndarray:
     """A 3x3 rotation matrix (orthonormal to 1e-6, determinant +1), as float64."""
-    r = _matrix(value, (3, 3), name)
+    r = as_matrix(value, (3, 3), name)
     if not np.allclose(r @ r.T, np.eye(3), rtol=0.0, atol=1e-6) or np.linalg.det(r) <= 0.0:
         raise ValueError(f"{name} must be a rotation matrix (orthonormal rows, determinant +1)")
     return r
@@ -52,7 +52,7 @@ def rotation(value, name: str) -> np.ndarray:
 
 def intrinsics(k) -> tuple[float, float, float, float]:
     """(fx, fy, cx, cy) of a 3x3 intrinsic matrix ``[[fx, 0, cx], [0, fy, cy], [0, 0, 1]]``."""
-    k = _matrix(k, (3, 3), "K")
+    k = as_matrix(k, (3, 3), "K")
     if k[0, 1] != 0.0:
         raise ValueError(f"K has a skew K[0, 1] = {k[0, 1]:g}: cameras with skewed pixels are not supported")
     if k[1, 0] != 0.0 or k[2, 0] != 0.0 or k[2, 1] != 0.0 or k[2, 2] != 1.0:

@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from .checks import image_size
-from .opencv import _matrix, rotation
+from rasterkit.camera.checks import image_size
+from rasterkit.camera.opencv import as_matrix, rotation
 
 
 def _frame(view: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -41,8 +41,8 @@ def _frame(view: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def from_opengl(projection, view, width: int, height: int) -> dict[str, Any]:
     """The ``Camera`` keyword arguments of OpenGL matrices (see the module docstring)."""
-    p = _matrix(projection, (4, 4), "projection")
-    eye, target, up = _frame(_matrix(view, (4, 4), "view"))
+    p = as_matrix(projection, (4, 4), "projection")
+    eye, target, up = _frame(as_matrix(view, (4, 4), "view"))
     width, height = image_size(width, "width"), image_size(height, "height")
     off = (p[0, 1], p[1, 0], p[2, 0], p[2, 1], p[0, 3] if p[3, 3] == 0 else 0.0)
     if any(off) or not (p[0, 0] > 0.0 and p[1, 1] > 0.0):
@@ -76,7 +76,7 @@ def opengl_matrices(camera) -> tuple[np.ndarray, np.ndarray]:
 
 def pose_matrix(pose) -> np.ndarray:
     """A camera -> world pose checked: a finite rigid 4x4 matrix (a new float64 array)."""
-    m = _matrix(pose, (4, 4), "pose")
+    m = as_matrix(pose, (4, 4), "pose")
     if not np.array_equal(m[3], [0.0, 0.0, 0.0, 1.0]):
         raise ValueError("pose must be rigid (last row 0, 0, 0, 1)")
     rotation(m[:3, :3], "pose's rotation")

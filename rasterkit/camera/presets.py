@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Sequence
 
-from . import projections
+from rasterkit.camera import projections
 
 if TYPE_CHECKING:
-    from .camera import Camera
+    from rasterkit.camera.camera import Camera
 
 
 class NamedProjections:

@@ -17,9 +17,9 @@ from typing import Any, Sequence, TypeVar
 
 import numpy as np
 
-from ..options import PROJECTIONS
-from .._arrays import length, unit
-from .checks import finite, fov, point, positive, positive_int
+from rasterkit.options import PROJECTIONS
+from rasterkit._arrays import length, unit
+from rasterkit.camera.checks import finite, fov, point, positive, positive_int
 
 #: Elevation (degrees) of an isometric view: the view direction is a cube diagonal, whose
 #: angle with the horizontal plane is atan(1/sqrt(2)) = 35.264°.

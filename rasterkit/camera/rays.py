@@ -31,8 +31,8 @@ import math
 
 import numpy as np
 
-from .._arrays import real_array
-from ..limits import check_memory
+from rasterkit._arrays import real_array
+from rasterkit.limits import check_memory
 
 #: Bytes :meth:`rasterkit.Camera.ray` needs per ray: the window coordinates, origin and
 #: direction, and the temporaries of the arithmetic (float64 each).

@@ -11,8 +11,8 @@ this package loads NumPy but not Numba: only :func:`line_grids` (and so
 :func:`format_line`) runs kernels, through :func:`rasterkit.draw.line`.
 """
 
-from .chain import ChainSteps, Factor, chain_steps, format_chain
-from .line import MAX_GRID, BresenhamStep, LineSteps, check_segment, format_line, line_grids, line_steps
+from rasterkit.explain.chain import ChainSteps, Factor, chain_steps, format_chain
+from rasterkit.explain.line import MAX_GRID, BresenhamStep, LineSteps, check_segment, format_line, line_grids, line_steps
 
 __all__ = ["MAX_GRID", "BresenhamStep", "ChainSteps", "Factor", "LineSteps", "chain_steps",
            "check_segment", "format_chain", "format_line", "line_grids", "line_steps"]

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._text import bracketed, num, side_by_side, tuple_text, wrap
+from rasterkit.explain._text import bracketed, num, side_by_side, tuple_text, wrap
 
 __all__ = ["ChainSteps", "Factor", "chain_steps", "format_chain"]
 

@@ -1,7 +1,7 @@
 """How a line segment becomes pixels: brute force, DDA and Bresenham side by side.
 
 :func:`line_steps` replays Bresenham's midpoint algorithm step by step with its decision
-variable d, in plain Python integers, exactly as :mod:`rasterkit.kernels.line` rounds;
+variable d, in plain Python integers, exactly as :mod:`rasterkit.raster.kernels.line` rounds;
 :func:`line_grids` asks :func:`rasterkit.draw.line` for the pixels of each method;
 :func:`format_line` prints both for ``rasterkit explain --line``.
 
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ._text import wrap
+from rasterkit.explain._text import wrap
 
 __all__ = ["MAX_GRID", "BresenhamStep", "LineSteps", "check_segment", "format_line",
            "line_grids", "line_steps"]
@@ -171,7 +171,7 @@ def line_grids(x0: int, y0: int, x1: int, y1: int) -> dict[str, set[tuple[int, i
         ``{"naive": {(x, y), ...}, "dda": ..., "bresenham": ...}``.
     """
     check_segment(x0, y0, x1, y1)
-    from ..draw import line  # the kernels, and Numba, load here
+    from rasterkit.draw import line  # the kernels, and Numba, load here
 
     return {method: {(int(x), int(y)) for x, y in line(x0, y0, x1, y1, method)}
             for method, _ in METHODS}

@@ -1,0 +1,169 @@
+"""``load_obj(path) -> Mesh``: a fast Wavefront OBJ loader that takes what real files contain.
+
+The file's bytes are split into statements, and the common ones (``v``, ``vt``, ``vn``, ``f``,
+``l``) parsed and triangulated, by Numba kernels (``rasterkit.obj.kernels``: ``scan``,
+``numbers``, ``corners``) and NumPy (polygons: ``rasterkit.obj.split``; the rare ones
+that need it, by ``rasterkit.obj.kernels.polygons``) with no Python loop over lines; only the rare
+lines (``g``, ``o``, ``usemtl``, ``mtllib``, unknown keywords), error messages and ``.mtl`` files
+go through Python.
+
+This module holds the public names (:func:`load_obj`, :class:`ObjError`, :class:`ObjLimitError`,
+:data:`DEFAULT_KD`); the loader's parts, in the order it uses them: ``errors`` (the errors
+and the report of errors and warnings), ``files`` (reading a file, within the limits),
+``memory`` (the memory loading will take, checked first), ``document`` (the file's
+bytes and statements), ``statements`` (the numbers and corners of the geometry
+statements, checked), ``assemble`` (triangles, by ``split`` and ``ears`` or the
+kernels, edges, per-vertex attributes and groups of the Mesh) and ``materials`` (``usemtl``
+and the ``.mtl`` files), all modules of this package, its kernels in ``kernels/``.
+
+What is accepted, and how it is read
+------------------------------------
+- ``v x y z``; ``v x y z w`` (``w`` is the weight of rational curves and surfaces, meaningless
+  for polygons: it is checked to be a number and ignored, nothing is divided by it);
+  ``v x y z r g b`` (vertex colours, 0..1; when any colour value in the file is above 1 all
+  colours are taken as 0..255 and divided by 255). Vertices without a colour in a file where
+  others have one are white (with a warning); a non-finite colour becomes white (warning).
+- ``vt u [v [w]]`` (``w`` ignored, a missing ``v`` is 0), ``vn x y z``.
+- ``f`` with corners ``v``, ``v/vt``, ``v//vn``, ``v/vt/vn`` (``1//`` too), mixed freely;
+  negative indices count back from the last element defined above the line; positive indices
+  may point below the line (as most loaders allow). Polygons of any size, split in the plane
+  of their Newell normal (``rasterkit.obj.kernels.polygons`` has the details): triangles,
+  convex quads and convex polygons as a fan, concave polygons (and holes joined by a bridge
+  walked both ways) so that they are covered exactly, by ear clipping up to 80 corners and a
+  monotone sweep (O(m log m)) beyond; a polygon that walks one cycle several times
+  (``f 1 2 3 1 2 3``) is that cycle once. A self-intersecting polygon, or one that needs too
+  much work, is split (or finished) as a fan, with a warning. Triangles keep the file's
+  winding. Triangles that a repeated vertex makes degenerate (``f 1 2 2 3``) are left out.
+- ``l`` polylines: ``l 1 2 3`` gives the segments 1-2 and 2-3. ``p`` points are counted and
+  reported in a warning, not drawn.
+- ``o``, ``g`` (the names of a face's latest ``g`` or ``o`` become ``Mesh.group_names``, with
+  ``face_groups`` per triangle; faces before any of them are in group ``default``), ``s``
+  (ignored), ``usemtl`` (names in ``Mesh.material_names``), ``mtllib`` (``Kd`` of each used
+  material becomes ``Mesh.face_colors``; a material without ``Kd``, and faces without a
+  material, get :data:`DEFAULT_KD`; a library that cannot be read (missing, not a regular
+  file, over the size limit) or a missing material is a warning).
+- Comments (``#`` at the start of a token), blank lines, LF, CRLF or CR line breaks, no final
+  newline, a backslash before the line break (continuation), a UTF-8 byte order mark. Tokens
+  are separated by spaces and tabs (the OBJ convention), and CR, VT and FF, which count as
+  spaces; no other byte separates tokens: control bytes 0x1c-0x1f and Unicode spaces (U+00A0,
+  U+2003, U+3000...) are part of the token they touch, which is then malformed where a number
+  or vertex reference is expected (``rasterkit.obj.kernels.scan``). Numbers may be ``1``,
+  ``-2.``, ``.5``, ``+1e-3``, ``1E+02``, ``nan``, ``inf`` and MSVC's ``1.#IND``/``1.#INF``;
+  every value is the correctly rounded float64 of its text.
+- Unknown keywords (``vp``, ``curv``, ``t``, ``vw``...) are skipped and counted in one warning.
+
+Per-vertex attributes
+---------------------
+``Mesh`` holds one normal and one texture coordinate per vertex, while OBJ gives them per face
+corner. A vertex's normal is the sum of the unit ``vn`` of all face corners that use it,
+normalised ((0, 0, 0) for a vertex no corner gives a normal: a smooth-shading normal, which
+rounds hard edges); its texture coordinate is the ``vt`` of the first corner (in file order)
+that gives one ((0, 0) otherwise; at a UV seam the other corners' coordinates are lost).
+
+What fails
+----------
+:class:`ObjError` (a ``ValueError``), whose message is one line ``PATH:LINE: what is wrong``
+(``PATH: what is wrong`` when no line is to blame): a file that cannot be opened, that is not a
+regular file (a directory, FIFO, socket or device: ``x.obj: not a regular file (a FIFO)``) or
+that is larger than :func:`rasterkit.limits.max_file_size` (default 2 GiB) or whose loading
+would need more memory than :func:`rasterkit.limits.memory_limit` (estimated before the large
+arrays are made, ``rasterkit.obj.memory``; these two are an :class:`ObjLimitError`, which is a
+:class:`~rasterkit.limits.LimitError` too), binary content (NUL bytes, UTF-16/32), a malformed
+number or index, a wrong count of numbers on ``v``/``vt``/``vn``, vertex index 0, out of range
+or (relative) before the first vertex, a face with fewer than 3 or a line with fewer than 2
+vertices, and a file with neither faces nor lines (a point cloud of ``v`` lines only is an
+error too). When a file has several errors the first line is named. Bad ``vt``/``vn``
+references only drop that attribute, with a warning: the geometry is intact. Text from the
+file (tokens, names) is shown with ``repr`` and a file name that is not printable as its
+``repr``, so no message or warning is ever more than one line (``rasterkit.obj.errors``).
+Every file is read by ``rasterkit.obj.files.read_file``, which says how.
+
+Warnings are one-line strings in ``Mesh.warnings``, never printed. Non-finite vertex
+coordinates are kept in ``Mesh.vertices``, but the faces and lines using them are dropped.
+Loading issues no NumPy warning, whatever the numbers (``1e308``, ``nan``, ``inf``).
+"""
+
+from __future__ import annotations
+
+import os
+
+from rasterkit.obj.assemble import (
+    face_labels, finite_vertices, polygon_sides, triangulate, vertex_normals, vertex_texcoords,
+)
+from rasterkit.obj.document import Document
+from rasterkit.obj.errors import ObjError, ObjLimitError, Report, count
+from rasterkit.obj.materials import DEFAULT_KD, face_colors, material_names
+from rasterkit.obj.memory import check_statements
+from rasterkit.obj.statements import note_skipped, read_elements, read_numbers, read_vertices
+from rasterkit.obj.kernels.scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
+from rasterkit.mesh import Mesh, unique_edges
+
+__all__ = ["DEFAULT_KD", "ObjError", "ObjLimitError", "load_obj"]
+
+
+def load_obj(path) -> Mesh:
+    """Load a Wavefront OBJ file as a triangle :class:`~rasterkit.mesh.Mesh`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.obj`` file. ``mtllib`` files are looked up next to it.
+
+    Returns
+    -------
+    Mesh
+        ``vertices`` (N, 3) float64 in object space, one per ``v`` line in file order;
+        ``faces`` (M, 3) int64 triangles; ``edges`` (E, 2) int64, the unique sides of the
+        original polygons and the ``l`` segments; ``lines`` (K, 2) int64; and, when the file has
+        them, ``vertex_colors``, ``normals``, ``texcoords``, ``face_colors``, ``face_groups``
+        with ``group_names``, and ``material_names``. ``warnings`` lists what was accepted with
+        a remark. See the module documentation for every rule.
+
+    Raises
+    ------
+    ObjError
+        With a one-line ``PATH:LINE: message`` naming the first bad line of the file, or
+        ``PATH: message`` when the file cannot be read; an :class:`ObjLimitError` when it is
+        over the file size limit or its loading over the memory limit.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "quad.obj"
+    >>> _ = path.write_text("v 0 0 0\\nv 1 0 0\\nv 1 1 0\\nv 0 1 0\\nf 1 2 3 4\\n")
+    >>> mesh = load_obj(path)
+    >>> mesh.faces
+    array([[0, 1, 2],
+           [0, 2, 3]])
+    >>> mesh.edges.tolist()
+    [[0, 1], [0, 3], [1, 2], [2, 3]]
+    """
+    doc = Document.read(os.fsdecode(path))
+    check_statements(doc)
+    report = Report(doc.name)
+    vertices, colors = read_vertices(doc, report)
+    texcoords = read_numbers(doc, KIND_VT, 3, report)
+    normals = read_numbers(doc, KIND_VN, 3, report)
+    faces = read_elements(doc, KIND_F, 3, "face", report)
+    lines = read_elements(doc, KIND_L, 2, "line", report)
+    report.raise_first_error()
+    if faces.count == 0 and lines.count == 0:
+        raise ObjError(doc.name, None, "no faces or lines, nothing to draw (only "
+                                       f"{count(len(vertices), 'vertex', 'vertices')})")
+    note_skipped(doc, report)
+    finite = finite_vertices(doc, vertices, faces, lines, report)
+    keep_polygons = faces.uses_only(finite)
+    triangles, triangle_polygon = triangulate(doc, vertices, faces, keep_polygons, report)
+    segments = lines.segments(lines.uses_only(finite))
+    edges = unique_edges(segments, len(vertices), keys=polygon_sides(faces, keep_polygons, len(vertices)))
+    groups, group_names = face_labels(doc, (KIND_G, KIND_O), faces, triangle_polygon)
+    return Mesh(
+        vertices, triangles, edges=edges, lines=segments,
+        vertex_colors=colors,
+        normals=vertex_normals(faces, normals, len(vertices)),
+        texcoords=vertex_texcoords(faces, texcoords, len(vertices)),
+        face_colors=face_colors(doc, faces, triangle_polygon, report),
+        face_groups=groups, group_names=group_names,
+        material_names=material_names(doc),
+        warnings=report.warnings,
+    )

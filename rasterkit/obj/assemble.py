@@ -1,0 +1,160 @@
+"""From the checked statements of an OBJ file to the arrays of its Mesh: finite vertices, the
+triangles (fans by NumPy, the rest by the polygon kernels) and edges, per-vertex normals and texture coordinates, and
+the group of each triangle."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit.obj.errors import count
+from rasterkit.obj.split import split_in_numpy
+from rasterkit.obj.statements import Elements, latest_above
+from rasterkit.obj.kernels import polygons as obj_polygons
+from rasterkit.obj.kernels.scan import KIND_V
+
+__all__ = ["face_labels", "finite_vertices", "polygon_sides", "split_polygons", "triangulate",
+           "vertex_normals", "vertex_texcoords"]
+
+
+def finite_vertices(doc, vertices, faces, lines, report) -> np.ndarray:
+    """(N,) bool: vertices with finite coordinates; warns about the others."""
+    finite = np.isfinite(vertices).all(axis=1)
+    if not finite.all():
+        first = doc.line(doc.of_kind(KIND_V)[np.argmin(finite)])
+        dropped_faces = faces.count - np.count_nonzero(faces.uses_only(finite))
+        dropped_lines = lines.count - np.count_nonzero(lines.uses_only(finite))
+        report.warn(first, f"{count(np.count_nonzero(~finite), 'vertex', 'vertices')} with "
+                           f"NaN or infinite coordinates; {count(dropped_faces, 'face')} and "
+                           f"{count(dropped_lines, 'line')} using them dropped")
+    return finite
+
+
+def triangulate(doc, vertices, faces: Elements, keep: np.ndarray, report):
+    """Triangles (M, 3) int64 of the kept polygons, and the polygon (M,) of each; warns about
+    polygons that could not be split exactly."""
+    if faces.count == 0:
+        return np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
+    triangles, counts, inexact = split_polygons(vertices, faces.vertex, faces.offsets, keep)
+    if inexact.any():
+        first = faces.statements[np.argmax(inexact)]
+        report.warn(doc.line(first), f"{count(np.count_nonzero(inexact), 'polygon')} too "
+                                     "irregular to split exactly (self-intersecting?): split "
+                                     "as a fan")
+    return triangles, np.repeat(np.arange(faces.count), counts)
+
+
+def split_polygons(vertices, corners, offsets, keep):
+    """The triangles (T, 3) int64 of the kept polygons in polygon order, the count (P,) of
+    each polygon's and whether (P,) it could not be split exactly: made by NumPy where it can
+    (:mod:`rasterkit.obj.split`), by the kernels of :mod:`rasterkit.obj.kernels.polygons`
+    (compiled on first use) where not. Triangles that a repeated vertex makes degenerate are
+    left out."""
+    if np.all(np.diff(offsets) == 3):  # a triangle mesh: its rows as they are
+        parts, inexact = [(np.arange(len(keep))[keep], corners.reshape(-1, 3)[keep])], np.zeros(len(keep), bool)
+        return (*_in_polygon_order(parts, len(keep)), inexact)
+    parts, inexact, left = split_in_numpy(vertices, corners, offsets, keep)
+    parts = [(np.repeat(polygons, rows.shape[1]), rows.reshape(-1, 3)) for polygons, rows in parts]
+    if left.any():
+        split, counts, state = obj_polygons.triangulate(vertices, corners, offsets, left)
+        inexact |= state == obj_polygons.INEXACT
+        parts.append((np.repeat(np.arange(len(keep)), counts), split))
+        for p in np.flatnonzero(state == obj_polygons.LARGE):
+            rows, exact = obj_polygons.split_large(vertices, corners[offsets[p]:offsets[p + 1]].copy())
+            inexact[p] = not exact
+            parts.append((np.full(len(rows), p), rows))
+    return (*_in_polygon_order(parts, len(keep)), inexact)
+
+
+def _in_polygon_order(parts, polygons: int):
+    """The triangles of parts [(polygon of each row (K,), rows (K, 3))] merged into polygon
+    order (each polygon's rows come from one part, in order there), without the rows that are
+    no triangle (-1, a repeated vertex); and the count (P,) of each polygon's."""
+    if not parts:  # no polygon kept (each has a corner that is not finite)
+        return np.zeros((0, 3), np.int64), np.zeros(polygons, np.int64)
+    kept = []
+    for polygon, rows in parts:
+        a, b, c = rows.T
+        valid = (a >= 0) & (a != b) & (b != c) & (c != a)
+        kept.append((polygon[valid], rows[valid]))
+    every = np.concatenate([polygon for polygon, _ in kept])
+    counts = np.bincount(every, minlength=polygons)
+    if len(kept) == 1 or not (np.diff(every) < 0).any():  # in polygon order already
+        return np.concatenate([rows for _, rows in kept]), counts
+    start = np.cumsum(counts) - counts
+    out = np.empty((int(counts.sum()), 3), np.int64)
+    for polygon, rows in kept:
+        if len(rows) == 0:
+            continue
+        new = np.flatnonzero(np.diff(polygon, prepend=-1))  # each polygon's first row
+        first = np.repeat(new, np.diff(np.append(new, len(polygon))))
+        out[start[polygon] + np.arange(len(polygon)) - first] = rows
+    return out, counts
+
+
+def polygon_sides(faces: Elements, keep: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(E,) int64 keys ``lo * N + hi`` of the sides of the kept polygons, for
+    :func:`rasterkit.mesh.unique_edges`: p[0]-p[1], ..., p[-1]-p[0], none from a vertex to
+    itself, each side once."""
+    v = faces.vertex
+    following = np.arange(1, len(v) + 1)
+    following[faces.offsets[1:] - 1] = faces.offsets[:-1]  # the last corner's side closes
+    mine = np.repeat(keep, faces.sizes)
+    a, b = v[mine], v[following[mine]]
+    keys = np.minimum(a, b) * n_vertices + np.maximum(a, b)
+    keys = keys[a != b]
+    # Unique here already (NumPy's sort, in place): a polygon that walks round again
+    # repeats its sides, and unique_edges copies what it gets several times.
+    keys.sort()
+    return keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
+
+
+def vertex_normals(faces: Elements, normals: np.ndarray, n_vertices: int):
+    """(N, 3) float64 unit normals averaged over each vertex's corners, or None."""
+    used = faces.normal
+    if not (used >= 0).any():
+        return None
+    unit = _unit_rows(normals)
+    given = used >= 0
+    vertex, unit = faces.vertex[given], unit[used[given]]
+    # bincount adds in corner order, one column at a time
+    total = np.stack([np.bincount(vertex, unit[:, d], n_vertices) for d in range(3)], axis=1)
+    return _unit_rows(total)
+
+
+def _unit_rows(a: np.ndarray) -> np.ndarray:
+    """Rows of a scaled to length 1; rows of length 0 or not finite become 0."""
+    a = np.nan_to_num(a, nan=0.0, posinf=0.0, neginf=0.0)
+    # Rows whose squares would overflow (or vanish) are scaled towards 1 first: the other
+    # rows keep their exact values.
+    biggest = np.abs(a).max(axis=1, keepdims=True)
+    extreme = (biggest > 1e150) | ((biggest < 1e-150) & (biggest > 0))
+    if extreme.any():
+        a = np.where(extreme, a / np.where(extreme, biggest, 1.0), a)
+    length = np.linalg.norm(a, axis=1, keepdims=True)
+    return np.divide(a, length, out=np.zeros_like(a), where=length > 0)
+
+
+def vertex_texcoords(faces: Elements, texcoords: np.ndarray, n_vertices: int):
+    """(N, 2) float64 texture coordinates of each vertex's first corner with one, or None."""
+    used = faces.texcoord
+    if not (used >= 0).any():
+        return None
+    given = np.flatnonzero(used >= 0)
+    vertex, at = np.unique(faces.vertex[given], return_index=True)  # each vertex's first
+    first = np.full(n_vertices, -1, np.int64)
+    first[vertex] = used[given[at]]
+    uv = np.nan_to_num(texcoords[:, :2], nan=0.0, posinf=0.0, neginf=0.0)
+    return np.where(first[:, None] >= 0, uv[first], 0.0)
+
+
+def face_labels(doc, kinds, faces, triangle_polygon):
+    """face_groups (M,) int32 and group_names, or (None, ()) when the file names no groups."""
+    names, latest = latest_above(doc, kinds, faces)
+    if not names:
+        return None, ()
+    names = [n or "default" for n in names]
+    unique = list(dict.fromkeys((["default"] if (latest < 0).any() else []) + names))
+    position = {n: i for i, n in enumerate(unique)}
+    # The extra last entry is what latest == -1 (no statement above) picks.
+    ids = np.array([position[n] for n in names] + [position.get("default", 0)])
+    return ids[latest[triangle_polygon]].astype(np.int32), tuple(unique)

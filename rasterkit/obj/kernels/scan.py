@@ -1,0 +1,165 @@
+"""Numba kernels that split OBJ text into statements and tokens (for :func:`rasterkit.load_obj`).
+
+Everything here works on the raw bytes of a file (a C-contiguous uint8 array). A *statement*
+is one OBJ line (ended by LF): a keyword and its tokens. ``#`` at the start of a token starts a
+comment that runs to the end of the line.
+
+Tokens are separated by *blanks*, the bytes of :data:`BLANKS`: space and tab (the OBJ
+convention), and CR, VT and FF, which count as spaces (CR ends the lines of Windows files; VT
+and FF are the rest of C's ``isspace``, which many OBJ readers split on). Every other byte is
+part of a token: the control bytes 0x1c-0x1f and Unicode spaces (U+0085, U+00A0, U+2003,
+U+3000...) separate nothing, so a number or vertex reference that contains one is malformed.
+Python code splits a statement's text with :func:`split_tokens`, which agrees with the kernels
+on every byte. Line continuations (a
+backslash before the line break) are blanked out by the caller before the scan, so here every
+statement is one physical line. The byte classes and byte codes here are shared by the number
+(:mod:`~rasterkit.obj.kernels.numbers`) and corner (:mod:`~rasterkit.obj.kernels.corners`)
+parsers.
+
+Speed note: the per-byte loops call only helpers that take scalars. A helper taking the byte
+array, inlined into such a loop, adds atomic reference-count updates at every call (the scan was
+three times slower); helpers that take the array run once per token or statement.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit.runtime.jit import kernel
+
+# Statement kinds returned by scan_statements (blank and comment lines are not statements).
+KIND_V, KIND_VT, KIND_VN, KIND_F, KIND_L, KIND_P = 1, 2, 3, 4, 5, 6
+KIND_G, KIND_O, KIND_S, KIND_USEMTL, KIND_MTLLIB, KIND_OTHER = 7, 8, 9, 10, 11, 12
+
+# ASCII codes; the signs and the zero are shared with the number and corner parsers.
+_NL, _HASH, _NINE = 10, 35, 57
+PLUS, MINUS, ZERO = 43, 45, 48
+
+
+def _key(word: bytes) -> int:
+    """A keyword of up to 7 bytes packed big-endian into one integer, as the scan builds it."""
+    return int.from_bytes(word, "big")
+
+
+_KINDS = {_key(b"v"): KIND_V, _key(b"vt"): KIND_VT, _key(b"vn"): KIND_VN, _key(b"f"): KIND_F,
+          _key(b"l"): KIND_L, _key(b"p"): KIND_P, _key(b"g"): KIND_G, _key(b"o"): KIND_O,
+          _key(b"s"): KIND_S, _key(b"usemtl"): KIND_USEMTL, _key(b"mtllib"): KIND_MTLLIB}
+_KIND_KEYS = np.array(list(_KINDS), np.int64)
+_KIND_CODES = np.array(list(_KINDS.values()), np.int8)
+
+
+BLANKS = b" \t\r\x0b\x0c"
+"""The bytes that separate tokens (see the module documentation); LF separates statements."""
+
+
+@kernel(inline="always")
+def is_blank(c):
+    """True for the bytes of :data:`BLANKS`."""
+    return c == 32 or c == 9 or c == 13 or c == 11 or c == 12
+
+
+def split_tokens(text: bytes) -> list:
+    """The tokens of a statement's text, split as the kernels split them: ``bytes.split()``
+    with no argument splits on exactly :data:`BLANKS` and LF (ASCII whitespace), never on the
+    Unicode spaces that ``str.split()`` knows."""
+    return text.split()
+
+
+@kernel(inline="always")
+def in_token(c):
+    """True for a byte that continues a token: anything but whitespace and newline."""
+    return not (c == _NL or is_blank(c))
+
+
+@kernel(inline="always")
+def is_digit(c):
+    return ZERO <= c <= _NINE
+
+
+@kernel
+def _keyword_kind(key):
+    """KIND_* of a keyword packed by scan_statements (-1, a keyword longer than 7 bytes, and
+    any other unknown key give KIND_OTHER)."""
+    for k in range(len(_KIND_KEYS)):
+        if _KIND_KEYS[k] == key:
+            return _KIND_CODES[k]
+    return np.int8(KIND_OTHER)
+
+
+@kernel
+def scan_statements(buf):
+    """Split OBJ text into statements.
+
+    Parameters
+    ----------
+    buf : (B,) uint8
+        The file's bytes, without byte order mark and with continuations blanked out.
+
+    Returns
+    -------
+    starts, ends : (S,) int64
+        Byte range of each statement: from its keyword to the end of its last token (a trailing
+        comment is left out). The statement's line number is one more than the count of
+        newlines before its start.
+    kinds : (S,) int8
+        ``KIND_*`` code of the keyword.
+    ntokens : (S,) int64
+        Number of whitespace-separated tokens after the keyword.
+    """
+    n = len(buf)
+    capacity = 1
+    for i in range(n):
+        if buf[i] == _NL:
+            capacity += 1
+    starts = np.empty(capacity, np.int64)
+    ends = np.empty(capacity, np.int64)
+    kinds = np.empty(capacity, np.int8)
+    ntokens = np.empty(capacity, np.int64)
+    count = 0
+    i = 0
+    while i < n:
+        while i < n and is_blank(buf[i]):
+            i += 1
+        if i == n:
+            break
+        if buf[i] == _NL:
+            i += 1
+            continue
+        start = i
+        comment = buf[i] == _HASH
+        key = 0
+        while i < n and in_token(buf[i]):
+            key = key * 256 + buf[i] if i - start < 7 else -1
+            i += 1
+        end = i
+        tokens = 0
+        while i < n and buf[i] != _NL:
+            if is_blank(buf[i]):
+                i += 1
+            elif buf[i] == _HASH or comment:
+                comment = True
+                i += 1
+            else:
+                while i < n and in_token(buf[i]):
+                    i += 1
+                tokens += 1
+                end = i
+        if buf[start] != _HASH:
+            starts[count] = start
+            ends[count] = end
+            kinds[count] = _keyword_kind(key)
+            ntokens[count] = tokens
+            count += 1
+    return starts[:count], ends[:count], kinds[:count], ntokens[:count]
+
+
+@kernel
+def next_token(buf, i, end):
+    """Start and end of the first token at or after i, before end (the end of a statement's
+    last token, so there is one)."""
+    while is_blank(buf[i]):
+        i += 1
+    a = i
+    while i < end and in_token(buf[i]):
+        i += 1
+    return a, i

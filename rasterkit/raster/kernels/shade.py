@@ -1,0 +1,428 @@
+"""Shading: normals, Lambert lighting, and writing the colour of visible pixels.
+
+Lighting
+    ``intensity = ambient + (1 - ambient) * max(0, n · l)`` with unit normal ``n`` and unit
+    direction ``l`` from the surface towards the light; the colour is ``base * intensity``.
+    A *headlight* (the renderer's default) is ``l`` pointing towards the camera:
+    ``(0, 0, 1)`` for camera-space normals, as the camera looks down -Z. With ``two_sided=True`` the term is
+    ``|n · l|``: a face seen from behind is lit as if its normal were flipped towards the
+    viewer (OpenGL's two-sided lighting). Use it when back faces are drawn (``cull="none"``),
+    otherwise their inside shows up flat at the ambient level.
+
+Normals
+    Face normals follow the right-hand rule (counter-clockwise seen from outside points
+    out); a vertex normal is the sum of the unnormalised face normals around it (each
+    ``2 * area * n``, so bigger faces weigh more), normalised. Degenerate ones are zero.
+    Both work in any space (object, world or camera) as long as positions and the light
+    are in the same one.
+
+Resolve
+    The rasterizer leaves, per band, the index of the visible face at each pixel it wrote
+    (:mod:`rasterkit.raster.kernels.triangle`); :func:`resolve_row` then writes each such pixel's
+    colour once, so hidden fragments never cost a colour computation. Smooth
+    (Gouraud) colours are interpolated perspective-correctly from the face's *unclipped*
+    homogeneous vertices (see :func:`bary_matrices`), so clipping never needs to carry
+    attributes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit.runtime.jit import kernel
+
+# How resolve_row colours a pixel; chosen once per draw.
+SHADE_NONE = 0  # depth (and ids) only
+SHADE_FLAT = 1  # per-face colour
+SHADE_SMOOTH = 2  # per-vertex colour, perspective-correct
+SHADE_TAGGED = 3  # per-face colour carried in the visibility buffer itself (no ids wanted)
+
+
+@kernel(inline="always")
+def _cross(ax, ay, az, bx, by, bz):
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+@kernel(inline="always")
+def _face_cross(positions, faces, f):
+    """``(v1 - v0) x (v2 - v0)`` of face ``f``: twice its area times its unit normal."""
+    a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+    return _cross(
+        positions[b, 0] - positions[a, 0],
+        positions[b, 1] - positions[a, 1],
+        positions[b, 2] - positions[a, 2],
+        positions[c, 0] - positions[a, 0],
+        positions[c, 1] - positions[a, 1],
+        positions[c, 2] - positions[a, 2],
+    )
+
+
+@kernel(inline="always")
+def _normalize_row(v, k):
+    """Scale row ``k`` of ``v (K, 3)`` to unit length in place; a zero row stays zero."""
+    length = np.sqrt(v[k, 0] ** 2 + v[k, 1] ** 2 + v[k, 2] ** 2)
+    if length > 0.0:
+        v[k, 0] /= length
+        v[k, 1] /= length
+        v[k, 2] /= length
+
+
+@kernel
+def face_normals(positions, faces):
+    """Unit face normals.
+
+    Parameters
+    ----------
+    positions : (N, 3) float64
+        Vertex positions (any space).
+    faces : (M, 3) int64
+        Vertex indices, counter-clockwise seen from the outside.
+
+    Returns
+    -------
+    (M, 3) float64
+        Unit outward normals; zero for degenerate faces.
+    """
+    m = faces.shape[0]
+    out = np.empty((m, 3))
+    for f in range(m):
+        out[f, 0], out[f, 1], out[f, 2] = _face_cross(positions, faces, f)
+        _normalize_row(out, f)
+    return out
+
+
+@kernel
+def vertex_normals(positions, faces):
+    """Area-weighted unit vertex normals.
+
+    Parameters
+    ----------
+    positions : (N, 3) float64
+    faces : (M, 3) int64
+
+    Returns
+    -------
+    (N, 3) float64
+        For each vertex the normalised sum of ``(v1 - v0) x (v2 - v0)`` over its faces;
+        zero for vertices used by no face (or whose normals cancel).
+    """
+    out = np.zeros((positions.shape[0], 3))
+    for f in range(faces.shape[0]):
+        nx, ny, nz = _face_cross(positions, faces, f)
+        for k in range(3):
+            v = faces[f, k]
+            out[v, 0] += nx
+            out[v, 1] += ny
+            out[v, 2] += nz
+    for v in range(out.shape[0]):
+        _normalize_row(out, v)
+    return out
+
+
+@kernel
+def lambert(normals, base, light, points, positional, ambient, two_sided):
+    """Lambert colours ``base * (ambient + (1 - ambient) * max(0, n · l))``.
+
+    Parameters
+    ----------
+    normals : (K, 3) float64
+        Unit normals (zero normals get the ambient term only).
+    base : (B, 3) float32
+        Colour(s) 0..255: one per normal (``B == K``) or one for all (``B == 1``).
+    light : (3,) float64
+        Unit direction towards the light, or the light's position when ``positional``.
+    points : (K, 3) float64
+        Surface points (face centroids or vertices); read only when ``positional``.
+    positional : bool
+        True: ``l = normalize(light - points[k])`` (a point light, e.g. at the eye);
+        False: ``l = light`` everywhere.
+    ambient : float
+        In [0, 1].
+    two_sided : bool
+        Use ``|n · l|`` instead of ``max(0, n · l)`` (see the module docstring).
+
+    Returns
+    -------
+    (K, 3) float32
+        Colours 0..255, in the same space-independent units as ``base``.
+    """
+    k_count = normals.shape[0]
+    out = np.empty((k_count, 3), np.float32)
+    single = base.shape[0] == 1
+    for k in range(k_count):
+        lx, ly, lz = light[0], light[1], light[2]
+        if positional:
+            lx, ly, lz = lx - points[k, 0], ly - points[k, 1], lz - points[k, 2]
+            length = np.sqrt(lx * lx + ly * ly + lz * lz)
+            if length > 0.0:
+                lx, ly, lz = lx / length, ly / length, lz / length
+        cos = normals[k, 0] * lx + normals[k, 1] * ly + normals[k, 2] * lz
+        cos = abs(cos) if two_sided else max(cos, 0.0)
+        intensity = ambient + (1.0 - ambient) * cos
+        src = 0 if single else np.int64(k)
+        for c in range(3):
+            out[k, c] = base[src, c] * intensity
+    return out
+
+
+@kernel
+def flat_packed(positions, faces, base, scale, light, ambient, two_sided):
+    """Per-face Lambert colours under a distant light, packed.
+
+    The same as :func:`lambert` (not positional) of the face normals
+    ``face_normals(positions, faces)`` rounded to float32 (as :attr:`rasterkit.Mesh.face_normals`
+    keeps them) on ``base * scale``, then :func:`pack_colors`, to the bit, except that a face
+    whose normal is not finite (a NaN or infinite corner) gets the ambient term only, like a
+    degenerate face.
+
+    Parameters
+    ----------
+    positions : (N, 3) float64
+    faces : (M, 3) int64
+    base : (B, 3) float32
+        Colour(s), one per face (``B == M``) or one for all (``B == 1``), in units that
+        ``scale`` turns into 0..255 (255 for colours in [0, 1]).
+    scale : float32
+    light : (3,) float64
+        Unit direction towards the light.
+    ambient : float
+    two_sided : bool
+
+    Returns
+    -------
+    (M,) uint32
+        Opaque RGBA, R in the low byte (as :func:`pack_colors`).
+    """
+    m = faces.shape[0]
+    normals = face_normals(positions, faces).astype(np.float32)
+    out = np.empty(m, np.uint32)
+    everyone = np.empty(0, np.int32)
+    for ch in range(_COLOR_CHUNKS):
+        start, stop = m * ch // _COLOR_CHUNKS, m * (ch + 1) // _COLOR_CHUNKS
+        flat_colors(normals, everyone, start, stop - start, base, scale, light, ambient, two_sided, out)
+    return out
+
+
+_COLOR_CHUNKS = 64
+
+
+#: Faces per block of :func:`flat_colors`.
+COLOR_BLOCK = 256
+
+
+@kernel
+def flat_colors(normals, listed, start, count, base, scale, light, ambient, two_sided, packed):
+    """The packed Lambert colours of ``count`` faces (as :func:`flat_packed`), into
+    ``packed[f]``: the faces ``listed[start: start + count]``, or
+    ``start .. start + count - 1`` when ``listed`` is empty.
+
+    ``normals`` (M, 3) float32 are the faces' unit normals (:attr:`rasterkit.Mesh.face_normals`).
+    In blocks of COLOR_BLOCK faces: gather each face's cosine and base colour, then light and
+    pack the block in a loop without branches (LLVM turns it into vector instructions; a
+    face costs about 2.5 ns), then scatter the colours. Written with selects and a 0/1
+    factor where ``if`` or a loop-invariant choice of row made the loop three times slower."""
+    lx, ly, lz = light[0], light[1], light[2]
+    per_face = np.uint64(base.shape[0] != 1)  # base row = face * per_face
+    back = 1.0 if two_sided else 0.0  # max(cos, -back * cos): |cos| or max(cos, 0)
+    cosines = np.empty(COLOR_BLOCK)
+    colours = np.empty(3 * COLOR_BLOCK, np.float32)
+    out = np.empty(COLOR_BLOCK, np.uint32)
+    for first in range(start, start + count, COLOR_BLOCK):
+        n = min(COLOR_BLOCK, start + count - first)
+        for k in range(n):
+            f = _face_at(listed, first + k)
+            cosines[k] = normals[f, 0] * lx + normals[f, 1] * ly + normals[f, 2] * lz
+            for c in range(3):
+                colours[c * COLOR_BLOCK + k] = base[f * per_face, c] * scale
+        for k in range(n):
+            intensity = _intensity(cosines[k], back, ambient)
+            red = to_u8(np.float32(colours[k] * intensity))
+            green = to_u8(np.float32(colours[COLOR_BLOCK + k] * intensity))
+            blue = to_u8(np.float32(colours[2 * COLOR_BLOCK + k] * intensity))
+            out[k] = np.uint32(red | green << 8 | blue << 16 | 255 << 24)
+        for k in range(n):
+            packed[_face_at(listed, first + k)] = out[k]
+
+
+@kernel(inline="always")
+def _face_at(listed, k):
+    """Face ``listed[k]``, or ``k`` itself when ``listed`` is empty (every face)."""
+    return np.uint64(listed[k]) if listed.size else np.uint64(k)
+
+
+@kernel(inline="always")
+def _intensity(cos, back, ambient):
+    """Lambert factor ``ambient + (1 - ambient) c`` of a face whose unit normal makes
+    ``cos`` with the light: ``c = max(cos, -back * cos)`` (``back`` 1: two-sided, ``|cos|``;
+    0: ``max(cos, 0)``); a non-finite ``cos`` (a NaN or infinite corner) counts as 0."""
+    cos = max(cos, -back * cos)
+    # checked after max: the other way round, LLVM's fast-math folds (reassoc, nsz) merged
+    # the two selects and let a NaN through (tested)
+    cos = cos if np.isfinite(cos) else 0.0
+    return ambient + (1.0 - ambient) * cos
+
+
+@kernel
+def bary_matrices(clip, faces):
+    """Per face, the rows that turn a pixel into perspective-correct barycentrics.
+
+    With ``h_k = (xh, yh, w)`` of vertex ``k`` (homogeneous raster space), a pixel
+    ``q = (x, y, 1)`` sees the surface point ``sum_k b_k h_k`` (true 3D barycentrics
+    ``b``, since ``h`` is linear in the 3D point) with ``M b ∝ q`` for ``M = [h0 h1 h2]``,
+    hence ``b ∝ adj(M) q``: row ``k`` of ``adj(M)`` is ``h_{k+1} x h_{k+2}``. This holds for
+    any part of the face that is visible, even when other vertices are behind the eye.
+    The ``h`` are scaled by their largest magnitude first (the ratios do not change), so
+    huge coordinates do not overflow.
+
+    Parameters
+    ----------
+    clip : (N, 4) float64
+    faces : (M, 3) int64
+
+    Returns
+    -------
+    (M, 9) float64
+        ``[a0, b0, c0, a1, b1, c1, a2, b2, c2]``: ``b_k ∝ a_k x + b_k y + c_k``.
+    """
+    m = faces.shape[0]
+    out = np.zeros((m, 9))
+    for f in range(m):
+        scale = 0.0
+        for k in range(3):
+            v = faces[f, k]
+            scale = max(scale, abs(clip[v, 0]), abs(clip[v, 1]), abs(clip[v, 3]))
+        if not (scale > 0.0 and np.isfinite(scale)):
+            continue
+        for k in range(3):
+            p, q = faces[f, (k + 1) % 3], faces[f, (k + 2) % 3]
+            out[f, 3 * k], out[f, 3 * k + 1], out[f, 3 * k + 2] = _cross(
+                clip[p, 0] / scale,
+                clip[p, 1] / scale,
+                clip[p, 3] / scale,
+                clip[q, 0] / scale,
+                clip[q, 1] / scale,
+                clip[q, 3] / scale,
+            )
+    return out
+
+
+@kernel
+def all_finite(values):
+    """True when no entry of ``values (K, 3) float32`` is NaN or infinite."""
+    flat = values.reshape(values.size)
+    bad = 0
+    for k in range(flat.size):
+        bad += not np.isfinite(flat[np.uint64(k)])
+    return bad == 0
+
+
+@kernel(inline="always")
+def to_u8(v):
+    """A colour value 0..255 (float) -> 0..255 (int), rounded half up, clamped; NaN -> 0.
+
+    Written with selects, not branches, so that loops over colours vectorise.
+    """
+    v = v if v > 0.0 else 0.0  # noqa: FURB136 - the select sends NaN to 0, max() might not
+    return np.int64((v if v < 255.0 else 255.0) + 0.5)  # noqa: FURB136
+
+
+@kernel
+def pack_colors(colors):
+    """RGB 0..255 floats -> opaque RGBA packed in uint32 (R in the low byte).
+
+    Parameters
+    ----------
+    colors : (K, 3) float32
+        Rounded half up and clamped to 0..255.
+
+    Returns
+    -------
+    (K,) uint32
+        ``R | G << 8 | B << 16 | 255 << 24``.
+    """
+    out = np.empty(colors.shape[0], np.uint32)
+    for k in range(colors.shape[0]):
+        rgb = to_u8(colors[k, 0]) | to_u8(colors[k, 1]) << 8 | to_u8(colors[k, 2]) << 16
+        out[k] = np.uint32(rgb | 255 << 24)
+    return out
+
+
+@kernel(inline="always")
+def _put(color, j, i, rgba):
+    """Write a packed RGBA colour into pixel (j, i) of an (H, W, 3 or 4) uint8 image.
+
+    Spelled out per channel (no loop) so that LLVM merges the four byte stores of RGBA
+    into one.
+    """
+    color[j, i, 0] = rgba & 0xFF
+    color[j, i, 1] = (rgba >> 8) & 0xFF
+    color[j, i, 2] = (rgba >> 16) & 0xFF
+    if color.shape[2] == 4:
+        color[j, i, 3] = rgba >> 24
+
+
+@kernel(inline="always")
+def smooth_rgba(f, px, py, vertex_colors, faces, bary):
+    """Perspective-correct vertex colour of face ``f`` at raster point (px, py), packed."""
+    b0 = bary[f, 0] * px + bary[f, 1] * py + bary[f, 2]
+    b1 = bary[f, 3] * px + bary[f, 4] * py + bary[f, 5]
+    b2 = bary[f, 6] * px + bary[f, 7] * py + bary[f, 8]
+    total = b0 + b1 + b2
+    if total != 0.0:
+        b0, b1, b2 = b0 / total, b1 / total, b2 / total
+    else:
+        b0 = b1 = b2 = 1.0 / 3.0
+    v0, v1, v2 = faces[f, 0], faces[f, 1], faces[f, 2]
+    rgba = 255 << 24
+    for c in range(3):
+        value = b0 * vertex_colors[v0, c] + b1 * vertex_colors[v1, c] + b2 * vertex_colors[v2, c]
+        rgba |= to_u8(value) << (8 * c)
+    return np.uint32(rgba)
+
+
+@kernel(refcounts=False)
+def resolve_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, faces, bary, color, write_ids, ids):
+    """Colour (and id) the pixels ``lo..hi`` of image row ``j`` that a triangle won.
+
+    Reads the band's visibility buffer row ``lid[r]`` (the visible face, -1 for none; in
+    SHADE_TAGGED the visible face's RGB colour, ``R | G << 8 | B << 16``) and resets what
+    it reads to -1 for the next band.
+
+    Parameters
+    ----------
+    mode : int
+        SHADE_NONE, SHADE_FLAT, SHADE_TAGGED or SHADE_SMOOTH (a loop-invariant branch).
+    lid : (BAND_HEIGHT, W) int32
+        The band's visibility buffer.
+    r, j : int
+        Its row, and the image row.
+    lo, hi : int
+        Columns to look at.
+    sample_x, sample_y : float
+        Where in its pixel a pixel was sampled, from the centre (pixels): SHADE_SMOOTH
+        interpolates the colour at that point, ``(i + 0.5 + sample_x, j + 0.5 + sample_y)``.
+    packed : (M,) uint32
+        SHADE_FLAT: each face's colour (:func:`pack_colors`).
+    vertex_colors : (N, 3) float32
+        SHADE_SMOOTH: 0..255 per vertex, with ``faces`` and ``bary`` (:func:`bary_matrices`).
+    color : (H, W, C) uint8
+        The image, C = 3 (RGB) or 4 (RGBA, alpha 255); untouched in SHADE_NONE.
+    write_ids : bool
+        Whether to write the face index into ``ids (H, W) int32``.
+    """
+    ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
+    px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
+    for k in range(hi - lo + 1):
+        i = base + np.uint64(k)
+        f = lid[ru, i]
+        if f < 0:
+            continue
+        lid[ru, i] = -1
+        if mode == SHADE_FLAT:
+            _put(color, ju, i, packed[f])
+        elif mode == SHADE_TAGGED:
+            _put(color, ju, i, np.int64(f) | 0xFF000000)
+        elif mode == SHADE_SMOOTH:
+            _put(color, ju, i, smooth_rgba(f, px + k, py, vertex_colors, faces, bary))
+        if write_ids:
+            ids[ju, i] = f

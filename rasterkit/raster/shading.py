@@ -1,0 +1,67 @@
+"""Lambert shading of a render's faces: per face for flat shading, per vertex for smooth.
+
+:func:`rasterkit.render` colours the faces through :func:`shade`; its options are those of
+:class:`rasterkit.raster.render._Options` (``shading``, ``cull``, ``color``, ``light``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit._arrays import unit_vector
+from rasterkit.camera import Camera
+from rasterkit.raster.kernels import shade as shade_kernels
+from rasterkit.mesh import Mesh
+from rasterkit.raster.triangles import FlatLambert
+
+AMBIENT = 0.25
+"""Fraction of the surface colour that unlit faces keep."""
+
+
+def shade(mesh: Mesh, options):
+    """Lambert colours lit by a distant light: per face (a :class:`FlatLambert` that the
+    rasterizer evaluates) or per vertex ((N, 3) float32 0..255).
+
+    The light has one direction for every face, so the triangles of one flat polygon get one
+    colour.
+    """
+    two_sided = options.cull == "none"
+    towards_light = options.light
+    if options.shading == "flat":
+        if mesh.face_colors is not None:  # scaled in the kernel: no (M, 3) product per frame
+            base, scale = mesh.face_colors, np.float32(255)
+        else:
+            base, scale = _base_colors(mesh, options, per_face=True), np.float32(1)
+        # Computed by the face setup, for the faces that are drawn only.
+        return FlatLambert(mesh.face_normals, base, towards_light, AMBIENT, two_sided, scale), None
+    # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
+    # normals too, so they cannot spoil their neighbours' vertex normals. (A Mesh's faces
+    # index its vertices: checked when it was made, and its arrays are immutable.)
+    faces = mesh.faces
+    if not np.isfinite(mesh.vertices).all():
+        faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
+    normals = mesh.normals if mesh.normals is not None else shade_kernels.vertex_normals(mesh.vertices, faces)
+    base = _base_colors(mesh, options, per_face=False)
+    return None, _lambert(normals, base, towards_light, two_sided)
+
+
+def light_direction(light, camera: Camera) -> np.ndarray:
+    """Unit direction towards the light; None is the headlight (from the target to the eye)."""
+    if light is None:
+        return camera.backward()
+    return unit_vector(light, "light")
+
+
+def _lambert(normals, base, light, two_sided):
+    no_points = np.zeros((0, 3))  # read only by positional lights
+    normals = np.nan_to_num(np.ascontiguousarray(normals, np.float64), nan=0.0, posinf=0.0, neginf=0.0)
+    return shade_kernels.lambert(normals, base, light, no_points, False, AMBIENT, two_sided)
+
+
+def _base_colors(mesh: Mesh, options, per_face: bool):
+    """Surface colours 0..255 float32: the mesh's vertex colours (averaged over each face
+    when ``per_face``) or ``color``. (Face colours are scaled by the flat-shading kernel.)"""
+    if mesh.vertex_colors is not None:
+        rgb = mesh.vertex_colors * np.float32(255)
+        return np.ascontiguousarray(rgb[mesh.faces].mean(axis=1, dtype=np.float32)) if per_face else rgb
+    return options.color[None, :3].astype(np.float32)

@@ -1,0 +1,387 @@
+"""First runs compile in two processes at once: the largest kernels in a helper, the rest here.
+
+A first render spends most of its time compiling, and Numba compiles in one thread per
+process. When the command line finds the mode's band worker (:func:`rasterkit.raster.kernels.tiles.draw_bands`
+or the edge workers of :mod:`rasterkit.raster.kernels.edges`, the largest kernels, run last) missing
+from Numba's on-disk cache, it starts a helper process at once, before the model is read, that
+compiles the workers of :func:`helped_workers` for the same mode and options, while this
+process compiles the OBJ reader and the other kernels. The helper prints each worker's name
+as soon as that worker is in the cache; before this process runs a helped worker, it waits
+for that line (or for the helper's end), and the worker then loads from the cache. On two
+cores a first render takes about as long as the larger half of its compiling instead of all
+of it. A helper is this process forked (on Linux, when no other thread runs: everything it
+needs is imported already) or, elsewhere, a new interpreter (``python -m rasterkit.runtime.warm``).
+
+The helper renders a tiny mesh in the same mode through the ordinary drivers, with
+:func:`rasterkit.runtime.threads.run_parallel` intercepted: its workers are compiled for the argument
+types they get (``Dispatcher.compile``) and not run, and the other workers are neither
+compiled nor run (their writable arrays are zeroed, so the few small kernels that read
+them see harmless input). If anything goes wrong in the helper, this process simply
+compiles the kernels itself: the images never depend on it.
+
+The built-in demo (no model to load) gets a helper of another kind on a machine with two
+cores or more: while this process compiles the demo's kernels, it compiles the OBJ reader's
+(:data:`PARSER`, by reading a small triangle OBJ with every kind of statement), which the
+first real model would otherwise compile for about 4 seconds. This process does not wait for
+it (it has nothing to wait for); the helper runs to its end on its own, in a few seconds,
+unless the command line is interrupted.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+from rasterkit.runtime import jit as _jit
+from rasterkit.runtime import threads as _threads
+
+#: The band workers, the kernels that a helper may compile.
+BAND_WORKERS = ("draw_bands", "draw_wire_bands", "draw_edge_bands", "draw_antialiased_bands")
+
+#: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
+PARSER = (("rasterkit.obj.kernels.scan", "scan_statements"),
+          ("rasterkit.obj.kernels.numbers", "parse_number_rows"),
+          ("rasterkit.obj.kernels.corners", "parse_corners"))
+
+_helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the helper compiling it
+_parser_helper: subprocess.Popen | None = None
+
+
+def _band_worker(style: dict):
+    """The one band worker the helper compiles: the triangles' when the mode draws them
+    (this process compiles the edges' meanwhile, after its setup kernels: the halves come
+    out about even), else the edge worker of the mode."""
+    if style["mode"] != "wire":
+        from rasterkit.raster.kernels import tiles
+
+        return tiles.draw_bands
+    from rasterkit.raster.kernels import edges
+    from rasterkit.raster.kernels import edges_wu
+
+    return edges_wu.draw_antialiased_bands if style["aa"] else edges.draw_wire_bands
+
+
+_cached = _jit.cached  # (a name of this module: tests replace it)
+
+
+def helped_workers(style: dict) -> list[list]:
+    """The workers helpers compile for a render with ``style``: a list per helper process,
+    each in the order the render runs them. The band worker is the largest kernel, about as
+    long to compile as this process's share of a solid render (the OBJ reader, the vertex and
+    face passes, its own start): one helper for it, which also compiles the binning (and the
+    depth offset of a mode with edges) that this process would run just before it. A mode
+    that draws faces and edges (hidden, solid+wire) compiles the edges' setup and band worker
+    too, about as much again: a second helper for those and for the face pass (which this
+    process would compile after reading the model), three processes on two cores."""
+    helpers = [[_band_worker(style)]]
+    if style["mode"] != "wire":
+        from rasterkit.raster.kernels import tiles
+        from rasterkit.raster.kernels import triangle
+
+        edges = style["mode"] in ("hidden", "solid+wire")
+        helpers[0][:0] = [tiles.bin_records, triangle.offset_depths] if edges else [tiles.bin_records]
+    if style["mode"] in ("hidden", "solid+wire"):
+        from rasterkit.raster.kernels import edge_setup
+        from rasterkit.raster.kernels import edges_tested
+        from rasterkit.raster.kernels import edges_wu
+        from rasterkit.raster.kernels import setup
+
+        edge_worker = edges_wu.draw_antialiased_bands if style["aa"] else edges_tested.draw_edge_bands
+        helpers.append([setup.setup_faces, edge_setup.project_vertices, edge_setup.plain_setup, edge_worker])
+    return helpers
+
+
+def start(style: dict, depth: bool, loading: bool) -> None:
+    """Start the helpers for a render with ``style`` (``mode``, ``cull``, ``shading``,
+    ``background``, ``aa``, and the vision maps asked for: ``ids``, ``normals``,
+    ``camera_depth``, which the band worker makes too) for the workers of
+    :func:`helped_workers` that are not cached (any variant: a first vision render after plain
+    ones compiles its variant here); ``depth``: the depth buffer is read too; ``loading``: a
+    model file is read (its parser compiles here meanwhile; otherwise, for the built-in
+    model, a helper of low priority compiles the parser for the next run). A wireframe of the
+    built-in model leaves too little to do here while a helper works to make up for starting
+    a new interpreter: no band worker helper then, unless it is forked. Once per process."""
+    if _helpers:
+        return
+    lists = [] if style["mode"] == "wire" and not loading and not _forks() else [
+        names for names in ([w.py_func.__name__ for w in workers if not _cached(w)]
+                            for workers in helped_workers(style)) if names]
+    if lists and _forks():
+        _prepare_numba()
+    for names in lists:
+        # a lone helper compiles the face normals' kernel (before the binning it compiles);
+        # with two, this process does (it has the least to compile), the helpers need not
+        helper = _spawn({"style": style, "depth": depth, "workers": names, "normals": len(lists) == 1},
+                        report=True)
+        if helper is not None:
+            _helpers.update(dict.fromkeys(names, helper))
+    if not loading and (_forks() or not lists):
+        _start_parser_helper()
+    if _helpers:
+        _threads.intercept(_wait_for_helper)
+
+
+def _spawn(order: dict, report: bool = False):
+    """The helper process for ``order`` (a ``subprocess.Popen`` or a :class:`_Forked`);
+    ``report``: its standard output is a pipe on which it names each worker it has compiled.
+    Forked on Linux when this process runs no other thread (it has imported everything the
+    helper needs: a new interpreter would spend most of a second importing it again), else a
+    new interpreter."""
+    if _forks():
+        return _fork(order, report)
+    try:
+        return subprocess.Popen([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(order)],
+                                stdin=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                stdout=subprocess.PIPE if report else subprocess.DEVNULL)
+    except OSError:
+        return None
+
+
+def _prepare_numba() -> None:
+    """Before forking helpers: load Numba's typing registries here (about 0.4 s of the first
+    compile of every process), so that the helpers inherit them instead of each loading them
+    again."""
+    try:
+        from numba.core.registry import cpu_target
+
+        cpu_target.typing_context.refresh()
+        cpu_target.target_context.refresh()
+    except Exception:  # another Numba: each process loads them on its first compile, as usual
+        pass
+
+
+def _forks() -> bool:
+    """Whether a helper is forked: on Linux, when this process runs no other thread."""
+    import threading
+
+    return sys.platform.startswith("linux") and threading.active_count() == 1
+
+
+class _Forked:
+    """A forked helper, with the part of ``subprocess.Popen`` this module uses."""
+
+    def __init__(self, pid: int, stdout):
+        self.pid, self.stdout, self.returncode = pid, stdout, None
+
+    def terminate(self) -> None:
+        if self.returncode is None:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(self.pid, signal.SIGTERM)
+
+    def wait(self, timeout: float | None = None) -> int:
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while self.returncode is None:
+            pid, status = os.waitpid(self.pid, 0 if deadline is None else os.WNOHANG)
+            if pid:
+                self.returncode = os.waitstatus_to_exitcode(status)
+            elif time.monotonic() >= deadline:
+                raise subprocess.TimeoutExpired("rasterkit helper", timeout)
+            else:
+                time.sleep(0.01)
+        return self.returncode
+
+
+def _fork(order: dict, report: bool) -> _Forked | None:
+    read, write = os.pipe() if report else (-1, -1)
+    for stream in (sys.stdout, sys.stderr):  # nothing buffered here is written twice
+        with contextlib.suppress(Exception):
+            stream.flush()
+    try:
+        pid = os.fork()
+    except OSError:
+        for fd in (read, write):
+            if fd >= 0:
+                os.close(fd)
+        return None
+    if pid == 0:  # the helper: it never returns into the caller's code
+        code = 1
+        try:
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                signal.signal(sig, signal.SIG_DFL)
+            null = os.open(os.devnull, os.O_RDWR)
+            os.dup2(null, 0)
+            os.dup2(null, 2)
+            os.dup2(write if report else null, 1)
+            if report:
+                os.close(read)
+            sys.stdout = os.fdopen(1, "w", closefd=False)  # the reports go to the pipe, whatever sys.stdout was
+            _run(order)
+            sys.stdout.flush()
+            code = 0
+        finally:
+            os._exit(code)
+    if report:
+        os.close(write)
+    return _Forked(pid, os.fdopen(read, "rb") if report else None)
+
+
+def _start_parser_helper() -> None:
+    """The demo's helper: compiles the OBJ reader's kernels when they are not cached and a
+    second core is free to do it."""
+    global _parser_helper
+    if _parser_helper is not None or _threads.get_threads() < 2:
+        return
+    from importlib import import_module
+
+    kernels = [getattr(import_module(module), name) for module, name in PARSER]
+    if all(_cached(k) for k in kernels):
+        return
+    _parser_helper = _spawn({"obj": True})
+
+
+def stop() -> None:
+    """Stop the helpers now (the command line was interrupted or stopped): they compile
+    nothing more. Numba writes a cache file under a temporary name and renames it, so no
+    cache file is left half-written (a helper stopped during those milliseconds leaves the
+    temporary one in Numba's cache folder)."""
+    global _parser_helper
+    helpers = list(dict.fromkeys(_helpers.values())) + ([_parser_helper] if _parser_helper else [])
+    if _helpers:
+        _threads.intercept(None)
+    _helpers.clear()
+    _parser_helper = None
+    for helper in helpers:
+        try:
+            helper.terminate()
+            helper.wait(timeout=5)
+        except (OSError, subprocess.TimeoutExpired):
+            pass
+        if helper.stdout is not None:
+            helper.stdout.close()
+
+
+def _wait_for_helper(worker, args):
+    """In this process: before a worker a helper compiles runs, wait until that helper has
+    reported it compiled (or has ended: then this process compiles what is missing)."""
+    name = worker.py_func.__name__
+    helper = _helpers.get(name)
+    if helper is None:
+        return None
+    mine = [n for n, h in _helpers.items() if h is helper]
+    while name in _helpers:
+        line = helper.stdout.readline()
+        if not line:  # the helper ended (or failed): nothing more will come from it
+            for n in mine:
+                _helpers.pop(n, None)
+            break
+        _helpers.pop(line.decode("ascii", "replace").strip(), None)
+    if not any(h is helper for h in _helpers.values()):
+        helper.wait()
+        helper.stdout.close()
+    if not _helpers:
+        _threads.intercept(None)
+    return None
+
+
+def _compile_only(names: list[str]):
+    """In the helper: compile the workers ``names`` for the arguments they get, run nothing,
+    and name each on standard output once it is in the cache.
+
+    It compiles from the bottom of a fresh Python stack (:func:`rasterkit.runtime.jit.compile_apart`:
+    deep in a render's calls the hidden-line band worker's compile took 11 s instead of 6.5)."""
+
+    def hook(worker, args):
+        name = worker.py_func.__name__
+        if name in names:
+            _jit.compile_apart(worker, (0, *args))
+            print(name, flush=True)
+        _zero_writable(args)
+        return [0]
+
+    return hook
+
+
+def _zero_writable(values) -> None:
+    for value in values:
+        if isinstance(value, tuple):
+            _zero_writable(value)
+        elif isinstance(value, np.ndarray) and value.flags.writeable:
+            value.fill(0)
+
+
+#: An OBJ with a statement of every kind the reader needs: vertices with and without
+#: colours, texture coordinates and normals, triangles with every corner form, negative
+#: indices, a quad, a line and a point, groups and a material. (Polygons are split by NumPy:
+#: :mod:`rasterkit.obj.split`.)
+SAMPLE_OBJ = """\
+o sample
+v 0 0 0 1 0 0
+v 1 0 0 0 1 0
+v 1 1 0 0 0 1
+v 0 1 0.2
+vt 0 0
+vt 1 0
+vt 1 1
+vn 0 0 1
+g faces
+usemtl red
+f 1/1/1 2/2/1 3/3/1
+f 1/1 3/2 4/3
+f 1//1 2//1 4//1
+f -4 -3 -1
+f 1 2 3 4
+l 1 2 3
+p 4
+"""
+
+
+def _helper_main(order: str) -> None:
+    _run(json.loads(order))
+
+
+def _run(order: dict) -> None:
+    """In the helper: do what ``order`` says."""
+    if order.get("obj"):  # nothing waits for it: it yields the core to anything that does
+        _lower_priority()
+        _read_sample_obj()
+        return
+    from rasterkit import render, shapes
+    from rasterkit.camera import Camera
+
+    _threads.intercept(_compile_only(order["workers"]))
+    camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
+    mesh = shapes.icosphere(1)
+    if not order.get("normals", True):  # another helper compiles the kernel: these are the same numbers
+        a, b, c = (mesh.vertices[mesh.faces[:, k]] for k in range(3))
+        normals = np.cross(b - a, c - a)
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        mesh.__dict__["face_normals"] = _readonly(normals.astype(np.float32))
+    fb = render(mesh, camera, **order["style"])
+    if order["depth"]:
+        fb.depth  # noqa: B018 - reading it runs the depth pass
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
+def _lower_priority() -> None:
+    try:
+        os.nice(19)
+    except (AttributeError, OSError):  # not on this platform, or not allowed
+        pass
+
+
+def _read_sample_obj() -> None:
+    """In the demo's helper: read :data:`SAMPLE_OBJ`, which compiles the reader's kernels."""
+    import tempfile
+
+    from rasterkit.obj import load_obj
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "sample.obj")
+        with open(path, "w") as f:
+            f.write(SAMPLE_OBJ)
+        load_obj(path)
+
+
+if __name__ == "__main__":
+    _helper_main(sys.argv[1])

@@ -1,0 +1,1 @@
+"""rasterkit.svg.kernels."""
