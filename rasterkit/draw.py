@@ -15,7 +15,7 @@ from rasterkit._arrays import real_array
 from rasterkit.raster.edge_pass import draw_edges, scratch_bytes
 from rasterkit.limits import check_memory
 from rasterkit.raster.kernels import line as _line
-from rasterkit.raster.kernels.clip import SEGMENT_GUARD_BAND
+from rasterkit.raster.kernels.segments import SEGMENT_GUARD_BAND
 from rasterkit.raster.kernels.edges import MODE_ANTIALIAS, MODE_PLAIN
 from rasterkit.raster.kernels import triangle as _triangle
 from rasterkit.raster.kernels.clip import GUARD_BAND as _TRIANGLE_LIMIT

@@ -13,8 +13,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from rasterkit.raster.kernels.clip import MAX_COORDINATE
-from rasterkit.raster.kernels.clip import SEGMENT_GUARD_BAND as GUARD_BAND
+from rasterkit.raster.kernels.segments import MAX_COORDINATE
+from rasterkit.raster.kernels.segments import SEGMENT_GUARD_BAND as GUARD_BAND
 from rasterkit.raster.kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST
 
 # A depth or slope closer than this to a decision boundary may land on either side of it.

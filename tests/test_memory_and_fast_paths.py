@@ -15,7 +15,8 @@ from rasterkit.runtime.jit import readonly
 from rasterkit.raster.framebuffer import Framebuffer
 from rasterkit.raster.kernels import edge_setup as line_kernels
 from rasterkit.raster.kernels.edges import MODE_DEPTH_TEST, MODE_PLAIN
-from rasterkit.raster.kernels.shade import face_normals, flat_packed, lambert, pack_colors
+from rasterkit.raster.kernels.normals import face_normals
+from rasterkit.raster.kernels.shade import flat_packed, lambert, pack_colors
 from rasterkit.raster.vertex import transform_points
 from rasterkit.raster.triangles import FlatLambert, rasterize_triangles
 

@@ -129,3 +129,9 @@ def test_public_names_are_listed_once_and_each_resolves():
     names = done.stdout.split()
     assert names == sorted(line.split(" as ")[1] for line in stub.splitlines() if line.startswith("from "))
     assert {"render", "load_obj", "Camera", "Mesh", "render_svg", "render_many"} <= set(names)
+
+
+def test_no_module_is_longer_than_a_newcomer_reads_at_once():
+    long = {str(path.relative_to(PACKAGE.parent)): n for path in MODULES.values()
+            if (n := len(path.read_text().splitlines())) > 400}
+    assert long == {}

@@ -22,7 +22,8 @@ from reference_raster import (
 )
 
 from rasterkit.runtime import threads as _threads
-from rasterkit.raster.kernels.shade import face_normals, lambert, vertex_normals
+from rasterkit.raster.kernels.normals import face_normals, vertex_normals
+from rasterkit.raster.kernels.shade import lambert
 from rasterkit.raster.kernels.triangle import triangle_pixels
 from rasterkit.raster.triangles import TriangleStats, rasterize_triangles
 

@@ -228,11 +228,10 @@ def _render(args) -> int:
         return _batch.render_jobs(jobs, batch, args)
 
 
-def _info(args) -> int:
-    from rasterkit.runtime.notice import compile_notice
+def _info_command(args) -> int:
+    from rasterkit.cli import info
 
-    with compile_notice():
-        return _info_models(args.models)
+    return info.run(args)
 
 
 def _explain(args) -> int:
@@ -273,43 +272,6 @@ def _explained_mesh(args):
     for warning in mesh.warnings:
         print(f"rasterkit: warning: {args.model}: {_report.one_line(warning)}", file=sys.stderr)
     return mesh
-
-
-def _info_models(models: list[str]) -> int:
-    from rasterkit.obj import load_obj
-
-    codes = []
-    for name in models:
-        with _report.model(name):
-            try:
-                mesh = load_obj(name)
-            except Exception as e:
-                code, line = _report.error_line(e)
-                print(line, file=sys.stderr)
-                codes.append(code)
-                continue
-        print(_describe(name, mesh), flush=True)  # a closed stdout stops all (main)
-        codes.append(0)
-    return 1 if 1 in codes else max(codes)
-
-
-def _describe(name: str, mesh) -> str:
-    lo, hi = mesh.bounds
-    fmt = ", ".join
-    lines = [
-        f"{name}",
-        f"  vertices  {len(mesh.vertices)}",
-        f"  triangles {len(mesh.faces)}",
-        f"  edges     {len(mesh.edges)}",
-        f"  lines     {len(mesh.lines)}",
-        f"  bounds    ({fmt(f'{v:.6g}' for v in lo)}) .. ({fmt(f'{v:.6g}' for v in hi)})",
-        f"  attributes {fmt(a for a in ('vertex_colors', 'normals', 'texcoords', 'face_colors') if getattr(mesh, a) is not None) or 'none'}",
-        f"  groups    {len(mesh.group_names)}: {fmt(mesh.group_names[:8])}{' ...' if len(mesh.group_names) > 8 else ''}",
-        f"  materials {len(mesh.material_names)}: {fmt(mesh.material_names[:8])}{' ...' if len(mesh.material_names) > 8 else ''}",
-        f"  warnings  {len(mesh.warnings)}",
-    ]
-    lines += [f"    {w}" for w in mesh.warnings]
-    return "\n".join(lines)
 
 
 @contextlib.contextmanager
@@ -390,7 +352,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             args = _parser().parse_args(attach_number_lists(sys.argv[1:] if argv is None else argv))
             with _limits(args):
-                return {"render": _render, "info": _info, "explain": _explain}[args.command](args)
+                return {"render": _render, "info": _info_command, "explain": _explain}[args.command](args)
         except (KeyboardInterrupt, Terminated) as e:
             return _stopped(isinstance(e, KeyboardInterrupt))
         except Exception as e:  # bad input (2), or a bug of ours (1): one line either way

@@ -10,6 +10,7 @@ import numpy as np
 
 from rasterkit._arrays import unit_vector
 from rasterkit.camera import Camera
+from rasterkit.raster.kernels import normals as normal_kernels
 from rasterkit.raster.kernels import shade as shade_kernels
 from rasterkit.mesh import Mesh
 from rasterkit.raster.triangles import FlatLambert
@@ -40,7 +41,7 @@ def shade(mesh: Mesh, options):
     faces = mesh.faces
     if not np.isfinite(mesh.vertices).all():
         faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
-    normals = mesh.normals if mesh.normals is not None else shade_kernels.vertex_normals(mesh.vertices, faces)
+    normals = mesh.normals if mesh.normals is not None else normal_kernels.vertex_normals(mesh.vertices, faces)
     base = _base_colors(mesh, options, per_face=False)
     return None, _lambert(normals, base, towards_light, two_sided)
 

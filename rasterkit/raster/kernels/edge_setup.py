@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from rasterkit.runtime.jit import kernel
-from rasterkit.raster.kernels.clip import SEGMENT_GUARD_BAND, all_usable, clamp, segment_outcode
+from rasterkit.raster.kernels.segments import SEGMENT_GUARD_BAND, all_usable, clamp, segment_outcode
 from rasterkit.runtime.intrinsics import fetch_add
 from rasterkit.raster.kernels.vertex import transform_row
 

@@ -24,7 +24,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 from rasterkit.raster.kernels.clear import PATTERN_BYTES, background_pattern, fill_bytes
-from rasterkit.raster.kernels.clip import project_segment
+from rasterkit.raster.kernels.segments import project_segment
 from rasterkit.raster.kernels.edge_setup import (BLOCK, BLOCK_GENERAL, BLOCK_HI, BLOCK_LO, REC_PIX, REC_ROWS,
                                           REC_STEPS)
 from rasterkit.runtime.intrinsics import fetch_add

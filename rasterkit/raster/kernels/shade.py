@@ -1,4 +1,5 @@
-"""Shading: normals, Lambert lighting, and writing the colour of visible pixels.
+"""Shading: Lambert lighting, and writing the colour of visible pixels (the normals they
+use: :mod:`rasterkit.raster.kernels.normals`).
 
 Lighting
     ``intensity = ambient + (1 - ambient) * max(0, n · l)`` with unit normal ``n`` and unit
@@ -8,13 +9,6 @@ Lighting
     ``|n · l|``: a face seen from behind is lit as if its normal were flipped towards the
     viewer (OpenGL's two-sided lighting). Use it when back faces are drawn (``cull="none"``),
     otherwise their inside shows up flat at the ambient level.
-
-Normals
-    Face normals follow the right-hand rule (counter-clockwise seen from outside points
-    out); a vertex normal is the sum of the unnormalised face normals around it (each
-    ``2 * area * n``, so bigger faces weigh more), normalised. Degenerate ones are zero.
-    Both work in any space (object, world or camera) as long as positions and the light
-    are in the same one.
 
 Resolve
     The rasterizer leaves, per band, the index of the visible face at each pixel it wrote
@@ -29,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rasterkit.raster.kernels.normals import cross, face_normals
 from rasterkit.runtime.jit import kernel
 
 # How resolve_row colours a pixel; chosen once per draw.
@@ -36,87 +31,6 @@ SHADE_NONE = 0  # depth (and ids) only
 SHADE_FLAT = 1  # per-face colour
 SHADE_SMOOTH = 2  # per-vertex colour, perspective-correct
 SHADE_TAGGED = 3  # per-face colour carried in the visibility buffer itself (no ids wanted)
-
-
-@kernel(inline="always")
-def _cross(ax, ay, az, bx, by, bz):
-    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-
-
-@kernel(inline="always")
-def _face_cross(positions, faces, f):
-    """``(v1 - v0) x (v2 - v0)`` of face ``f``: twice its area times its unit normal."""
-    a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-    return _cross(
-        positions[b, 0] - positions[a, 0],
-        positions[b, 1] - positions[a, 1],
-        positions[b, 2] - positions[a, 2],
-        positions[c, 0] - positions[a, 0],
-        positions[c, 1] - positions[a, 1],
-        positions[c, 2] - positions[a, 2],
-    )
-
-
-@kernel(inline="always")
-def _normalize_row(v, k):
-    """Scale row ``k`` of ``v (K, 3)`` to unit length in place; a zero row stays zero."""
-    length = np.sqrt(v[k, 0] ** 2 + v[k, 1] ** 2 + v[k, 2] ** 2)
-    if length > 0.0:
-        v[k, 0] /= length
-        v[k, 1] /= length
-        v[k, 2] /= length
-
-
-@kernel
-def face_normals(positions, faces):
-    """Unit face normals.
-
-    Parameters
-    ----------
-    positions : (N, 3) float64
-        Vertex positions (any space).
-    faces : (M, 3) int64
-        Vertex indices, counter-clockwise seen from the outside.
-
-    Returns
-    -------
-    (M, 3) float64
-        Unit outward normals; zero for degenerate faces.
-    """
-    m = faces.shape[0]
-    out = np.empty((m, 3))
-    for f in range(m):
-        out[f, 0], out[f, 1], out[f, 2] = _face_cross(positions, faces, f)
-        _normalize_row(out, f)
-    return out
-
-
-@kernel
-def vertex_normals(positions, faces):
-    """Area-weighted unit vertex normals.
-
-    Parameters
-    ----------
-    positions : (N, 3) float64
-    faces : (M, 3) int64
-
-    Returns
-    -------
-    (N, 3) float64
-        For each vertex the normalised sum of ``(v1 - v0) x (v2 - v0)`` over its faces;
-        zero for vertices used by no face (or whose normals cancel).
-    """
-    out = np.zeros((positions.shape[0], 3))
-    for f in range(faces.shape[0]):
-        nx, ny, nz = _face_cross(positions, faces, f)
-        for k in range(3):
-            v = faces[f, k]
-            out[v, 0] += nx
-            out[v, 1] += ny
-            out[v, 2] += nz
-    for v in range(out.shape[0]):
-        _normalize_row(out, v)
-    return out
 
 
 @kernel
@@ -295,7 +209,7 @@ def bary_matrices(clip, faces):
             continue
         for k in range(3):
             p, q = faces[f, (k + 1) % 3], faces[f, (k + 2) % 3]
-            out[f, 3 * k], out[f, 3 * k + 1], out[f, 3 * k + 2] = _cross(
+            out[f, 3 * k], out[f, 3 * k + 1], out[f, 3 * k + 2] = cross(
                 clip[p, 0] / scale,
                 clip[p, 1] / scale,
                 clip[p, 3] / scale,
