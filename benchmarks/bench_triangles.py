@@ -23,7 +23,7 @@ threads
 What is timed
     llvmpipe: clear + draw + read back into a NumPy array (vertex and index buffers are
     uploaded once, as a real application would). rasterkit: vertex transform
-    (``kernels.vertex.transform_points``) + face normals + Lambert shading + clear + clip +
+    (``raster.kernels.vertex.transform_chunks``) + face normals + Lambert shading + clear + clip +
     cull + bin + rasterize, the image ending in a NumPy array too (the clear is done band by
     band inside the draw, ``clear=``). Runs are interleaved (rasterkit, llvmpipe, ...) after
     warm-up runs, and the medians are reported with their ratio.

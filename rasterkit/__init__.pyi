@@ -9,7 +9,9 @@ from rasterkit.colors import parse_color as parse_color
 from rasterkit.mesh import Mesh as Mesh
 from rasterkit.obj import ObjError as ObjError
 from rasterkit.obj import load_obj as load_obj
+from rasterkit.camera.view import View as View
 from rasterkit.options import PROJECTIONS as PROJECTIONS
+from rasterkit.options import RenderOptions as RenderOptions
 from rasterkit.raster.framebuffer import Framebuffer as Framebuffer
 from rasterkit.raster.render import render as render
 from rasterkit.runtime.threads import set_threads as set_threads

@@ -1,14 +1,18 @@
-"""Colour arguments: ``'#rrggbb'`` (or ``'#rgb'``, ``'#rrggbbaa'``), common names, or tuples."""
+"""Colour arguments: ``'#rrggbb'`` (or ``'#rgb'``, ``'#rrggbbaa'``), common names, or tuples.
+
+:func:`rgba` checks one in pure Python (the command line's options are checked before NumPy
+loads); :func:`parse_color` gives it as the array the kernels take."""
 
 from __future__ import annotations
 
 import math
 import numbers
-from typing import Sequence, Union
+from typing import TYPE_CHECKING, Sequence, Union
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
 
-__all__ = ["ColorLike", "parse_color", "NAMED_COLORS"]
+__all__ = ["ColorLike", "parse_color", "rgba", "NAMED_COLORS"]
 
 ColorLike = Union[str, Sequence[int]]
 
@@ -31,9 +35,17 @@ def parse_color(value: ColorLike) -> np.ndarray:
     >>> parse_color('#ff8000').tolist(), parse_color('navy').tolist(), parse_color((1, 2, 3)).tolist()
     ([255, 128, 0, 255], [0, 0, 128, 255], [1, 2, 3, 255])
     """
+    import numpy as np
+
+    return np.array(rgba(value), np.uint8)
+
+
+def rgba(value: ColorLike) -> tuple[int, int, int, int]:
+    """A colour as a tuple ``(r, g, b, a)`` of 0-255 (alpha 255 unless given); ``ValueError``
+    or ``TypeError`` saying why it is not one."""
     if isinstance(value, str):
-        rgba = _parse_string(value.strip().lower())
-        if rgba is None:
+        channels = _parse_string(value.strip().lower())
+        if channels is None:
             raise ValueError(f"unknown colour {_short(value)}: use a name, #rrggbb, or (r, g, b)")
     else:
         try:
@@ -43,10 +55,8 @@ def parse_color(value: ColorLike) -> np.ndarray:
                             f"got {type(value).__name__}") from None
         if len(parts) not in (3, 4):
             raise ValueError(f"a colour tuple must hold 3 or 4 integers 0-255, got {len(parts)} values")
-        rgba = tuple(_component(c) for c in parts)
-    if len(rgba) == 3:
-        rgba = (*rgba, 255)
-    return np.array(rgba, np.uint8)
+        channels = tuple(_component(c) for c in parts)
+    return (*channels, 255) if len(channels) == 3 else tuple(channels)
 
 
 def _short(value) -> str:
@@ -58,7 +68,7 @@ def _short(value) -> str:
 def _component(c) -> int:
     """One colour component: an integer 0-255 (an int, a NumPy integer, or a float with an
     integer value); a bool, a string or a fraction is refused rather than guessed at."""
-    if isinstance(c, (bool, np.bool_)) or not isinstance(c, (numbers.Integral, numbers.Real)):
+    if isinstance(c, bool) or type(c).__name__ == "bool_" or not isinstance(c, (numbers.Integral, numbers.Real)):
         raise TypeError(f"colour components must be integers 0-255, got {type(c).__name__} {_short(c)}")
     if isinstance(c, numbers.Integral):
         value = int(c)

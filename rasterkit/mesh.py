@@ -282,7 +282,7 @@ class Mesh:
         return sides(self)
 
     @cached_property
-    def _spatial_edges(self) -> np.ndarray:
+    def spatial_edges(self) -> np.ndarray:
         """The edges in a spatial order (:func:`rasterkit.raster.edge_pass.spatial_edges`), in which
         the plain wireframe draws them (the same pixels); worked out on first use and kept."""
         from rasterkit.raster.edge_pass import spatial_edges
@@ -290,7 +290,7 @@ class Mesh:
         return spatial_edges(self.vertices, self.edges)
 
     @cached_property
-    def _side_neighbours(self) -> np.ndarray:
+    def side_neighbours(self) -> np.ndarray:
         """:func:`side_neighbours` of the faces, worked out on first use and kept (a
         multi-sample render finds the sides on the outline with them)."""
         self.check_intact()
@@ -302,9 +302,9 @@ class Mesh:
         seen from the front points out), zero for a degenerate face, NaN for a face with a
         non-finite corner. Worked out on first use and kept: flat shading needs them in every
         frame, and they do not depend on the camera."""
-        from rasterkit.raster.kernels.normals import face_normals
+        from rasterkit.raster.shading import face_normals
         self.check_intact()
-        return seal(face_normals(self.vertices, self.faces).astype(np.float32))
+        return seal(face_normals(self.vertices, self.faces))
 
     @property
     def bounds(self) -> np.ndarray:

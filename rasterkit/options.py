@@ -1,12 +1,27 @@
-"""The lists of choices and the size limit: one home, shared by the command line and the API.
+"""How a frame is drawn: :class:`RenderOptions`, the lists of choices and the size limits.
 
-Pure Python: importing this module imports neither NumPy nor Numba, so the command line
-builds its parser, answers ``--help`` and rejects bad arguments without loading the kernels.
+One home, shared by the command line and the API. Pure Python: importing this module imports
+neither NumPy nor Numba, so the command line builds its parser, answers ``--help`` and
+rejects bad arguments without loading the kernels (checking a colour or a light loads NumPy).
 """
 
+from __future__ import annotations
+
+import dataclasses
+import numbers
+from dataclasses import dataclass
+
+from rasterkit import values
 from rasterkit.raster.kernels.limits import MAX_IMAGE_SIZE
 
-__all__ = ["CULL", "EDGES", "HIDDEN", "MAX_IMAGE_SIZE", "MODES", "PROJECTIONS", "SHADING", "SVG_MODES", "check_choice"]
+__all__ = ["CULL", "EDGES", "FIELDS", "HIDDEN", "MAX_IMAGE_SIZE", "MAX_POINT_SIZE", "MAX_SAMPLES", "MODES", "PROJECTIONS",
+           "RenderOptions", "SHADING", "SVG_MODES", "check_choice"]
+
+#: Samples per pixel of a render, at most.
+MAX_SAMPLES = 256
+
+#: The side of a drawn point, in pixels, at most.
+MAX_POINT_SIZE = 64
 
 #: What :func:`rasterkit.render` draws: every edge; only the visible parts of the edges;
 #: shaded triangles; shaded triangles with their visible edges on top.
@@ -40,3 +55,133 @@ def check_choice(name: str, value, allowed: tuple):
     if value not in allowed:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
     return value
+
+
+@dataclass(frozen=True)
+class RenderOptions:
+    """Everything that decides how :func:`rasterkit.render` draws a frame, checked once.
+
+    Make one with keywords (every field has a default) and derive others with
+    :meth:`replace`; ``render(mesh, camera, options=opts, **changes)`` draws with ``opts``
+    and then ``changes`` (``render(mesh, camera, "solid", cull="none")`` is
+    ``render(mesh, camera, options=RenderOptions(mode="solid", cull="none"))``). The command
+    line, :func:`rasterkit.render_many`, a batch's workers and the distorted-camera path
+    all pass one of these whole. Values are stored in one form (tuples, floats, bools), so
+    two records that draw alike compare equal, and a record pickles and hashes.
+
+    Fields
+    ------
+    mode : {"wire", "hidden", "solid", "solid+wire"}
+        ``wire``: every edge, no depth test. ``hidden``: hidden-line removal: a depth pass of
+        the triangles, then only the visible parts of the edges. ``solid``: shaded triangles.
+        ``solid+wire``: shaded triangles with the visible edges on top.
+    cull : {"back", "front", "none"}
+        Faces removed before rasterization (the lecture's n·v test, as the sign of the
+        screen-space area).
+    shading : {"flat", "smooth"}
+        Per-face Lambert or per-vertex (Gouraud) Lambert.
+    color, line_color : colour
+        ``'#rrggbb'``, a name, or an ``(r, g, b)`` tuple of 0-255. Vertex or face colours of
+        the mesh take the place of ``color``.
+    background : colour or None
+        ``'transparent'`` gives an RGBA framebuffer; None: a scene's background, else white.
+    light : (3,) float or None
+        World-space direction towards a distant light; None: a scene's light, else a
+        headlight shining along the viewing direction.
+    aa : bool
+        Anti-aliased (Xiaolin Wu) lines.
+    edges : {"all", "feature"}
+        The edges the wire, hidden and solid+wire modes draw: those of the original polygons,
+        or the feature edges seen from the camera (silhouettes, boundaries, creases,
+        material boundaries: :mod:`rasterkit.raster.features`).
+    crease_angle : float
+        Degrees (0 to 180) between two faces' normals from which their shared edge is a
+        crease (``edges="feature"``).
+    samples : int
+        Samples per pixel, 1 to 256, averaged (:mod:`rasterkit.raster.accumulate`): anti-aliasing
+        of faces, edges and lines, and depth of field for a camera with an ``aperture``.
+    vignette : float
+        In [0, 1]: 1 darkens each pixel by the natural cos⁴θ falloff of a lens camera, 0 none.
+    ids, normals, camera_depth : bool
+        The maps made with the frame: the visible face's index (``fb.ids``, and a scene's
+        ``fb.object_ids``), camera-space unit normals (``fb.normals``), the metric depth of
+        ``fb.camera_depth()`` made while drawing (the same values as when made on request).
+    point_size : int
+        Side in pixels (1 to 64) of the squares that ``points`` are drawn as.
+    point_color : colour
+        The points' colour (per-point colours go to :func:`rasterkit.render` as an array).
+    """
+
+    mode: str = "wire"
+    cull: str = "back"
+    shading: str = "flat"
+    color: object = "lightgray"
+    line_color: object = "black"
+    background: object = None
+    light: tuple | None = None
+    aa: bool = False
+    edges: str = "all"
+    crease_angle: float = 30.0
+    samples: int = 1
+    vignette: float = 0.0
+    ids: bool = False
+    normals: bool = False
+    camera_depth: bool = False
+    point_size: int = 1
+    point_color: object = "black"
+
+    def __post_init__(self):
+        checked = {
+            "mode": values.choice("mode", self.mode, MODES), "cull": values.choice("cull", self.cull, CULL),
+            "shading": values.choice("shading", self.shading, SHADING),
+            "color": _colour("color", self.color), "line_color": _colour("line_color", self.line_color),
+            "background": None if self.background is None else _colour("background", self.background),
+            "light": None if self.light is None else _direction("light", self.light),
+            "edges": values.choice("edges", self.edges, EDGES),
+            "crease_angle": _crease_angle(self.crease_angle),
+            "samples": values.whole("samples", self.samples, 1, MAX_SAMPLES),
+            "vignette": values.unit_interval("vignette", self.vignette),
+            "point_size": values.whole("point_size", self.point_size, 1, MAX_POINT_SIZE),
+            "point_color": _colour("point_color", self.point_color),
+            **{name: values.flag(name, getattr(self, name)) for name in ("aa", "ids", "normals", "camera_depth")},
+        }
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
+
+    def replace(self, **changes) -> RenderOptions:
+        """A copy with ``changes`` (``TypeError`` naming a field that does not exist)."""
+        unknown = set(changes) - FIELDS
+        if unknown:
+            raise TypeError(f"unknown render option {sorted(unknown)[0]!r} (the options are: {', '.join(sorted(FIELDS))})")
+        return dataclasses.replace(self, **changes) if changes else self
+
+
+#: The names of :class:`RenderOptions`' fields.
+FIELDS = frozenset(f.name for f in dataclasses.fields(RenderOptions))
+
+
+def _colour(name: str, value):
+    """A colour as it is stored: a name or ``#rrggbb`` string as given, a tuple of ints."""
+    from rasterkit.colors import rgba
+
+    try:
+        rgba(value)
+    except (TypeError, ValueError) as e:
+        raise type(e)(f"{name}: {e}") from None
+    return value if isinstance(value, str) else tuple(int(c) for c in value)
+
+
+def _direction(name: str, value) -> tuple[float, float, float]:
+    """Three finite numbers, not all zero, as they were given (scaled to unit length when drawn)."""
+    from rasterkit._arrays import real_array, unit_vector
+
+    unit_vector(value, name)
+    return tuple(float(v) for v in real_array(value, name))
+
+
+def _crease_angle(value) -> float:
+    if values._is_bool(value) or not isinstance(value, numbers.Real):
+        raise TypeError(f"crease_angle must be a number of degrees, got {type(value).__name__}")
+    if not 0.0 <= value <= 180.0:
+        raise ValueError(f"crease_angle must be between 0 and 180 degrees, got {value!r}")
+    return float(value)

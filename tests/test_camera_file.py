@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from hostile import run_cli
-from rasterkit.cli.args import read_camera_file
+from rasterkit.camera.opencv_file import read_camera_file
 from rasterkit.runtime.files import FileError, FileLimitError, read_file
 from rasterkit import limits
 

@@ -101,7 +101,7 @@ def test_each_list_of_choices_has_one_home(monkeypatch):
     assert MAX_IMAGE_SIZE is options.MAX_IMAGE_SIZE
     render_module = importlib.import_module("rasterkit.raster.render")
     assert render_module.MODES is options.MODES  # imported, not a copy
-    assert render_module.CULL is options.CULL and render_module.SHADING is options.SHADING
+    assert tuple(importlib.import_module("rasterkit.raster.modes").MODE_TABLE) == options.MODES  # a row each
     assert _benchmark_settings(monkeypatch).MODES is options.MODES
     commands = next(a for a in _parser()._actions if isinstance(a, argparse._SubParsersAction))
     choices = {a.dest: tuple(a.choices) for a in commands.choices["render"]._actions if a.choices}

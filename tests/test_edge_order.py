@@ -79,7 +79,7 @@ def test_a_wireframe_in_the_spatial_order_is_the_same_image(monkeypatch, threads
     rasterkit.set_threads(threads)
     try:
         spatial = rasterkit.render(mesh, camera, mode="wire").color
-        assert not np.array_equal(mesh._spatial_edges, mesh.edges)  # it was reordered
+        assert not np.array_equal(mesh.spatial_edges, mesh.edges)  # it was reordered
         monkeypatch.setattr(_edges, "SPATIAL_ORDER_EDGES", 1 << 40)
         given = rasterkit.render(mesh, camera, mode="wire").color
     finally:

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from rasterkit import Camera
-from rasterkit.cli.args import attach_number_lists, framed_camera
+from rasterkit.cli.args import attach_number_lists, view_from_args
 from rasterkit.cli import _parser, main
 from rasterkit.draw import line
 from rasterkit.explain import chain_steps, line_steps
@@ -187,9 +187,9 @@ def test_explain_shows_the_camera_render_would_use(tmp_path, capsys):
     render_args = _parser().parse_args(["render", "--demo", "-o", "x.png", *flags])
     explain_args = _parser().parse_args(["explain", *flags])
     mesh = cube()
-    assert framed_camera(render_args, mesh)[0] == framed_camera(explain_args, mesh)[0]
+    assert view_from_args(render_args).camera_for(mesh) == view_from_args(explain_args).camera_for(mesh)
     out = _explain(flags, capsys)  # no model: the unit cube
-    camera = framed_camera(render_args, mesh)[0]
+    camera = view_from_args(render_args).camera_for(mesh)
     matrices, _ = _matrices_and_points(out)
     np.testing.assert_allclose(matrices[-1], camera.matrix(), rtol=1e-5,
                                atol=1e-6 * np.abs(camera.matrix()).max())

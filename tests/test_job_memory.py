@@ -14,7 +14,6 @@ import pytest
 
 from hostile import run_cli, run_python
 from rasterkit import shapes
-from rasterkit import cli
 from rasterkit.image import png as _png
 from rasterkit.image import encode_png
 
@@ -34,16 +33,14 @@ def model(tmp_path):
 def _estimate(model, output, size, **flags):
     """The job estimate for ``rasterkit render MODEL -o OUTPUT --size W x H`` with ``flags``
     (the command's option names), worked out here as the command does."""
-    from rasterkit.cli.args import framed_camera
+    from rasterkit.batch.api import task_for
     from rasterkit.batch.job_memory import job_bytes
     from rasterkit.obj import load_obj
 
-    options = cli.render_options(size=size, **{k: v for k, v in flags.items() if k not in ("depth", "normals", "ids")})
-    for name in ("depth", "normals", "ids"):
-        setattr(options, name, flags.get(name))
+    maps = {k: flags.pop(k) for k in ("depth", "normals", "ids") if k in flags}
+    task = task_for(turntable=flags.pop("turntable", None), changes=dict(flags, size=size)).replace(**maps)
     mesh = load_obj(model)
-    camera, _ = framed_camera(options, mesh)
-    return job_bytes(mesh, camera, options, output)
+    return job_bytes(mesh, task.view.camera_for(mesh), task, output)
 
 
 # --- the PNG stream is written as zlib makes it, the same bytes ---------------------------

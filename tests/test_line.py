@@ -12,6 +12,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import rasterkit.draw
+import rasterkit.raster.draw
 from rasterkit.draw import line
 from rasterkit.runtime import threads as _threads
 from rasterkit.raster.edge_pass import draw_edges
@@ -271,7 +272,7 @@ def test_line_rejects_unknown_methods(method):
 
 
 def test_draw_module_doctests_pass():
-    result = doctest.testmod(rasterkit.draw, optionflags=doctest.NORMALIZE_WHITESPACE)
+    result = doctest.testmod(rasterkit.raster.draw, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert result.attempted > 0 and result.failed == 0
 
 

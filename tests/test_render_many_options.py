@@ -6,8 +6,12 @@ from __future__ import annotations
 import pytest
 
 import rasterkit
-from rasterkit.batch import api as batch
-from rasterkit import cli
+from rasterkit.camera.view import FIELDS as VIEW_FIELDS
+from rasterkit.cli import _parser
+from rasterkit.options import FIELDS as OPTION_FIELDS
+
+#: What render_many takes besides RenderOptions' and View's fields.
+TASK_FIELDS = {"turntable", "hidden"}
 
 
 def _model(tmp_path):
@@ -16,19 +20,18 @@ def _model(tmp_path):
     return path
 
 
-def test_every_option_of_render_has_a_check():
-    names = set(vars(cli.render_options()))
-    taken = set()
-    for name in names:
-        try:
-            cli.render_options(**{name: getattr(cli.render_options(), name)})
-            taken.add(name)
-        except TypeError:
-            pass
-    assert taken == set(batch.OPTION_CHECKS)
+def test_every_option_of_the_render_command_is_a_field_of_a_record():
+    """The command line's options are fields of RenderOptions, View or the batch's Task, by
+    the same names (the command's maps are files: the frame's flags follow from them)."""
+    args = set(vars(_parser().parse_args(["render", "--demo", "-o", "unused.png"])))
+    not_per_model = {"models", "demo", "output", "threads", "jobs", "scheduler", "resume", "contact_sheet",
+                     "max_file_size", "max_memory", "command"}
+    files = {"depth", "normals", "ids"}
+    not_on_the_command_line = {"light", "point_size", "point_color", "camera_depth"}
+    assert args - not_per_model - files == (OPTION_FIELDS | VIEW_FIELDS | TASK_FIELDS) - not_on_the_command_line - files
 
 
-@pytest.mark.parametrize("name", sorted(batch.OPTION_CHECKS))
+@pytest.mark.parametrize("name", sorted(OPTION_FIELDS | VIEW_FIELDS | TASK_FIELDS))
 def test_a_value_of_no_type_is_refused_before_any_model(tmp_path, name):
     out = tmp_path / "out"
     with pytest.raises((TypeError, ValueError)) as caught:

@@ -120,7 +120,7 @@ def test_side_neighbours_pair_the_faces_of_each_side_shared_by_exactly_two():
 
     sphere = shapes.icosphere(2)
     assert np.array_equal(side_neighbours(sphere.faces, len(sphere.vertices)), brute(sphere.faces))
-    assert (sphere._side_neighbours >= 0).all() and not sphere._side_neighbours.flags.writeable
+    assert (sphere.side_neighbours >= 0).all() and not sphere.side_neighbours.flags.writeable
     fan = np.array([[0, 1, 2], [0, 2, 3], [0, 2, 4], [5, 5, 6], [2, 1, 7]])  # side 0-2 thrice
     assert np.array_equal(side_neighbours(fan, 8), brute(fan))
     rng = np.random.default_rng(3)

@@ -99,11 +99,7 @@ def test_no_module_imports_another_modules_private_names():
     assert private == []
 
 
-@pytest.mark.parametrize("package", [
-    pytest.param("rasterkit.batch", marks=pytest.mark.xfail(
-        strict=True, reason="a batch still builds its options and camera through the command line's parser "
-                            "(cli.render_options, cli.args.framed_camera) until RenderOptions and View")),
-    "rasterkit.raster", "rasterkit.obj", "rasterkit.svg",
+@pytest.mark.parametrize("package", ["rasterkit.batch", "rasterkit.raster", "rasterkit.obj", "rasterkit.svg",
                                      "rasterkit.image", "rasterkit.runtime", "rasterkit.camera"])
 def test_the_library_never_imports_the_command_line(package):
     offenders = [name for name, path in MODULES.items() if name == package or name.startswith(package + ".")
@@ -135,3 +131,32 @@ def test_no_module_is_longer_than_a_newcomer_reads_at_once():
     long = {str(path.relative_to(PACKAGE.parent)): n for path in MODULES.values()
             if (n := len(path.read_text().splitlines())) > 400}
     assert long == {}
+
+
+def _all_imports(path: Path) -> set[str]:
+    """Every rasterkit module ``path`` imports, at any depth (``from pkg import module``
+    counts as ``pkg.module``)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            found.add(node.module)
+            found.update(f"{node.module}.{alias.name}" for alias in node.names if f"{node.module}.{alias.name}" in MODULES)
+    return {m for m in found if m.startswith("rasterkit")}
+
+
+#: The one import of another package's kernels module: plain constants, read without Numba.
+KERNEL_CONSTANTS = {("rasterkit.options", "rasterkit.raster.kernels.limits")}
+
+
+def test_a_packages_kernels_are_imported_by_that_package_only():
+    offenders = []
+    for name, path in MODULES.items():
+        for module in _all_imports(path):
+            if ".kernels" not in module:
+                continue
+            owner = module.split(".kernels")[0]
+            if not (name == owner or name.startswith(owner + ".")) and (name, module) not in KERNEL_CONSTANTS:
+                offenders.append((name, module))
+    assert offenders == []

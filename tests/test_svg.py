@@ -93,7 +93,7 @@ def test_svg_document_structure():
     scene = Scene().add(shapes.cube(), transform.translate(-1.2, 0, 0)).add(shapes.icosphere(2),
                                                                            transform.translate(1.2, 0, 0))
     camera = Camera.look_at((1.5, 2.0, 6.0), (0, 0, 0), width=320, height=200)
-    text = render_svg(scene, camera, mode="hidden", edges="feature", hidden="dashed", stroke="#204080",
+    text = render_svg(scene, camera, mode="hidden", edges="feature", hidden="dashed", line_color="#204080",
                       stroke_width=1.5)
     root, layers = _parse(text)
     assert root.tag == SVG + "svg" and root.get("version") == "1.1"

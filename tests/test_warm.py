@@ -20,14 +20,15 @@ from PIL import Image
 import rasterkit
 from rasterkit.runtime import warm as _warm
 from rasterkit.runtime.notice import MESSAGE
-from rasterkit.cli.args import framed_camera
 from rasterkit.cli import _parser
+from rasterkit.cli.args import view_from_args
 from rasterkit.obj import load_obj
+from rasterkit.options import RenderOptions
 
 ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
 
 SOLID_ORDER = {
-    "style": {"mode": "solid", "cull": "back", "shading": "flat", "background": "white", "aa": False},
+    "options": {"mode": "solid", "cull": "back", "shading": "flat", "background": "white", "aa": False},
     "depth": False,
     "workers": ["draw_bands"],
 }
@@ -124,10 +125,10 @@ def test_a_helper_of_several_workers_names_each_and_the_render_loads_them(tmp_pa
     """A helper given several workers compiles them in the render's order, naming each as it
     is cached, and the render's own process compiles none of them."""
     def names(style):
-        return [[w.py_func.__name__ for w in workers] for workers in _warm.helped_workers(style)]
+        return [[w.py_func.__name__ for w in workers] for workers in _warm.helped_workers(RenderOptions(**style))]
 
-    assert names(SOLID_ORDER["style"]) == [["bin_records", "draw_bands"]]
-    hidden = {**SOLID_ORDER["style"], "mode": "hidden"}
+    assert names(SOLID_ORDER["options"]) == [["bin_records", "draw_bands"]]
+    hidden = {**SOLID_ORDER["options"], "mode": "hidden"}
     assert names(hidden) == [["bin_records", "offset_depths", "draw_bands"],
                              ["setup_faces", "project_vertices", "plain_setup", "draw_edge_bands"]]
     assert names({**hidden, "mode": "wire"}) == [["draw_wire_bands"]]
@@ -177,7 +178,7 @@ def test_first_cli_render_with_the_helper_equals_a_cached_one_and_the_api(tmp_pa
     # The same picture in this process, through the API, with the command line's camera.
     args = _parser().parse_args(["render", str(model), "-o", "unused.png", *options])
     mesh = load_obj(model)
-    fb = rasterkit.render(mesh, framed_camera(args, mesh)[0], mode="solid", cull=args.cull,
+    fb = rasterkit.render(mesh, view_from_args(args).camera_for(mesh), mode="solid", cull=args.cull,
                           shading=args.shading, color=args.color, line_color=args.line_color,
                           background=args.background, aa=args.aa)
     np.testing.assert_array_equal(fb.color, first)
@@ -232,7 +233,7 @@ def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(mon
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: dispatcher.py_func.__name__ == "draw_wire_bands")
     monkeypatch.setattr(_warm, "_helpers", {})
     monkeypatch.setattr(_warm, "_parser_helper", None)
-    wire = {"mode": "wire", "cull": "back", "shading": "flat", "background": "white", "aa": False}
+    wire = RenderOptions(mode="wire")
     monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 1)
     _warm.start(wire, depth=False, loading=False)
     assert orders == []  # one core: the helper would only take it from the demo
@@ -260,9 +261,10 @@ def test_a_wire_demo_gets_a_band_worker_helper_only_where_helpers_are_forked(mon
     monkeypatch.setattr(_warm, "_helpers", {})
     monkeypatch.setattr(_warm, "_parser_helper", None)
     monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 2)
-    wire = {"mode": "wire", "cull": "back", "shading": "flat", "background": "white", "aa": False}
+    wire = RenderOptions(mode="wire", background="white")
     _warm.start(wire, depth=False, loading=False)
-    band = {"style": wire, "depth": False, "workers": ["draw_wire_bands"], "normals": True}
+    style = {name: getattr(wire, name) for name in _warm.HELPED_OPTIONS}
+    band = {"options": style, "depth": False, "workers": ["draw_wire_bands"], "normals": True}
     assert orders == ([band] if forks else []) + [{"obj": True}]
 
 
@@ -274,7 +276,7 @@ def test_a_hidden_render_of_a_model_starts_a_helper_for_each_band_worker(monkeyp
     monkeypatch.setattr(_warm, "_spawn", lambda order, report=False: orders.append(order) or None)
     monkeypatch.setattr(_warm, "_helpers", {})
     monkeypatch.setattr(_warm, "_cached", lambda dispatcher: dispatcher.py_func.__name__ == "project_vertices")
-    hidden = {**SOLID_ORDER["style"], "mode": "hidden"}
+    hidden = RenderOptions(**{**SOLID_ORDER["options"], "mode": "hidden"})
     _warm.start(hidden, depth=False, loading=True)
     assert [order["workers"] for order in orders] == [["bin_records", "offset_depths", "draw_bands"],
                                                       ["setup_faces", "plain_setup", "draw_edge_bands"]]
@@ -309,7 +311,7 @@ def test_a_forked_helper_can_be_waited_for_and_stopped():
 FORKED_HELPER = """
 import json, sys
 from rasterkit.runtime import warm as _warm
-helper = _warm._spawn({"style": json.loads(sys.argv[1]), "depth": False, "workers": ["bin_records"]}, report=True)
+helper = _warm._spawn({"options": json.loads(sys.argv[1]), "depth": False, "workers": ["bin_records"]}, report=True)
 print(json.dumps({"forked": isinstance(helper, _warm._Forked), "reports": helper.stdout.read().decode().split(),
                   "code": helper.wait(timeout=120)}))
 """
@@ -322,7 +324,7 @@ def test_a_helper_is_forked_on_linux_and_reports_on_its_pipe(tmp_path):
 
     if not sys.platform.startswith("linux"):
         pytest.skip("forks only on Linux")
-    done = _run([sys.executable, "-c", FORKED_HELPER, json.dumps(SOLID_ORDER["style"])], _env(tmp_path / "cache"))
+    done = _run([sys.executable, "-c", FORKED_HELPER, json.dumps(SOLID_ORDER["options"])], _env(tmp_path / "cache"))
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout) == {"forked": True, "reports": ["bin_records"], "code": 0}
     assert _kernel_indexes(tmp_path / "cache", "tiles", "bin_records")

@@ -1,6 +1,6 @@
 """Batches: a dataset of models into a folder of images, in parallel and resumably.
 
-:func:`render_many` and :func:`check_options` (``api``), :class:`BatchSummary` (``engine``).
+:func:`render_many` (``api``), :class:`BatchSummary` (``engine``), :class:`Task` (``task``).
 They are imported on first use, so that the command line's light modules of this package
 (``report``, ``progress``, ``manifest``) load neither NumPy nor the engine.
 """
@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import importlib
 
-__all__ = ["BatchSummary", "check_options", "render_many"]
+__all__ = ["BatchSummary", "Task", "render_many"]
 
-_HOMES = {"render_many": "api", "check_options": "api", "BatchSummary": "engine"}
+_HOMES = {"render_many": "api", "BatchSummary": "engine", "Task": "task"}
 
 
 def __getattr__(name: str):

@@ -126,7 +126,7 @@ def _threads_by_host(client) -> dict[str, int]:
     return {host: max(1, host_cores[host] // max(slots[host], 1)) for host in slots}
 
 
-def _task(source: str, output: str, options, threads_by_host: dict[str, int]) -> dict:
+def _task(source: str, output: str, task, threads_by_host: dict[str, int]) -> dict:
     """Runs on a worker: :func:`run_task` with this host's thread share."""
     from distributed import get_worker
 
@@ -134,19 +134,19 @@ def _task(source: str, output: str, options, threads_by_host: dict[str, int]) ->
         threads = threads_by_host.get(_host(get_worker().address), 1)
     except ValueError:  # not in a worker (a synchronous client)
         threads = 1
-    return _workers.run_task(source, output, options, threads)
+    return _workers.run_task(source, output, task, threads)
 
 
-def run(client, tasks, options, on_result) -> None:
-    """Render ``tasks`` (``(source, output)`` pairs) on ``client``'s cluster, calling
-    ``on_result(record)`` here as each completes."""
+def run(client, pairs, task, on_result) -> None:
+    """Render ``pairs`` (``(source, output)``) on ``client``'s cluster as ``task`` says,
+    calling ``on_result(record)`` here as each completes."""
     distributed = _distributed()
-    tasks = list(tasks)
+    pairs = list(pairs)
     threads = _threads_by_host(client)
     run_id = uuid.uuid4().hex[:8]
     futures = {}
-    for k, (source, output) in enumerate(tasks):
-        future = client.submit(_task, source, output, options, threads, key=f"rasterkit-{run_id}-{k}", pure=False)
+    for k, (source, output) in enumerate(pairs):
+        future = client.submit(_task, source, output, task, threads, key=f"rasterkit-{run_id}-{k}", pure=False)
         futures[future] = (source, output)
     try:
         for future in distributed.as_completed(futures):
@@ -161,4 +161,4 @@ def run(client, tasks, options, on_result) -> None:
     finally:
         client.cancel(list(futures))
     # A worker that died while writing left its temporary file (its task ran again elsewhere)
-    remove_temporaries_of(output for _, output in tasks)
+    remove_temporaries_of(output for _, output in pairs)

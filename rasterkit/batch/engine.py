@@ -54,11 +54,11 @@ class BatchSummary:
                 f"in {self.seconds:.1f} s ({self.models_per_second:.2f} models/s)")
 
 
-def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1, client=None,
+def run(pairs: list[tuple[Path, Path]], out_dir: Path, task, *, jobs: int = 1, client=None,
         resume: bool = False, progress: bool = True, contact_sheet: Path | None = None,
         strict: bool = False) -> BatchSummary:
     """Render ``pairs`` of (model, image) into ``out_dir`` (see the module's documentation).
-    ``jobs`` 0: one worker per core. Without a ``client``, ``options`` are tried first on a
+    ``task``: a :class:`rasterkit.batch.task.Task`; ``jobs`` 0: one worker per core. Without a ``client``, ``task`` is tried first on a
     tetrahedron in this process (:func:`rasterkit.batch.workers.warm_up`), so the kernels are
     loaded (or compiled) once for every local worker; ``strict``: an option that fails
     there raises, before any model or the manifest is touched (otherwise every model
@@ -77,7 +77,7 @@ def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1
         else:
             todo.append((os.fspath(source), os.fspath(output)))
     if todo and client is None:
-        warm_up(options, strict=strict)
+        warm_up(task, strict=strict)
     out_dir.mkdir(parents=True, exist_ok=True)
     codes, unrecorded = [], []
     with Manifest(out_dir, append=resume) as manifest:
@@ -107,7 +107,7 @@ def run(pairs: list[tuple[Path, Path]], out_dir: Path, options, *, jobs: int = 1
             report.advance(Path(record["input"]).name, record["status"], record["seconds"])
 
         try:
-            _engine(todo, options, jobs, client, on_result)
+            _engine(todo, task, jobs, client, on_result)
         finally:
             report.close()
     if contact_sheet is not None:
@@ -129,15 +129,15 @@ def _skipped(source: Path, output: Path) -> dict:
             "seconds": None, "triangles": None, "warnings": []}
 
 
-def _engine(todo, options, jobs, client, on_result) -> None:
+def _engine(todo, task, jobs, client, on_result) -> None:
     if not todo:
         return
     if client is not None:
         from rasterkit.batch import dask_engine as _dask
 
-        _dask.run(client, todo, options, on_result)
+        _dask.run(client, todo, task, on_result)
     elif jobs > 1 and len(todo) > 1:
-        LocalPool(min(jobs, len(todo)), max(1, cores() // jobs), options).run(todo, on_result)
+        LocalPool(min(jobs, len(todo)), max(1, cores() // jobs), task).run(todo, on_result)
     else:
         for source, output in todo:
-            on_result(run_task(source, output, options))
+            on_result(run_task(source, output, task))

@@ -73,39 +73,33 @@ def _world_copy_bytes(mesh) -> int:
     return n * (24 * 4 + 32 + 12) + m * (24 + 12) + e * 16 + mesh_bytes(n, m, e)
 
 
-def _style(options) -> dict:
-    return dict(cull=options.cull, shading=options.shading, color=options.color, line_color=options.line_color,
-                background=options.background, aa=options.aa, samples=options.samples,
-                vignette=options.vignette)
-
-
-def job_bytes(mesh, camera, options, output: Path, ideal=None) -> int:
-    """Bytes that rendering ``mesh`` through ``camera`` into ``output`` with the ``render``
-    command's ``options`` needs at its peak, the model included (see the module's
-    documentation); ``ideal``: a distorted camera's undistorted one, which draws. An SVG
-    drawing counts its own (:func:`rasterkit.svg.render_svg`)."""
+def job_bytes(mesh, camera, task, output: Path, ideal=None) -> int:
+    """Bytes that rendering ``mesh`` through ``camera`` into ``output`` as ``task`` (a
+    :class:`rasterkit.batch.task.Task`) says needs at its peak, the model included (see the
+    module's documentation); ``ideal``: a distorted camera's undistorted one, which draws. An
+    SVG drawing counts its own (:func:`rasterkit.svg.render_svg`)."""
     from rasterkit.colors import parse_color
     from rasterkit.raster.render import render_bytes
     from rasterkit.image.png import STREAM_BYTES
 
     pixels = camera.width * camera.height
-    channels = 4 if parse_color(options.background)[3] < 255 else 3
+    options = task.frame_options()
+    channels = 4 if options.background is not None and parse_color(options.background)[3] < 255 else 3
     held = _mesh_bytes(mesh)
     if camera.distortion:
         held += DISTORTION_BYTES * pixels
         camera = ideal
-    if options.turntable:
-        frame = _world_copy_bytes(mesh) + render_bytes(mesh, camera, options.mode, **_style(options))
+    if task.turntable:
+        frame = _world_copy_bytes(mesh) + render_bytes(mesh, camera, options=options)
         frames = TURNTABLE_FRAMES * pixels * channels
         gif = Path(output).suffix.lower() == ".gif"
         return held + frame + frames + (gif_frame_bytes(pixels) if gif else STREAM_BYTES)
-    frame = render_bytes(mesh, camera, options.mode, **_style(options), normals=bool(options.normals),
-                         ids=bool(options.ids), camera_depth=bool(options.depth))
+    frame = render_bytes(mesh, camera, options=options)
     kept = 0  # arrays made for the maps' files and kept with the framebuffer
-    if options.depth:
+    if task.depth:
         kept += 8 * pixels  # the depth buffer when deferred, the metric depth when not made by the bands
     converting = [PNG_MAP_BYTES[name] * pixels for name in ("depth", "normals", "ids")
-                  if str(getattr(options, name) or "").lower().endswith(".png")]
+                  if str(getattr(task, name) or "").lower().endswith(".png")]
     return held + frame + kept + max(converting, default=0) + STREAM_BYTES
 
 
@@ -117,13 +111,13 @@ def sheet_bytes(count: int, width: int, height: int) -> int:
     return 4 * (max(count, 1) * 164 * 182 + 8200 * 4) + 10 * width * height + (16 << 20)
 
 
-def _what(camera, options, output) -> str:
-    frames = options.turntable
+def _what(camera, task, output) -> str:
+    frames = task.turntable
     kind = f"turntable of {frames} frame{'s' if frames != 1 else ''}" if frames else "render"
-    return f"a {camera.width}x{camera.height} {options.mode} {kind} into {Path(output).name}"
+    return f"a {camera.width}x{camera.height} {task.options.mode} {kind} into {Path(output).name}"
 
 
-def check_job(mesh, camera, options, output: Path) -> None:
+def check_job(mesh, camera, task, output: Path) -> None:
     """:class:`rasterkit.limits.LimitError` when :func:`job_bytes`, with the idle blocks that
     :mod:`rasterkit.runtime.scratch` keeps for reuse, is over the memory limit (the idle blocks are
     let go when they alone would make it so)."""
@@ -135,26 +129,25 @@ def check_job(mesh, camera, options, output: Path) -> None:
         from rasterkit.raster.distortion import ideal_camera
 
         check_memory(_mesh_bytes(mesh) + DISTORTION_BYTES * camera.width * camera.height,
-                     _what(camera, options, output))
+                     _what(camera, task, output))
         ideal = ideal_camera(camera)
-    need = job_bytes(mesh, camera, options, output, ideal)
+    need = job_bytes(mesh, camera, task, output, ideal)
     if need + _memory.idle_bytes() > memory_limit():  # the recycled blocks of earlier jobs are let go first
         _memory.release()
-    check_memory(need + _memory.idle_bytes(), _what(camera, options, output))
+    check_memory(need + _memory.idle_bytes(), _what(camera, task, output))
 
 
-def check_batch(options, count: int, contact_sheet: bool) -> None:
+def check_batch(task, count: int, contact_sheet: bool) -> None:
     """:class:`rasterkit.limits.LimitError` before a batch of ``count`` models starts when no
     model could render within the memory limit (the images alone are over it: the job of a
     tetrahedron), or when its contact sheet could not be made."""
-    from rasterkit.cli.args import framed_camera
     from rasterkit.limits import check_memory
     from rasterkit.shapes import tetrahedron
 
     mesh = tetrahedron()
-    camera, _ = framed_camera(options, mesh)
-    output = Path("image.gif" if options.turntable else "image.png")
-    check_memory(job_bytes(mesh, camera, options, output), "each model's " + _what(camera, options, output))
+    camera = task.view.camera_for(mesh)
+    output = Path("image.gif" if task.turntable else "image.png")
+    check_memory(job_bytes(mesh, camera, task, output), "each model's " + _what(camera, task, output))
     if contact_sheet:
         check_memory(sheet_bytes(count, camera.width, camera.height),
                      f"the contact sheet of {count} images of {camera.width}x{camera.height}")

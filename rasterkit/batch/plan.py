@@ -16,17 +16,17 @@ from __future__ import annotations
 
 import os
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from rasterkit.batch import report as _report
 from rasterkit.runtime import stop as _stop
 from rasterkit.batch.manifest import up_to_date
-from rasterkit.batch.outputs import check_distinct, check_writable, named_outputs
+from rasterkit.batch.outputs import check_distinct, check_writable
 from rasterkit.batch.render_one import render_model
 from rasterkit.batch.report import UsageError
 
-__all__ = ["jobs", "render_jobs"]
+__all__ = ["Job", "Request", "jobs", "render_jobs"]
 
 IMAGE_SUFFIXES = (".png", ".gif", ".apng")
 
@@ -51,41 +51,59 @@ def model_inputs(models: list[str]) -> list[Path]:
     return paths
 
 
-def jobs(args) -> tuple[list[Job], bool]:
-    """The jobs of a ``render`` command, and whether they are a batch (into a folder)."""
-    if args.demo and args.models:
+@dataclass(frozen=True)
+class Request:
+    """What a ``render`` command asks for besides how to draw (its :class:`Task`): the models
+    and where their images go."""
+
+    models: list  # files and folders
+    demo: bool  # the built-in model instead
+    output: str  # -o
+    animated: bool = False  # a turntable
+    maps: dict = field(default_factory=dict)  # "depth", "normals", "ids": a still image's map files
+    contact_sheet: str | None = None
+    scheduler: str | None = None  # a Dask scheduler's address ('': asked for and not given)
+    workers: int = 1  # --jobs
+    resume: bool = False
+
+
+def jobs(request: Request) -> tuple[list[Job], bool, str | None]:
+    """The jobs of a ``render`` command, whether they are a batch (into a folder), and the
+    scheduler's address, checked. Pure checks: no model is read, nothing is loaded."""
+    if request.demo and request.models:
         raise UsageError("give MODEL.obj files or --demo, not both")
-    if not args.demo and not args.models:
+    if not request.demo and not request.models:
         raise UsageError("give a MODEL.obj (or a folder of them), or --demo")
-    if getattr(args, "scheduler", None) is not None:  # '' too: a scheduler asked for and not given
+    scheduler = request.scheduler
+    if scheduler is not None:  # '' too: a scheduler asked for and not given
         from rasterkit.batch.dask_engine import check_address
 
-        args.scheduler = check_address(args.scheduler)
-    out = Path(args.output)
-    sources = [None] if args.demo else model_inputs(args.models)
-    if len(sources) == 1 and not any(Path(m).is_dir() for m in args.models):
-        _check_image_path(out, animated=bool(args.turntable))
-        if args.contact_sheet or args.scheduler:
+        scheduler = check_address(scheduler)
+    out = Path(request.output)
+    sources = [None] if request.demo else model_inputs(request.models)
+    if len(sources) == 1 and not any(Path(m).is_dir() for m in request.models):
+        _check_image_path(out, animated=request.animated)
+        if request.contact_sheet or scheduler:
             raise UsageError("--contact-sheet and --scheduler are for several models (a folder for -o)")
-        named = named_outputs(args, args.output)  # -o as given: "x.png/" names a folder
-        check_distinct(named, sources)
+        named = [("-o", request.output)] + [(f"--{flag}", path) for flag, path in request.maps.items() if path]
+        check_distinct(named, sources)  # -o as given: "x.png/" names a folder
         for _, path in named:
             check_writable(path)
-        return [Job(sources[0], out)], False
+        return [Job(sources[0], out)], False, scheduler
     if out.suffix.lower() in IMAGE_SUFFIXES:
         raise UsageError(f"{out}: several models render into a folder; give a folder for -o")
-    for flag in ("depth", "normals", "ids"):
-        if getattr(args, flag):
+    for flag, path in request.maps.items():
+        if path:
             raise UsageError(f"--{flag} takes one model")
-    if args.scheduler and args.jobs != 1:
+    if scheduler and request.workers != 1:
         raise UsageError("give --jobs or --scheduler, not both")
-    if args.contact_sheet:
-        check_sheet_path(Path(args.contact_sheet), out)
+    if request.contact_sheet:
+        check_sheet_path(Path(request.contact_sheet), out)
     if out.exists() and not out.is_dir():
         raise UsageError(f"{out}: not a folder")
-    batch = batch_jobs(sources, out, bool(args.turntable))
-    check_batch_outputs(batch, args.contact_sheet and ("--contact-sheet", args.contact_sheet))
-    return batch, True
+    batch = batch_jobs(sources, out, request.animated)
+    check_batch_outputs(batch, request.contact_sheet and ("--contact-sheet", request.contact_sheet))
+    return batch, True, scheduler
 
 
 def batch_jobs(sources: list[Path], out: Path, animated: bool) -> list[Job]:
@@ -128,12 +146,12 @@ def _check_image_path(out: Path, animated: bool) -> None:
         raise UsageError(f"{out}: the output must end in {' or '.join(allowed)}")
 
 
-def _attempt(job: Job, args) -> int:
+def _attempt(job: Job, task) -> int:
     """Render one job; on failure print its one line. Returns its exit code. Only
     exceptions are caught: KeyboardInterrupt and SIGTERM stop everything."""
     with _report.model(job.source):
         try:
-            render_model(job.source, job.output, args, say=_say)
+            render_model(job.source, job.output, task, say=_say)
             return 0
         except Exception as e:
             _stop.check()  # a signal's stop that came out as another exception (rasterkit.runtime.stop)
@@ -142,25 +160,26 @@ def _attempt(job: Job, args) -> int:
     return code
 
 
-def render_jobs(jobs: list[Job], batch: bool, args) -> int:
-    """Render every job; the exit code (see the module's documentation)."""
+def render_jobs(jobs: list[Job], batch: bool, task, request: Request, scheduler: str | None) -> int:
+    """Render every job as ``task`` (a :class:`rasterkit.batch.task.Task`) says; the exit code
+    (see the module's documentation). ``scheduler``: the checked address of ``request``'s."""
     if not batch:
-        if getattr(args, "resume", False) and jobs[0].source is not None and up_to_date(jobs[0].source, jobs[0].output):
+        if request.resume and jobs[0].source is not None and up_to_date(jobs[0].source, jobs[0].output):
             return 0
-        return _attempt(jobs[0], args)
+        return _attempt(jobs[0], task)
     from rasterkit.batch import engine as _many
     from rasterkit.batch.job_memory import check_batch
 
-    check_batch(args, len(jobs), bool(args.contact_sheet))  # the memory, before any model
+    check_batch(task, len(jobs), bool(request.contact_sheet))  # the memory, before any model
     client = None
-    if args.scheduler:
+    if scheduler:
         from rasterkit.batch import dask_engine as _dask
 
-        client = _dask.client_for(args.scheduler)
+        client = _dask.client_for(scheduler)
     try:
-        summary = _many.run([(job.source, job.output) for job in jobs], jobs[0].output.parent, args,
-                            jobs=args.jobs, client=client, resume=args.resume,
-                            contact_sheet=Path(args.contact_sheet) if args.contact_sheet else None)
+        summary = _many.run([(job.source, job.output) for job in jobs], jobs[0].output.parent, task,
+                            jobs=request.workers, client=client, resume=request.resume,
+                            contact_sheet=Path(request.contact_sheet) if request.contact_sheet else None)
     finally:
         if client is not None:
             client.close()

@@ -6,7 +6,7 @@ here, and Dask's workers (:mod:`rasterkit.batch.dask_engine`): it renders with
 of raising, so a failing model never stops a batch.
 
 Before the pool starts, :func:`rasterkit.batch.engine.run` has rendered a tiny model with the
-batch's options in this process (:func:`warm_up`: the kernels are loaded from Numba's cache,
+batch's task in this process (:func:`warm_up`: the kernels are loaded from Numba's cache,
 or compiled once); the pool then starts ``jobs`` processes. On Linux, when no thread but rasterkit's own kernel helpers runs here,
 it forks them: they start at once and inherit the loaded kernels (rasterkit's thread pool
 is not inherited: a child starts its own, :func:`rasterkit.runtime.threads._forget_pool`; no OpenMP
@@ -53,9 +53,9 @@ def cores() -> int:
 
 
 @contextlib.contextmanager
-def compile_lock(options):
+def compile_lock(task):
     """Hold the host's compile lock while this process renders its first model, when the
-    kernels of ``options``' mode are not cached yet (a no-op afterwards, and where ``fcntl``
+    kernels of ``task``'s mode are not cached yet (a no-op afterwards, and where ``fcntl``
     is missing)."""
     global _first_done
     if _first_done:
@@ -66,8 +66,8 @@ def compile_lock(options):
         import fcntl
 
         from rasterkit.runtime import warm as _warm
-        style = dict(mode=options.mode, aa=options.aa)
-        cached = _warm._cached(_warm._band_worker(style))
+
+        cached = _warm.band_worker_cached(task.options)
     except ImportError:
         cached = True
     if cached:
@@ -82,7 +82,7 @@ def compile_lock(options):
         os.close(fd)  # releases the lock
 
 
-def run_task(source: str, output: str, options, threads: int | None = None) -> dict:
+def run_task(source: str, output: str, task, threads: int | None = None) -> dict:
     """Render ``source`` into ``output``; its manifest record (status ok or error)."""
     from rasterkit.runtime import threads as _threads
     from rasterkit.batch.render_one import render_model
@@ -94,8 +94,8 @@ def run_task(source: str, output: str, options, threads: int | None = None) -> d
     triangles, warnings = None, []
     with _report.model(source):
         try:
-            with compile_lock(options):
-                triangles = render_model(Path(source), Path(output), options, say=warnings.append)
+            with compile_lock(task):
+                triangles = render_model(Path(source), Path(output), task, say=warnings.append)
         except Exception as e:
             _stop.check()  # a signal's stop that came out as another exception (rasterkit.runtime.stop)
             code, line = _report.error_line(e)
@@ -109,7 +109,7 @@ class _Stop(BaseException):
     """SIGTERM in a worker: unwinds the render (temporary files are removed) and exits."""
 
 
-def _worker_main(conn, threads: int, options, limit_state, parent: int, inherited: list) -> None:
+def _worker_main(conn, threads: int, task, limit_state, parent: int, inherited: list) -> None:
     """A worker process: render the models that arrive on ``conn`` until ``None`` does, or
     until the parent process (``parent``, its pid) has gone. ``inherited``: the parent's ends
     of the workers' pipes that a forked worker holds copies of, closed at once (else the
@@ -130,10 +130,10 @@ def _worker_main(conn, threads: int, options, limit_state, parent: int, inherite
     try:
         _die_with(parent)
         while True:
-            task = conn.recv()
-            if task is None:
+            job = conn.recv()
+            if job is None:
                 return
-            conn.send(run_task(task[0], task[1], options, threads))
+            conn.send(run_task(job[0], job[1], task, threads))
     except (_Stop, EOFError, BrokenPipeError):
         return
 
@@ -186,26 +186,23 @@ def _start_method() -> str:
 _TINY_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 
 
-def warm_up(options, strict: bool = False) -> None:
-    """Render a tetrahedron from an OBJ file with ``options`` at 16x12 pixels in this
-    process: every kernel a batch with these options runs is then loaded (or compiled), and
-    an option that no model could render with (a bad colour, mode, camera...) raises here,
-    once, instead of failing every model (``strict``; otherwise it is left for the real
-    models to report)."""
-    import copy
-
+def warm_up(task, strict: bool = False) -> None:
+    """Render a tetrahedron from an OBJ file as ``task`` says, at 16x12 pixels and as a still
+    image, in this process: every kernel a batch of ``task`` runs is then loaded (or
+    compiled), and an option that no model could render with (a camera that cannot be
+    made...) raises here, once, instead of failing every model (``strict``; otherwise it is
+    left for the real models to report)."""
     from rasterkit.batch.render_one import render_model
 
-    tiny = copy.copy(options)
-    tiny.size, tiny.turntable, tiny.depth, tiny.normals, tiny.ids = (16, 12), None, None, None, None
-    tiny.camera_opencv = None
+    tiny = task.replace(view=task.view.replace(size=(16, 12), camera_opencv=None), turntable=None,
+                        depth=None, normals=None, ids=None)
     try:
         with tempfile.TemporaryDirectory(prefix="rasterkit-warm-") as folder:
             model = Path(folder) / "tiny.obj"
             model.write_text(_TINY_OBJ)
             render_model(model, Path(folder) / "tiny.png", tiny)
     except OSError:
-        pass  # the temporary folder's trouble (a full disk), not the options': the models say theirs
+        pass  # the temporary folder's trouble (a full disk), not the task's: the models say theirs
     except Exception:
         if strict:
             raise
@@ -214,13 +211,13 @@ def warm_up(options, strict: bool = False) -> None:
 class LocalPool:
     """``jobs`` worker processes, each rendering with ``threads`` kernel threads."""
 
-    def __init__(self, jobs: int, threads: int, options):
+    def __init__(self, jobs: int, threads: int, task):
         import multiprocessing
 
         from rasterkit import limits
 
         self._ctx = multiprocessing.get_context(_start_method())
-        self.jobs, self.threads, self.options = jobs, threads, options
+        self.jobs, self.threads, self.task = jobs, threads, task
         self._limits = (limits._max_file_size, limits._memory_limit)
         self._workers: list[dict] = []
 
@@ -229,7 +226,7 @@ class LocalPool:
         # a forked worker closes its copies of the parent's pipe ends; a spawned one has none
         inherited = [w["conn"] for w in self._workers] + [parent] if self._ctx.get_start_method() == "fork" else []
         process = self._ctx.Process(target=_worker_main, name="rasterkit-worker", daemon=True,
-                                    args=(child, self.threads, self.options, self._limits, os.getpid(), inherited))
+                                    args=(child, self.threads, self.task, self._limits, os.getpid(), inherited))
         process.start()
         child.close()
         worker = {"process": process, "conn": parent, "task": None}

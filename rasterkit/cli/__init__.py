@@ -33,8 +33,8 @@ from rasterkit import limits
 from rasterkit.batch import report as _report
 from rasterkit.runtime import stop as _stop
 from rasterkit.batch.report import UsageError
-from rasterkit.cli.args import (add_limits, add_view_arguments, attach_number_lists, framed_camera, read_camera_file,
-                        finite, integers, point, positive_int, samples, unit_interval, whole_number)
+from rasterkit.cli.args import (add_limits, add_view_arguments, attach_number_lists, finite, integers, point,
+                                positive_int, samples, task_from_args, unit_interval, view_from_args, whole_number)
 from rasterkit.options import CULL, EDGES, HIDDEN, MODES, SHADING
 
 __all__ = ["main", "Terminated"]
@@ -154,22 +154,6 @@ def _add_batch_arguments(r) -> None:
     many.add_argument("--contact-sheet", metavar="SHEET.png", help="also write a grid of all thumbnails")
 
 
-def render_options(**options) -> argparse.Namespace:
-    """The ``render`` command's options as its parser makes them: the defaults, then
-    ``options`` (Python values: ``size=(640, 480)``, ``mode="solid"``, ``eye=(1, 2, 3)``...).
-    Raises ``TypeError`` for a name the command does not have (or one of a single render's)."""
-    args = _parser().parse_args(["render", "--demo", "-o", "unused.png"])
-    not_options = {"models", "demo", "output", "depth", "normals", "ids", "threads", "jobs", "scheduler", "resume", "contact_sheet",
-                   "max_file_size", "max_memory", "command"}
-    for name, value in options.items():
-        if name in not_options or not hasattr(args, name):
-            raise TypeError(f"unknown render option {name!r}")
-        setattr(args, name, value)
-    if isinstance(args.camera_opencv, (str, os.PathLike)):
-        args.camera_opencv = read_camera_file(os.fspath(args.camera_opencv))
-    return args
-
-
 def _add_explain(commands) -> None:
     e = commands.add_parser(
         "explain", help="print the camera chain factor by factor, or how a line becomes pixels",
@@ -213,9 +197,12 @@ def _render(args) -> int:
             raise UsageError(f"{path}: the {flag} output must end in .npy or .png")
         if path and args.turntable:
             raise UsageError(f"--{flag} takes a still image, not --turntable")
-    if args.camera_opencv:
-        args.camera_opencv = read_camera_file(args.camera_opencv)
-    jobs, batch = _batch.jobs(args)
+    maps = {flag: getattr(args, flag) for flag in ("depth", "normals", "ids")}
+    request = _batch.Request(args.models, args.demo, args.output, animated=bool(args.turntable), maps=maps,
+                             contact_sheet=args.contact_sheet, scheduler=args.scheduler, workers=args.jobs,
+                             resume=args.resume)
+    jobs, batch, scheduler = _batch.jobs(request)  # before NumPy loads: the usage errors come at once
+    task = task_from_args(args)  # (reads --camera-opencv's file)
     _without_scipy()
     from rasterkit.runtime import threads as _threads  # the first import of Numba: the usage errors above come without it
     from rasterkit.runtime.notice import compile_notice
@@ -225,7 +212,7 @@ def _render(args) -> int:
     except ValueError as e:
         raise UsageError(str(e)) from None
     with compile_notice():
-        return _batch.render_jobs(jobs, batch, args)
+        return _batch.render_jobs(jobs, batch, task, request, scheduler)
 
 
 def _info_command(args) -> int:
@@ -249,9 +236,7 @@ def _explain(args) -> int:
     else:
         if args.model and args.demo:
             raise UsageError("give a MODEL.obj or --demo, not both")
-        if args.camera_opencv:
-            args.camera_opencv = read_camera_file(args.camera_opencv)
-        camera, _ = framed_camera(args, _explained_mesh(args), name=args.model)
+        camera, _ = view_from_args(args).frame(_explained_mesh(args), name=args.model)
         text = explain.format_chain(explain.chain_steps(camera, args.point), camera)
     print(text, flush=True)
     return 0
@@ -331,7 +316,7 @@ def _stopped(interrupted: bool) -> int:
 
 def _stop_helper() -> None:
     """Stop the compiling helper of a first run (:mod:`rasterkit.runtime.warm`), if there is one."""
-    warm = sys.modules.get(__package__ + "._warm")
+    warm = sys.modules.get("rasterkit.runtime.warm")
     if warm is not None:
         warm.stop()
 

@@ -1,9 +1,11 @@
 """The command line's argument types and the view flags that ``render`` and ``explain`` share.
 
 ``render`` and ``explain`` take the same size, projection and camera flags
-(:func:`add_view_arguments`) and turn them into a camera with the same function
-(:func:`framed_camera`), so ``rasterkit explain`` always shows the camera that
-``rasterkit render`` would use for that model and those flags.
+(:func:`add_view_arguments`) and turn them into one :class:`rasterkit.View`
+(:func:`view_from_args`), so ``rasterkit explain`` always shows the camera that
+``rasterkit render`` would use for that model and those flags. ``render``'s arguments become
+one :class:`rasterkit.batch.task.Task` (:func:`task_from_args`): nothing below the command
+line sees them.
 
 Pure standard library at module level (NumPy loads when a camera is made), so the parser,
 ``--help`` and argparse's usage errors come without NumPy or Numba.
@@ -16,13 +18,11 @@ import math
 import re
 
 from rasterkit import limits
-from rasterkit.batch.report import UsageError
 from rasterkit.options import MAX_IMAGE_SIZE, PROJECTIONS
 
-__all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "check_camera_fields",
-           "finite", "focus", "framed_camera", "integers", "point", "positive_int", "read_camera_file",
-           "samples", "size",
-           "size_limit", "unit_interval"]
+__all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite", "focus", "integers",
+           "point", "positive_int", "samples", "size", "size_limit", "task_from_args", "unit_interval", "view_from_args",
+           "whole_number"]
 
 
 def size(text: str) -> tuple[int, int]:
@@ -149,7 +149,7 @@ def attach_number_lists(argv: list[str]) -> list[str]:
 
 
 def add_view_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--size``, ``--projection`` and the camera flags, read by :func:`framed_camera`."""
+    """``--size``, ``--projection`` and the camera flags, read by :func:`view_from_args`."""
     parser.add_argument("--size", type=size, default=(800, 600), metavar="WIDTHxHEIGHT",
                         help="image size in pixels (default 800x600)")
     parser.add_argument("--projection", choices=PROJECTIONS, default="perspective")
@@ -186,128 +186,21 @@ def add_limits(parser: argparse.ArgumentParser) -> None:
                             "(default: the machine's memory, or RASTERKIT_MAX_MEMORY)")
 
 
-def framed_camera(args, mesh, name: str | None = None):
-    """The camera of the view flags in ``args`` for ``mesh``, and the centre it frames.
+def view_from_args(args):
+    """The :class:`rasterkit.View` of the view flags of :func:`add_view_arguments` (reads
+    ``--camera-opencv``'s file)."""
+    from rasterkit.camera.view import FIELDS, View
 
-    Parameters
-    ----------
-    args : argparse.Namespace
-        Parsed by a parser with :func:`add_view_arguments`.
-    mesh : rasterkit.Mesh
-        The model: its bounding sphere is framed (then the flags move the camera).
-    name : str, optional
-        The model's file, named in the error about a model with no extent.
-
-    Returns
-    -------
-    camera : rasterkit.Camera
-    center : (3,) float64 ndarray
-        The centre of the bounding sphere (a turntable spins about it).
-
-    Raises
-    ------
-    UsageError
-        If the model has no extent.
-    ValueError
-        If the flags make an invalid camera, or the camera file's (``--camera-opencv``) does
-        not frame the model.
-    """
-    from rasterkit.camera import Camera
-
-    center, radius = mesh.bounding_sphere()
-    if radius == 0.0:
-        raise UsageError(("" if name is None else f"{name}: ") + "the model has no extent (all vertices coincide)")
-    if getattr(args, "camera_opencv", None):
-        return _opencv_camera(args.camera_opencv, args, center, radius), center
-    width, height = args.size
-    camera = Camera.preset(args.projection, center, radius, width=width, height=height,
-                           azimuth=args.azimuth, elevation=args.elevation, fov_y=args.fov,
-                           distance=args.distance, eye=args.eye, target=args.target, up=args.up,
-                           near=args.near, far=args.far, aperture=args.aperture,
-                           focus_distance=args.focus)
-    return camera, center
+    return View(**{name: getattr(args, name) for name in FIELDS})
 
 
-_CAMERA_KEYS = ("K", "R", "t", "width", "height")
-_OPTIONAL_KEYS = ("dist", "near", "far")
+def task_from_args(args):
+    """The :class:`rasterkit.batch.task.Task` of the ``render`` command's arguments: its
+    :class:`rasterkit.RenderOptions`, its :class:`rasterkit.View` and its other outputs."""
+    from rasterkit.batch.task import Task
+    from rasterkit.options import FIELDS, RenderOptions
 
-
-def read_camera_file(path: str) -> dict:
-    """The keyword arguments of ``Camera.from_opencv`` from the JSON file of
-    ``--camera-opencv``, checked, with ``source``: the path.
-
-    The file is read by :func:`rasterkit.runtime.files.read_file` (a regular file within
-    ``--max-file-size``). Raises ``ValueError``, one line starting with the file's name: it
-    cannot be read, is not JSON, lacks a key or has an unknown one, or a value is wrong
-    (``R must be a finite 3x3 array, got ...``)."""
-    import json
-
-    from rasterkit.runtime.files import read_file, readable
-
-    name = readable(path)
-    text = read_file(path)
-    try:
-        data = json.loads(text.decode("utf-8"))
-    except UnicodeDecodeError as e:
-        raise ValueError(f"{name}: cannot read the camera: not UTF-8 text (byte {e.start})") from None
-    except RecursionError:
-        raise ValueError(f"{name}: cannot read the camera: its JSON is nested too deeply") from None
-    except ValueError as e:  # json.JSONDecodeError, with the line and column
-        raise ValueError(f"{name}: cannot read the camera: {e}") from None
-    return check_camera_fields(data, path)
-
-
-def check_camera_fields(data, source: str) -> dict:
-    """The camera of a ``--camera-opencv`` file (``data``, parsed, from the file ``source``)
-    with ``source`` added, after checking each key and value as ``Camera.from_opencv``
-    takes it. Raises ``ValueError`` naming the file and the key."""
-    from rasterkit.runtime.files import readable
-    from rasterkit.camera.checks import positive
-    from rasterkit.camera.opencv import from_opencv
-
-    name = readable(source)
-    if not isinstance(data, dict) or any(k not in data for k in _CAMERA_KEYS):
-        raise ValueError(f"{name}: the camera must be a JSON object with {', '.join(_CAMERA_KEYS)}")
-    extra = set(data) - set(_CAMERA_KEYS) - set(_OPTIONAL_KEYS)
-    if extra:
-        raise ValueError(f"{name}: unknown camera keys: {', '.join(sorted(map(repr, extra)))}")
-    try:
-        from_opencv(data["K"], data["R"], data["t"], data["width"], data["height"], near=None, far=None,
-                    dist=data.get("dist"))
-        for key in ("near", "far"):
-            if data.get(key) is not None:
-                positive(data[key], key)
-    except (TypeError, ValueError) as e:
-        raise ValueError(f"{name}: {e}") from None
-    return dict(data, source=source)
-
-
-def _opencv_camera(data: dict, args, center, radius):
-    """``--camera-opencv``'s camera; near and far from the file, else ``--near``/``--far``,
-    else enclosing the model's bounding sphere with room to spare."""
-    import numpy as np
-
-    from rasterkit.runtime.files import readable
-    from rasterkit.camera import Camera
-
-    data = dict(data)
-    name = readable(data.pop("source"))
-    r, t = np.asarray(data["R"], float), np.asarray(data["t"], float).reshape(-1)
-    offset = r @ np.asarray(center) + t  # the model's centre in the camera's space
-    scale = float(np.max(np.abs(offset)))
-    distance = scale * float(np.linalg.norm(offset / scale)) if scale > 0.0 else 0.0  # no overflow
-    chosen = {"near": max(distance - 1.5 * radius, 1e-3 * (distance + radius)), "far": distance + 2.0 * radius}
-    automatic = []
-    for key, flag in (("near", args.near), ("far", args.far)):
-        if data.get(key) is None:
-            data[key] = chosen[key] if flag is None else flag
-            automatic += [key] if flag is None else []
-    if automatic and not data["near"] < data["far"]:
-        raise ValueError(
-            f"{name}: near {data['near']:.6g} is not smaller than far {data['far']:.6g} ({' and '.join(automatic)} "
-            f"chosen from the camera's distance to the model, {distance:.6g}, and its radius, {radius:.6g}): "
-            f"give near and far in the file or with --near and --far")
-    try:
-        return Camera.from_opencv(**data)
-    except (TypeError, ValueError) as e:
-        raise ValueError(f"{name}: {e}") from None
+    maps = ("depth", "normals", "ids")  # file names here: the frame's maps follow from them (Task.frame_options)
+    options = RenderOptions(**{name: getattr(args, name) for name in FIELDS if hasattr(args, name) and name not in maps})
+    return Task(options, view_from_args(args), turntable=args.turntable, hidden=args.hidden,
+                depth=args.depth, normals=args.normals, ids=args.ids)

@@ -27,6 +27,11 @@ _PARALLEL_EDGES = 2048
 #: (:func:`spatial_edges`); below it a band reads few blocks anyway.
 SPATIAL_ORDER_EDGES = 16 * _setup.BLOCK
 
+def edge_mode(tested: bool, aa: bool) -> int:
+    """The edge kernels' mode bits: plain, depth-tested (``tested``), anti-aliased (``aa``)."""
+    return _kernels.MODE_PLAIN | (_kernels.MODE_DEPTH_TEST if tested else 0) | (_kernels.MODE_ANTIALIAS if aa else 0)
+
+
 _NO_DEPTH = np.empty((0, 0), np.float32)
 _NO_BACKGROUND = np.empty(0, np.uint8)
 _NO_POINTS = readonly(np.empty((0, 3), np.float64))

@@ -8,32 +8,32 @@ from rasterkit.raster.framebuffer import buffer_bytes
 from rasterkit.runtime.threads import get_threads
 from rasterkit.mesh import Mesh
 
-__all__ = ["maps_bytes", "memory_needed"]
+__all__ = ["frame_bytes", "maps_bytes"]
 
 
-def memory_needed(mesh: Mesh, width: int, height: int, options, alpha: bool, ids: bool) -> int:
+def frame_bytes(mesh: Mesh, width: int, height: int, style, alpha: bool, ids: bool) -> int:
     """Bytes a render needs, estimated before anything is allocated (the rule of
     ``docs/limits.md``): the framebuffer (colour, ids, and depth in the modes that keep it),
     the triangle path's scratch (per vertex, per face, per thread) in every mode but wire,
     and the edge path's in every mode but solid (with the wireframe's byte mask of the
-    image)."""
+    image). ``style``: the render's :class:`rasterkit.raster.plan.Style`."""
     n, m = len(mesh.vertices), len(mesh.faces)
-    total = buffer_bytes(width, height, alpha, ids, depth=options.mode in ("hidden", "solid+wire") or options.keep_depth)
-    if options.points is not None:  # their homogeneous coordinates
-        total += len(options.points.positions) * 32
-    if options.mode != "wire":
-        smooth = options.shading == "smooth" and options.mode != "hidden"
+    row = style.mode
+    total = buffer_bytes(width, height, alpha, ids, depth=row.depth_kept or style.keep_depth)
+    if style.points is not None:  # their homogeneous coordinates
+        total += len(style.points.positions) * 32
+    if row.faces:
+        smooth = style.shading == "smooth" and row.shaded
         total += n * 32 + _triangles.scratch_bytes(n, m, width, get_threads(), smooth=smooth,
-                                                    band_depth=options.mode == "solid")
-        if options.mode != "hidden":  # the face normals (float64, then float32), or the vertex colours
+                                                    band_depth=not row.depth_kept)
+        if row.shaded:  # the face normals (float64, then float32), or the vertex colours
             total += m * 36 + (n * 84 if smooth else 0)
-    if options.mode != "solid":  # imported here, as in _draw_edges: a solid render loads no edge kernels
+    if row.edges:  # imported here, as in the edge pass: a solid render loads no edge kernels
         from rasterkit.raster import edge_pass as _edges
-        from rasterkit.raster.kernels.edges import MODE_ANTIALIAS, MODE_DEPTH_TEST, MODE_PLAIN
 
-        edge_mode = MODE_ANTIALIAS if options.aa else MODE_DEPTH_TEST if options.mode != "wire" else MODE_PLAIN
-        total += _edges.scratch_bytes(n, len(mesh.edges), width * height, edge_mode,
-                                      transform=options.mode == "wire")
+        # (anti-aliased edges count as such, tested or not: their scratch is the larger)
+        mode = _edges.edge_mode(False, True) if style.aa else _edges.edge_mode(row.edges_tested, False)
+        total += _edges.scratch_bytes(n, len(mesh.edges), width * height, mode, transform=not row.faces)
     return total
 
 

@@ -14,11 +14,9 @@ import numpy as np
 
 from rasterkit._arrays import describe, real_array
 from rasterkit.colors import parse_color
+from rasterkit.options import MAX_POINT_SIZE
 
 __all__ = ["Points", "check_points", "draw_points"]
-
-#: The largest splat, pixels.
-MAX_POINT_SIZE = 64
 
 
 class Points(NamedTuple):

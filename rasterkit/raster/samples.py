@@ -28,10 +28,9 @@ import math
 
 import numpy as np
 
-__all__ = ["MAX_SAMPLES", "concentric_disc", "lens_points", "pixel_offsets", "square"]
+from rasterkit.options import MAX_SAMPLES  # at most 256: the colour sums of a render are 16 bits (256 · 255 < 2**16)
 
-MAX_SAMPLES = 256
-"""Samples per pixel at most (the colour sums of a render are 16 bits: 256 · 255 < 2**16)."""
+__all__ = ["MAX_SAMPLES", "concentric_disc", "lens_points", "pixel_offsets", "square"]
 
 _MASK64 = (1 << 64) - 1
 _PIXEL_SEED, _LENS_SEED, _PAIRING_SEED = 0x5EED_0001, 0x5EED_0002, 0x5EED_0003

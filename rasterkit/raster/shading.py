@@ -1,7 +1,7 @@
 """Lambert shading of a render's faces: per face for flat shading, per vertex for smooth.
 
 :func:`rasterkit.render` colours the faces through :func:`shade`; its options are those of
-:class:`rasterkit.raster.render._Options` (``shading``, ``cull``, ``color``, ``light``).
+:class:`rasterkit.raster.plan.Style` (``shading``, ``cull``, ``color``, ``light``).
 """
 
 from __future__ import annotations
@@ -44,6 +44,12 @@ def shade(mesh: Mesh, options):
     normals = mesh.normals if mesh.normals is not None else normal_kernels.vertex_normals(mesh.vertices, faces)
     base = _base_colors(mesh, options, per_face=False)
     return None, _lambert(normals, base, towards_light, two_sided)
+
+
+def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(M, 3) float32 unit normals of ``faces`` (checked indices into ``vertices``): zero for
+    a degenerate face, NaN for one with a non-finite corner."""
+    return normal_kernels.face_normals(vertices, faces).astype(np.float32)
 
 
 def light_direction(light, camera: Camera) -> np.ndarray:

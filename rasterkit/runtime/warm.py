@@ -42,9 +42,6 @@ import numpy as np
 from rasterkit.runtime import jit as _jit
 from rasterkit.runtime import threads as _threads
 
-#: The band workers, the kernels that a helper may compile.
-BAND_WORKERS = ("draw_bands", "draw_wire_bands", "draw_edge_bands", "draw_antialiased_bands")
-
 #: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
 PARSER = (("rasterkit.obj.kernels.scan", "scan_statements"),
           ("rasterkit.obj.kernels.numbers", "parse_number_rows"),
@@ -54,71 +51,63 @@ _helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the hel
 _parser_helper: subprocess.Popen | None = None
 
 
-def _band_worker(style: dict):
-    """The one band worker the helper compiles: the triangles' when the mode draws them
-    (this process compiles the edges' meanwhile, after its setup kernels: the halves come
-    out about even), else the edge worker of the mode."""
-    if style["mode"] != "wire":
-        from rasterkit.raster.kernels import tiles
-
-        return tiles.draw_bands
-    from rasterkit.raster.kernels import edges
-    from rasterkit.raster.kernels import edges_wu
-
-    return edges_wu.draw_antialiased_bands if style["aa"] else edges.draw_wire_bands
-
+#: The options that decide which variant of each helped kernel a render compiles (the others,
+#: colours, samples, edges..., change no kernel's argument types); a helper renders with these.
+HELPED_OPTIONS = ("mode", "cull", "shading", "background", "aa", "ids", "normals", "camera_depth")
 
 _cached = _jit.cached  # (a name of this module: tests replace it)
 
 
-def helped_workers(style: dict) -> list[list]:
-    """The workers helpers compile for a render with ``style``: a list per helper process,
-    each in the order the render runs them. The band worker is the largest kernel, about as
-    long to compile as this process's share of a solid render (the OBJ reader, the vertex and
-    face passes, its own start): one helper for it, which also compiles the binning (and the
-    depth offset of a mode with edges) that this process would run just before it. A mode
-    that draws faces and edges (hidden, solid+wire) compiles the edges' setup and band worker
-    too, about as much again: a second helper for those and for the face pass (which this
-    process would compile after reading the model), three processes on two cores."""
-    helpers = [[_band_worker(style)]]
-    if style["mode"] != "wire":
-        from rasterkit.raster.kernels import tiles
-        from rasterkit.raster.kernels import triangle
+def _kernel(name: str):
+    """The kernel ``module:function``."""
+    from importlib import import_module
 
-        edges = style["mode"] in ("hidden", "solid+wire")
-        helpers[0][:0] = [tiles.bin_records, triangle.offset_depths] if edges else [tiles.bin_records]
-    if style["mode"] in ("hidden", "solid+wire"):
-        from rasterkit.raster.kernels import edge_setup
-        from rasterkit.raster.kernels import edges_tested
-        from rasterkit.raster.kernels import edges_wu
-        from rasterkit.raster.kernels import setup
-
-        edge_worker = edges_wu.draw_antialiased_bands if style["aa"] else edges_tested.draw_edge_bands
-        helpers.append([setup.setup_faces, edge_setup.project_vertices, edge_setup.plain_setup, edge_worker])
-    return helpers
+    module, function = name.split(":")
+    return getattr(import_module(module), function)
 
 
-def start(style: dict, depth: bool, loading: bool) -> None:
-    """Start the helpers for a render with ``style`` (``mode``, ``cull``, ``shading``,
-    ``background``, ``aa``, and the vision maps asked for: ``ids``, ``normals``,
-    ``camera_depth``, which the band worker makes too) for the workers of
-    :func:`helped_workers` that are not cached (any variant: a first vision render after plain
-    ones compiles its variant here); ``depth``: the depth buffer is read too; ``loading``: a
-    model file is read (its parser compiles here meanwhile; otherwise, for the built-in
-    model, a helper of low priority compiles the parser for the next run). A wireframe of the
-    built-in model leaves too little to do here while a helper works to make up for starting
-    a new interpreter: no band worker helper then, unless it is forked. Once per process."""
+def helped_workers(options) -> list[list]:
+    """The kernels helpers compile for a render with ``options`` (a
+    :class:`rasterkit.RenderOptions`): a list per helper process, each in the order the render
+    runs them, as the mode's row of :data:`rasterkit.raster.modes.MODE_TABLE` names them
+    (:meth:`~rasterkit.raster.modes.Mode.helped_kernels`). With two helpers (faces and
+    edges), three processes share two cores."""
+    from rasterkit.raster.modes import mode
+
+    return [[_kernel(name) for name in names] for names in mode(options.mode).helped_kernels(options.aa)]
+
+
+def band_worker_cached(options) -> bool:
+    """Whether the band worker of ``options``' mode is in Numba's disk cache (any variant)."""
+    from rasterkit.raster.modes import mode
+
+    return _cached(_kernel(mode(options.mode).band_worker(options.aa)))
+
+
+def start(options, depth: bool, loading: bool) -> None:
+    """Start the helpers for a render with ``options`` (a :class:`rasterkit.RenderOptions`, of
+    which :data:`HELPED_OPTIONS` matter: the vision maps asked for are made by the band worker
+    too) for the kernels of :func:`helped_workers` that are not cached (any variant: a first
+    vision render after plain ones compiles its variant here); ``depth``: the depth buffer is
+    read too; ``loading``: a model file is read (its parser compiles here meanwhile;
+    otherwise, for the built-in model, a helper of low priority compiles the parser for the
+    next run). A wireframe of the built-in model leaves too little to do here while a helper
+    works to make up for starting a new interpreter: no band worker helper then, unless it is
+    forked. Once per process."""
     if _helpers:
         return
-    lists = [] if style["mode"] == "wire" and not loading and not _forks() else [
+    from rasterkit.raster.modes import mode
+
+    style = {name: getattr(options, name) for name in HELPED_OPTIONS}
+    lists = [] if not mode(options.mode).faces and not loading and not _forks() else [
         names for names in ([w.py_func.__name__ for w in workers if not _cached(w)]
-                            for workers in helped_workers(style)) if names]
+                            for workers in helped_workers(options)) if names]
     if lists and _forks():
         _prepare_numba()
     for names in lists:
         # a lone helper compiles the face normals' kernel (before the binning it compiles);
         # with two, this process does (it has the least to compile), the helpers need not
-        helper = _spawn({"style": style, "depth": depth, "workers": names, "normals": len(lists) == 1},
+        helper = _spawn({"options": style, "depth": depth, "workers": names, "normals": len(lists) == 1},
                         report=True)
         if helper is not None:
             _helpers.update(dict.fromkeys(names, helper))
@@ -342,7 +331,7 @@ def _run(order: dict) -> None:
         _lower_priority()
         _read_sample_obj()
         return
-    from rasterkit import render, shapes
+    from rasterkit import RenderOptions, render, shapes
     from rasterkit.camera import Camera
 
     _threads.intercept(_compile_only(order["workers"]))
@@ -353,7 +342,7 @@ def _run(order: dict) -> None:
         normals = np.cross(b - a, c - a)
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         mesh.__dict__["face_normals"] = _readonly(normals.astype(np.float32))
-    fb = render(mesh, camera, **order["style"])
+    fb = render(mesh, camera, options=RenderOptions(**order["options"]))
     if order["depth"]:
         fb.depth  # noqa: B018 - reading it runs the depth pass
 

@@ -74,7 +74,7 @@ def _objects(mesh_or_scene):
 
 
 def svg_drawing(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden", edges: str = "all",
-                crease_angle: float = 30.0, hidden: str | None = None, stroke="black",
+                crease_angle: float = 30.0, hidden: str | None = None, line_color="black",
                 stroke_width: float = 1.0) -> Drawing:
     """:func:`render_svg`, with the path planning's figures (a :class:`Drawing`)."""
     from rasterkit.svg import paths as _svg_paths
@@ -88,7 +88,7 @@ def svg_drawing(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden
     hidden = check_choice("hidden", hidden, HIDDEN)
     check_edges(edges)
     crease_angle = check_crease_angle(crease_angle)
-    rgb = parse_color(stroke)
+    rgb = parse_color(line_color)
     width_px = _check_width(stroke_width)
     mesh, object_starts = _objects(mesh_or_scene)
     w, h = camera.width, camera.height
@@ -97,7 +97,7 @@ def svg_drawing(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden
         from rasterkit.raster.distortion import vector_plan
 
         view, lens = vector_plan(camera)
-    check_memory(memory_needed(len(mesh.vertices), len(mesh.faces), len(mesh.edges), view.width, view.height, mode),
+    check_memory(svg_bytes(len(mesh.vertices), len(mesh.faces), len(mesh.edges), view.width, view.height, mode),
                  f"a {w}x{h} {mode} SVG of {len(mesh.faces)} faces")
     clip = transform_points(mesh.vertices, np.ascontiguousarray(view.world_to_raster()))
     chosen, classes = select_edges(mesh, clip, edges, crease_angle)
@@ -124,8 +124,8 @@ def svg_drawing(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden
 
 
 def render_svg(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden", edges: str = "all",
-               crease_angle: float = 30.0, hidden: str | None = None, stroke="black",
-               stroke_width: float = 1.0) -> str:
+               crease_angle: float = 30.0, hidden: str | None = None, line_color="black",
+               stroke_width: float = 1.0, *, stroke=None) -> str:
     """A vector drawing of a mesh or scene: the text of an SVG 1.1 document.
 
     Parameters
@@ -149,8 +149,9 @@ def render_svg(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden"
         Degrees between two faces' normals from which their edge is a crease (``feature``).
     hidden : {None, "dashed"}
         Leave the hidden parts out, or draw them dashed in a layer of their own.
-    stroke : colour
-        Line colour (a name, ``'#rrggbb'`` or an ``(r, g, b)`` tuple).
+    line_color : colour
+        Line colour (a name, ``'#rrggbb'`` or an ``(r, g, b)`` tuple), as in :func:`rasterkit.render`
+        (``stroke`` is another name for it).
     stroke_width : float
         Line width in pixels.
 
@@ -162,10 +163,14 @@ def render_svg(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden"
         polyline with the class of its edges (``edge``, ``silhouette``, ``boundary``,
         ``crease``, ``material``). Coordinates in pixels with two decimals at most.
     """
-    return svg_drawing(mesh_or_scene, camera, mode, edges, crease_angle, hidden, stroke, stroke_width).text
+    if stroke is not None:
+        if line_color != "black":
+            raise TypeError("give line_color or stroke (the same colour), not both")
+        line_color = stroke
+    return svg_drawing(mesh_or_scene, camera, mode, edges, crease_angle, hidden, line_color, stroke_width).text
 
 
-def memory_needed(n_vertices, n_faces, n_edges, width, height, mode) -> int:
+def svg_bytes(n_vertices, n_faces, n_edges, width, height, mode) -> int:
     """Bytes of an SVG drawing, estimated before anything is allocated: the vertices in two
     spaces, the faces' adjacency (feature edges), the depth and id buffers and the
     rasterizer's per-face scratch, and per edge its clipping, runs, pieces, polylines and

@@ -48,7 +48,7 @@ def project_vertices(slot, counter, clip, proj, pixels, width, height, counts, p
     :func:`plain_setup` counts, and the count cost a sixth of this pass).
 
     Unless ``points`` is empty, ``clip`` is made here first, row by row, as
-    :func:`rasterkit.raster.kernels.vertex.transform_points` makes it from ``points`` (N, 3) float64
+    :func:`rasterkit.raster.kernels.vertex.transform_chunks` makes it from ``points`` (N, 3) float64
     and ``matrix`` (4, 4) float64 (a wireframe, which needs ``clip`` for nothing else, saves a
     pass over the vertices).
 

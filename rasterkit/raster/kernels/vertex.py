@@ -8,7 +8,7 @@ N_CHUNKS = 16
 
 
 @kernel
-def transform_points(slot, counter, points, matrix, out):
+def transform_chunks(slot, counter, points, matrix, out):
     """(N, 3) float64 points times a 4x4 float64 matrix into ``out`` (N, 4) float64.
 
     ``out[i] = matrix @ (x, y, z, 1)``; no divide: clipping needs w. A worker of

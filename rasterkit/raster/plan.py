@@ -1,0 +1,110 @@
+"""What a render draws, decided from its :class:`~rasterkit.RenderOptions` before anything is
+allocated: the mesh in world space, the camera, the options resolved for this frame
+(:class:`Style`), which maps the band worker makes, and the memory it needs."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from rasterkit.camera import Camera
+from rasterkit.colors import parse_color
+from rasterkit.mesh import Mesh, as_mesh
+from rasterkit.options import RenderOptions
+from rasterkit.raster import accumulate as _accumulate
+from rasterkit.raster.memory import frame_bytes, maps_bytes
+from rasterkit.raster.modes import Mode, mode
+from rasterkit.raster.shading import light_direction
+from rasterkit.raster.vertex import transform_points
+from rasterkit.scene import Scene
+
+__all__ = ["FramePlan", "Style", "plan_frame"]
+
+
+@dataclass(frozen=True)
+class Style:
+    """A render's options resolved for one frame, as the passes read them."""
+
+    mode: Mode  # the row of the mode table
+    cull: str
+    shading: str
+    color: np.ndarray  # (4,) uint8 RGBA
+    line_color: np.ndarray  # (4,) uint8 RGBA
+    aa: bool
+    light: np.ndarray  # (3,) unit world-space direction towards the light
+    keep_depth: bool = False  # solid: draw the depth buffer in the colour pass, not when read
+    points: object = None  # rasterkit.raster.points.Points, drawn last as depth-tested splats
+    maps: object = None  # a vision render's Maps (rasterkit.raster.vision.maps_record), made by the band worker
+
+
+@dataclass(frozen=True)
+class FramePlan:
+    """What :func:`rasterkit.render` draws."""
+
+    mesh: Mesh
+    camera: Camera
+    style: Style
+    background: object
+    options: RenderOptions
+    one_sample: bool  # one sample at the pixel centres, no vignette
+    in_bands: bool  # the maps made by the band worker
+    object_faces: list | None  # a scene's faces per object, when ids are asked for
+    need: int  # bytes, for check_memory
+
+
+def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=None,
+               feature_edges: bool = True) -> FramePlan:
+    """Check ``mesh`` and ``camera`` (an undistorted one, or a scene's) and decide what
+    ``options`` draw; ``point_colors``: the points' own colours (else ``options.point_color``);
+    ``feature_edges``: work out the feature edges (else counted as all edges)."""
+    if points is not None:  # imported here, as the other extras: a plain render loads none
+        from rasterkit.raster.points import check_points
+
+        points = check_points(points, options.point_color if point_colors is None else point_colors,
+                              options.point_size)
+        if mesh is None:
+            mesh = Mesh(np.zeros((0, 3)), np.zeros((0, 3), np.int64))
+    object_faces, background, light = None, options.background, options.light
+    if isinstance(mesh, Scene):
+        camera = camera if camera is not None else mesh.camera
+        background = background if background is not None else mesh.background
+        light = light if light is not None else mesh.light
+        if options.ids:
+            object_faces = [len(o.mesh.faces) for o in mesh.objects]
+        mesh = mesh.world_mesh(options.color)
+    mesh = as_mesh(mesh)
+    if not isinstance(camera, Camera):
+        raise TypeError(f"camera must be a rasterkit.Camera, got {type(camera).__name__}")
+    row = mode(options.mode)
+    if feature_edges and options.edges == "feature" and row.edges:
+        mesh = _with_feature_edges(mesh, camera, options.crease_angle)
+    background = "white" if background is None else background
+    style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
+                  options.aa, light_direction(light, camera))
+    one_sample = options.samples == 1 and options.vignette == 0.0
+    normals, wanted_ids = options.normals, options.ids or options.normals
+    # the maps made by the band worker: a one-sample render of faces, nothing drawn after
+    in_bands = (normals or object_faces is not None or options.camera_depth) and one_sample \
+        and row.faces and points is None
+    if wanted_ids and one_sample and not (options.camera_depth and in_bands) or points is not None:
+        # a vision frame (its depth is wanted too), or points to test against the depth: a
+        # deferred depth pass would draw again
+        style = replace(style, keep_depth=True, points=points)
+    width, height = camera.width, camera.height
+    alpha = parse_color(background)[3] < 255
+    need = (frame_bytes(mesh, width, height, style, alpha, wanted_ids)
+            + _accumulate.extra_bytes(width, height, alpha, options.samples, options.vignette,
+                                      len(mesh.faces) if row.faces else 0)
+            + maps_bytes(mesh, width * height, normals, object_faces is not None, options.camera_depth and in_bands))
+    return FramePlan(mesh, camera, style, background, options, one_sample, in_bands, object_faces, need)
+
+
+def _with_feature_edges(mesh: Mesh, camera: Camera, crease_angle: float) -> Mesh:
+    """A Mesh whose edges are ``mesh``'s feature edges seen by ``camera`` (silhouettes depend
+    on the eye)."""
+    from rasterkit.raster import features as _features
+
+    clip = transform_points(mesh.vertices, np.ascontiguousarray(camera.world_to_raster()))
+    feature, _ = _features.feature_edges(mesh, clip, crease_angle)
+    return replace(mesh, edges=feature)
