@@ -1,7 +1,7 @@
 """2 threads vs 1 on the fill scene, run after run, for minutes: to catch slow phases.
 
 On a shared machine the 2-thread speed-up drifts in phases of minutes (one such phase
-was a layout problem of the band buffers, see ``rasterkit.raster.kernels.tiles.SLOT_GUARD_BYTES``),
+was a layout problem of the band buffers, see ``rasterkit.raster.kernels.bands.SLOT_GUARD_BYTES``),
 and one run of ``python -m benchmarks --targets`` can miss or hit one. This script repeats a
 short measurement (the fill scene drawn ``--rounds`` times on 1 and on 2 threads, interleaved,
 medians) in a fresh process per run, alternating between checkouts, so that two versions

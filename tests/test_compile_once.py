@@ -17,7 +17,7 @@ _SCRIPT = textwrap.dedent(
     from rasterkit.runtime import threads as _threads
     from rasterkit.runtime import warm as _warm
     from rasterkit.camera import Camera
-    from rasterkit.raster.kernels import setup
+    from rasterkit.raster.kernels import face_setup
     from rasterkit.raster.kernels import shade
     from rasterkit.runtime import handoff
 
@@ -27,7 +27,7 @@ _SCRIPT = textwrap.dedent(
         pass
 
     def hook(worker, args):
-        if worker is setup.setup_faces:
+        if worker is face_setup.setup_faces:
             worker.compile(tuple(numba.typeof(a) for a in (0, *args)))
             raise Done
         return None

@@ -265,7 +265,7 @@ def test_a_plain_render_loads_none_of_the_vision_passes_and_compiles_no_maps():
     import sys
 
     code = ("import sys, rasterkit; from rasterkit import Camera, shapes; "
-            "from rasterkit.raster.kernels.tiles import draw_bands; "
+            "from rasterkit.raster.kernels.bands import draw_bands; "
             "fb = rasterkit.render(shapes.cube(), Camera.look_at((0, 0, 5), (0, 0, 0), width=32, height=24), 'solid'); "
             "fb.depth; print(sorted(m for m in sys.modules if m.split('.')[-1] in "
             "('maps', 'vision', 'points', 'distortion'))); "

@@ -511,7 +511,7 @@ def test_slot_band_buffers_lie_apart_and_draws_write_only_their_band_rows():
     after the previous slot's (and after the buffer's start); a draw writes only the band
     rows (the guard rows keep a sentinel), leaves the visibility rows all -1, and a buffer
     of more slots is reused, not refilled, by a draw on fewer threads."""
-    from rasterkit.raster.kernels.tiles import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
+    from rasterkit.raster.kernels.bands import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
     from rasterkit.raster.triangle_pass import WORKSPACE
 
     for width in (1, 7, 48, 1920, 40000):

@@ -713,7 +713,7 @@ def test_depth_offset_pushes_faces_back_by_slope_and_units():
 
 @pytest.mark.parametrize("n_bands", [0, 1, 2, 5, 34])
 def test_bin_cursors_are_an_exclusive_scan_in_band_then_chunk_order(n_bands):
-    from rasterkit.raster.kernels.tiles import N_CHUNKS, bin_cursors
+    from rasterkit.raster.kernels.bands import N_CHUNKS, bin_cursors
 
     counts = np.random.default_rng(n_bands).integers(0, 9, (N_CHUNKS, n_bands)).astype(np.int64)
     expected, start, total = counts.copy(), [], 0

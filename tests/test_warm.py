@@ -104,10 +104,10 @@ def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path)
     helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(SOLID_ORDER)], env)
     assert helper.returncode == 0, helper.stderr
     assert helper.stdout == "draw_bands\n"  # what it compiled, named as each is cached
-    assert len(_kernel_indexes(cache, "tiles", "draw_bands")) == 1, _indexes(cache)
+    assert len(_kernel_indexes(cache, "bands", "draw_bands")) == 1, _indexes(cache)
     # The setup, binning and edge workers went through run_parallel's hook: not compiled.
-    for module, function in [("setup", "setup_faces"), ("setup", "setup_vertices"), ("setup", "_setup_chunk"),
-                             ("tiles", "bin_records"), ("fans", "setup_cut_faces"),
+    for module, function in [("face_setup", "setup_faces"), ("face_setup", "setup_vertices"), ("face_setup", "_setup_chunk"),
+                             ("bands", "bin_records"), ("fans", "setup_cut_faces"),
                              ("edges_tested", "draw_edge_bands"), ("edges", "draw_wire_bands")]:
         assert not _kernel_indexes(cache, module, function), _indexes(cache)
     assert not [name for name in _indexes(cache) if "setup_" in name], _indexes(cache)
@@ -118,7 +118,7 @@ def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path)
     assert "draw_bands" not in report["compiled"]  # loaded from the helper's cache entry
     assert "setup_faces" in report["compiled"]  # the listener does see this process's compiles
     assert report["colours"] > 2  # background and some shades: the loaded worker drew
-    assert len(_kernel_indexes(cache, "tiles", "draw_bands")) == 1
+    assert len(_kernel_indexes(cache, "bands", "draw_bands")) == 1
 
 
 def test_a_helper_of_several_workers_names_each_and_the_render_loads_them(tmp_path):
@@ -167,7 +167,7 @@ def test_first_cli_render_with_the_helper_equals_a_cached_one_and_the_api(tmp_pa
         assert done.returncode == 0, done.stderr
         assert done.stderr == (MESSAGE + "\n" if k == 0 else "")  # the notice on the first run only
         images.append(_png(out))
-    assert _kernel_indexes(tmp_path / "cache", "tiles", "draw_bands")
+    assert _kernel_indexes(tmp_path / "cache", "bands", "draw_bands")
 
     first, second = images
     assert first.shape == (48, 64, 3)
@@ -327,4 +327,4 @@ def test_a_helper_is_forked_on_linux_and_reports_on_its_pipe(tmp_path):
     done = _run([sys.executable, "-c", FORKED_HELPER, json.dumps(SOLID_ORDER["options"])], _env(tmp_path / "cache"))
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout) == {"forked": True, "reports": ["bin_records"], "code": 0}
-    assert _kernel_indexes(tmp_path / "cache", "tiles", "bin_records")
+    assert _kernel_indexes(tmp_path / "cache", "bands", "bin_records")

@@ -48,7 +48,7 @@ class Mode:
         """``module:function`` of the largest kernel the mode runs, compiled by a first run's
         helper: the triangles' band worker, or the edges' when the mode draws no faces."""
         if self.faces:
-            return _KERNELS + "tiles:draw_bands"
+            return _KERNELS + "bands:draw_bands"
         return _KERNELS + ("edges_wu:draw_antialiased_bands" if aa else "edges:draw_wire_bands")
 
     def helped_kernels(self, aa: bool) -> list[list[str]]:
@@ -60,12 +60,12 @@ class Mode:
         band worker too, about as much again: a second helper for those and the face pass."""
         first = [self.band_worker(aa)]
         if self.faces:
-            first[:0] = [_KERNELS + "tiles:bin_records"] + ([_KERNELS + "triangle:offset_depths"]
+            first[:0] = [_KERNELS + "bands:bin_records"] + ([_KERNELS + "triangle:offset_depths"]
                                                              if self.edges_tested else [])
         helpers = [first]
         if self.faces and self.edges:
             edge_worker = "edges_wu:draw_antialiased_bands" if aa else "edges_tested:draw_edge_bands"
-            helpers.append([_KERNELS + "setup:setup_faces", _KERNELS + "edge_setup:project_vertices",
+            helpers.append([_KERNELS + "face_setup:setup_faces", _KERNELS + "edge_setup:project_vertices",
                             _KERNELS + "edge_setup:plain_setup", _KERNELS + edge_worker])
         return helpers
 

@@ -112,7 +112,7 @@ _PIXEL = {
          (-56, 8), (14, 10), (-120, 11), (85, 24), (4, 36), (41, 46), (97, 58), (-68, 64),
          (-26, 72), (106, 78), (-125, 95), (-38, 96), (51, 102), (78, 103), (-102, 108), (17, 121)),
 }
-_UNIT = 256  # 1 << SUBPIXEL_BITS (rasterkit.raster.kernels.setup)
+_UNIT = 256  # 1 << SUBPIXEL_BITS (rasterkit.raster.kernels.face_setup)
 
 
 @functools.lru_cache(maxsize=None)

@@ -3,7 +3,7 @@
 The samples of a render through a pinhole (:mod:`rasterkit.raster.accumulate`) differ only by
 where each pixel is sampled: ``P + s`` for the pixel centre ``P`` and a sub-pixel offset
 ``s``. When ``s`` is a multiple of 1/256 pixel (the fixed-point grid the vertices are
-snapped to, :data:`rasterkit.raster.kernels.setup.SUBPIXEL_BITS`), sampling at ``P + s`` is the
+snapped to, :data:`rasterkit.raster.kernels.face_setup.SUBPIXEL_BITS`), sampling at ``P + s`` is the
 same, to the bit, as drawing the scene moved by ``-s`` at the pixel centres: the snapped
 vertices move by exactly ``-256 s`` fixed-point units, and nothing else of a triangle's
 record changes (its depths, its winding, whether it is culled or of zero area, its face's
@@ -12,12 +12,12 @@ the cut faces' fans, the binning, the polygon offset and the smooth colours'
 perspective-correct terms are done once, with every box padded by a pixel, and each sample
 only draws the bands: :meth:`SharedTriangles.draw` moves the records' vertices by
 ``-256 s`` and bounds them again (:func:`rasterkit.raster.kernels.triangle_samples.move_records`, a pass over
-the records) and draws them as any draw (:func:`rasterkit.raster.kernels.tiles.draw_bands`);
+the records) and draws them as any draw (:func:`rasterkit.raster.kernels.bands.draw_bands`);
 :meth:`SharedTriangles.draw_average` draws every sample of a band in turn, moving each
 record as it draws it (:func:`rasterkit.raster.kernels.triangle_samples.raster_band_at`), and averages
 them there (:mod:`rasterkit.raster.kernels.sample_bands`). The resolve interpolates smooth colours
 at ``P + s``. Boxes are padded by a pixel, and faces beside the image are not rejected
-(:func:`rasterkit.raster.kernels.setup.setup_vertices`), for offsets up to a pixel.
+(:func:`rasterkit.raster.kernels.face_setup.setup_vertices`), for offsets up to a pixel.
 
 Exactly equal to a full draw of the moved vertices: every face that no clipping plane cuts
 (the cut faces' fans are cut once, where the centre sample's vertices lie: the same
@@ -35,7 +35,7 @@ from rasterkit.runtime.threads import run_workers
 from rasterkit.raster.triangle_pass import WORKSPACE, Prepared, clear_spec, draw_prepared, prepare
 from rasterkit.raster.kernels.records import Samples
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_TAGGED
-from rasterkit.raster.kernels.tiles import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
+from rasterkit.raster.kernels.bands import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
 from rasterkit.mesh import side_neighbours
 from rasterkit.raster.triangles import (background_bytes, check_buffer, check_depth, check_depth_offset, check_geometry,
                                        shading_mode, thread_count)

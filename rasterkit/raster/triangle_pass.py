@@ -2,8 +2,8 @@
 vertex pass -> face pass (and cut faces' fans) -> bins -> draw the bands (raster, z-test,
 resolve).
 
-The kernels are in :mod:`rasterkit.raster.kernels.setup`, :mod:`rasterkit.raster.kernels.fans`,
-:mod:`rasterkit.raster.kernels.tiles`, :mod:`rasterkit.raster.kernels.triangle` and
+The kernels are in :mod:`rasterkit.raster.kernels.face_setup`, :mod:`rasterkit.raster.kernels.fans`,
+:mod:`rasterkit.raster.kernels.bands`, :mod:`rasterkit.raster.kernels.triangle` and
 :mod:`rasterkit.raster.kernels.shade`; this module picks the resolve mode once per draw, the scratch
 memory and the threads, and runs the passes in order. Its callers
 (:func:`rasterkit.raster.triangles.rasterize_triangles`, :mod:`rasterkit.raster.shared_samples`) have
@@ -32,7 +32,7 @@ from rasterkit.raster.kernels.clear import PATTERN_BYTES
 from rasterkit.raster.kernels.cull import CULL_BACK, CULL_FRONT, CULL_NONE
 from rasterkit.raster.kernels.fans import count_fans, setup_cut_faces
 from rasterkit.raster.kernels.records import Clear, Counts, Cuts, Lit, Records, Sample, Shading, Target
-from rasterkit.raster.kernels.setup import (
+from rasterkit.raster.kernels.face_setup import (
     MAX_FAN,
     N_CHUNKS,
     N_STATUS,
@@ -45,7 +45,7 @@ from rasterkit.raster.kernels.setup import (
     setup_vertices,
 )
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, SHADE_TAGGED, bary_matrices, pack_colors
-from rasterkit.raster.kernels.tiles import (
+from rasterkit.raster.kernels.bands import (
     BAND_HEIGHT,
     BAND_SHIFT,
     bin_cursors,
@@ -71,7 +71,7 @@ _PARALLEL_FACES = 4096
 
 class Lighting(NamedTuple):
     """Validated terms of :class:`rasterkit.raster.triangles.FlatLambert`, as the face pass
-    (:func:`rasterkit.raster.kernels.setup.setup_faces`) takes them."""
+    (:func:`rasterkit.raster.kernels.face_setup.setup_faces`) takes them."""
 
     normals: np.ndarray  # (M, 3) float32, read-only
     base: np.ndarray  # (1, 3) or (M, 3) float32, read-only
@@ -171,7 +171,7 @@ _NO_PATTERN = readonly(np.empty(0, np.uint8))
 
 
 def _lit(lighting, packed):
-    """The ``lit`` tuple of :func:`rasterkit.raster.kernels.setup.setup_faces` (the same types
+    """The ``lit`` tuple of :func:`rasterkit.raster.kernels.face_setup.setup_faces` (the same types
     with and without lighting: one compiled kernel)."""
     if lighting is None:
         return Lit(False, _NO_NORMALS, _NO_BASE, np.float32(1.0), _NO_LIGHT, 0.0, False, packed)
@@ -206,11 +206,11 @@ def _pattern(background: bytes) -> np.ndarray:
 
 def _set_up(ws, clip, faces, width, height, cull_mode, pad, lit, threads, transform=None):
     """Vertex pass, face pass and (when needed) the cut faces' fans; binning counted.
-    ``pad``: the boxes' padding (:func:`rasterkit.raster.kernels.setup.setup_triangle`);
+    ``pad``: the boxes' padding (:func:`rasterkit.raster.kernels.face_setup.setup_triangle`);
     ``transform``: None, or ``(points, matrix)`` that the vertex pass makes ``clip`` from.
 
     Returns ``(records, n_fan, fan_start, fan_face, band_counts, counts, listed, corners)``
-    for :func:`rasterkit.raster.kernels.tiles.bin_records` and the resolve; ``counts`` (N_STATUS + 1,)
+    for :func:`rasterkit.raster.kernels.bands.bin_records` and the resolve; ``counts`` (N_STATUS + 1,)
     are the faces per STATUS_* and, last, the faces cut with something left; ``corners``
     the vertex pass's rows.
     """
@@ -271,7 +271,7 @@ class Prepared(NamedTuple):
     padded: bool
     generation: int  # the workspace's at prepare: checked by draw_prepared
     stats: dict  # the counts of rasterkit.raster.triangles.TriangleStats but fragments
-    corners: np.ndarray  # the vertex pass's (rasterkit.raster.kernels.setup.setup_vertices)
+    corners: np.ndarray  # the vertex pass's (rasterkit.raster.kernels.face_setup.setup_vertices)
 
 
 def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, height, color, ids, threads,

@@ -1,7 +1,7 @@
 """First runs compile in two processes at once: the largest kernels in a helper, the rest here.
 
 A first render spends most of its time compiling, and Numba compiles in one thread per
-process. When the command line finds the mode's band worker (:func:`rasterkit.raster.kernels.tiles.draw_bands`
+process. When the command line finds the mode's band worker (:func:`rasterkit.raster.kernels.bands.draw_bands`
 or the edge workers of :mod:`rasterkit.raster.kernels.edges`, the largest kernels, run last) missing
 from Numba's on-disk cache, it starts a helper process at once, before the model is read, that
 compiles the workers of :func:`helped_workers` for the same mode and options, while this

@@ -1,6 +1,6 @@
 """Faces cut by a clipping plane become fans of records (the setup stage's second part).
 
-:func:`rasterkit.raster.kernels.setup.setup_faces` flags the faces that cross the near or far
+:func:`rasterkit.raster.kernels.face_setup.setup_faces` flags the faces that cross the near or far
 plane or the guard band; :func:`count_fans` cuts each (Sutherland–Hodgman,
 :func:`rasterkit.raster.kernels.clip.cut_face`) to count its triangles, the driver makes room for
 them, and :func:`setup_cut_faces` cuts them again and sets the triangles up as records
@@ -15,7 +15,7 @@ import numpy as np
 from rasterkit.runtime.jit import kernel
 from rasterkit.raster.kernels.clip import MAX_POLYGON, clip_planes, cut_face
 from rasterkit.runtime.intrinsics import fetch_add
-from rasterkit.raster.kernels.setup import (
+from rasterkit.raster.kernels.face_setup import (
     N_CHUNKS,
     N_STATUS,
     STATUS_DRAWN,
@@ -124,7 +124,7 @@ def setup_cut_faces(slot, counter, clip, faces, width, height, cull_mode, pad, f
     left of it). Drawn fan records are added to ``counts.bands``, and the new statuses to
     ``counts.tally``, as in :func:`setup_faces` (``records``, ``cuts`` and ``counts`` are its
     named records, :mod:`rasterkit.raster.kernels.records`); ``pad`` as for
-    :func:`rasterkit.raster.kernels.setup.setup_triangle`. A worker of :func:`rasterkit.runtime.threads.run_parallel`
+    :func:`rasterkit.raster.kernels.face_setup.setup_triangle`. A worker of :func:`rasterkit.runtime.threads.run_parallel`
     (``slot`` unused).
     """
     planes = clip_planes(width, height)

@@ -1,7 +1,7 @@
 """The rows of a vision pipeline's images, made from a render's face ids and depths: camera-space
 normals, the scene object seen at each pixel, the metric depth (:mod:`rasterkit.raster.vision`).
 
-The band worker (:func:`rasterkit.raster.kernels.tiles.draw_bands`) makes them with
+The band worker (:func:`rasterkit.raster.kernels.bands.draw_bands`) makes them with
 :func:`band_maps` right after it resolved a band, while the band is in its cache; the passes
 of :mod:`rasterkit.raster.kernels.maps` make them for the other renders. A render that asks for none
 compiles none of this: its band worker gets ``maps=None``, and Numba prunes the call.
@@ -176,7 +176,7 @@ def surface_row(iflat, j, w, fields, nan):
 @kernel(refcounts=False)
 def band_maps(ids, y0, y1, maps, band_depth, drawn):
     """The maps of image rows ``y0 .. y1 - 1``, made by the band worker
-    (:func:`rasterkit.raster.kernels.tiles.draw_bands`) right after it resolved them, while their
+    (:func:`rasterkit.raster.kernels.bands.draw_bands`) right after it resolved them, while their
     ids and depths are in its cache: normals and object ids as
     :func:`rasterkit.raster.kernels.maps.surface_maps` makes them from ``ids`` (H, W) int32, and (``maps.want_depth``) the metric depth of the band's
     depths ``band_depth`` (its rows, first row ``y0``; not read unless ``drawn``: a band

@@ -5,7 +5,7 @@ positional argument lists.
 
 from collections import namedtuple
 
-#: The triangle records of :mod:`rasterkit.raster.kernels.setup`: ``xy`` (T, 6) int32 fixed-point
+#: The triangle records of :mod:`rasterkit.raster.kernels.face_setup`: ``xy`` (T, 6) int32 fixed-point
 #: vertices, ``z`` (T, 3) float32 depths, ``box`` (T, 4) int32 clamped pixel boxes.
 Records = namedtuple("Records", "xy z box")
 
@@ -18,21 +18,21 @@ Cuts = namedtuple("Cuts", "mask n_fan")
 #: faces per chunk and outcome (the last column: cut faces with something left).
 Counts = namedtuple("Counts", "shift bands tally")
 
-#: Flat Lambert colours made during the face pass (:func:`rasterkit.raster.kernels.setup.setup_faces`):
+#: Flat Lambert colours made during the face pass (:func:`rasterkit.raster.kernels.face_setup.setup_faces`):
 #: when ``on``, each face drawn or to be cut gets its colour in ``packed`` (M,) uint32 from
 #: ``normals`` (M, 3) float32, ``base`` (1 or M, 3) float32 times ``scale``, the unit
 #: direction ``light`` (3,) float64, ``ambient`` and ``two_sided``
 #: (:func:`rasterkit.raster.kernels.shade.flat_colors`).
 Lit = namedtuple("Lit", "on normals base scale light ambient two_sided packed")
 
-#: How :func:`rasterkit.raster.kernels.tiles.draw_bands` colours a visible pixel
+#: How :func:`rasterkit.raster.kernels.bands.draw_bands` colours a visible pixel
 #: (:func:`rasterkit.raster.kernels.shade.resolve_row`): the resolve ``mode`` (SHADE_*), ``n_faces``
 #: M (record ``t`` is face ``t`` below M, else face ``fan_face[t - M]``), ``packed`` (M,)
 #: uint32 face colours, ``vertex_colors`` (N, 3) float32, ``faces`` (M, 3) int64 and
 #: ``bary`` (M, 9) float64 perspective-correct barycentric rows (smooth shading).
 Shading = namedtuple("Shading", "mode n_faces fan_face packed vertex_colors faces bary")
 
-#: Where :func:`rasterkit.raster.kernels.tiles.draw_bands` draws: ``depth`` (H, W) float32 when
+#: Where :func:`rasterkit.raster.kernels.bands.draw_bands` draws: ``depth`` (H, W) float32 when
 #: ``keep_depth``, else a band-sized scratch per slot; the image ``height``; ``color`` (H, W,
 #: C) uint8; whether to write face indices (``write_ids``) into ``ids`` (H, W) int32.
 Target = namedtuple("Target", "depth keep_depth height color write_ids ids")

@@ -3,7 +3,7 @@
 The samples of a pinhole render share one triangle setup (:mod:`rasterkit.raster.shared_samples`):
 they differ only in where each pixel is sampled. :func:`draw_sample_bands` draws them all in
 one pass over the bands: each band (claimed by one thread, as in
-:func:`rasterkit.raster.kernels.tiles.draw_bands`) is rasterized at each sample point in turn
+:func:`rasterkit.raster.kernels.bands.draw_bands`) is rasterized at each sample point in turn
 (:func:`rasterkit.raster.kernels.triangle_samples.raster_band_at`), and each sample's colours are added at
 once into a band of 16-bit sums. The sums start at the background times the number of
 samples, and a sample adds its colour minus the background where a face won, visiting only
@@ -25,9 +25,9 @@ from rasterkit.raster.kernels.clear import fill_bytes
 from rasterkit.raster.kernels.coverage import pixel_area
 from rasterkit.runtime.intrinsics import fetch_add
 from rasterkit.raster.kernels.records import Sample
-from rasterkit.raster.kernels.setup import ONE
+from rasterkit.raster.kernels.face_setup import ONE
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_SMOOTH, SHADE_TAGGED, smooth_rgba
-from rasterkit.raster.kernels.tiles import BAND_HEIGHT, PREFETCH_AHEAD, clear_depth, prefetch_record
+from rasterkit.raster.kernels.bands import BAND_HEIGHT, PREFETCH_AHEAD, clear_depth, prefetch_record
 from rasterkit.raster.kernels.triangle_samples import raster_band_at
 
 
@@ -146,7 +146,7 @@ def _note_boundaries(items, start, end, n_faces, records, faces, corners, neighb
         if outline == 0:  # most faces of a closed mesh
             continue
         # the record's corners are the face's, 1 and 2 swapped when it is counter-clockwise
-        # on screen (rasterkit.raster.kernels.setup.setup_triangle): its side c is the face's 2 - c
+        # on screen (rasterkit.raster.kernels.face_setup.setup_triangle): its side c is the face's 2 - c
         v1 = faces[t, 1]
         swapped = corners[v1, 1] != tri_xy[t, 2] or corners[v1, 2] != tri_xy[t, 3]
         for c in range(3):
@@ -257,7 +257,7 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
     Parameters
     ----------
     band_start, items, records, shading
-        As for :func:`rasterkit.raster.kernels.tiles.draw_bands`, from a setup with padded boxes
+        As for :func:`rasterkit.raster.kernels.bands.draw_bands`, from a setup with padded boxes
         (``shading.mode`` SHADE_FLAT, SHADE_TAGGED or SHADE_SMOOTH).
     depth : (n_slots * slot_rows(W), W) float32
         The depth scratch, ``BAND_HEIGHT`` rows per slot as in ``draw_bands``.

@@ -29,8 +29,8 @@ Depth    ``z = zh / w`` is affine in raster space: ``z(i, j) = zc + gx * i + gy 
     band's visibility buffer ``lid`` (the index of the triangle's face); colours are
     written once per pixel afterwards (:func:`rasterkit.raster.kernels.shade.resolve_row`).
 
-The records come from the setup stage (:mod:`rasterkit.raster.kernels.setup`), binned into bands
-by :mod:`rasterkit.raster.kernels.tiles`, which calls :func:`raster_band` for each record of a band.
+The records come from the setup stage (:mod:`rasterkit.raster.kernels.face_setup`), binned into bands
+by :mod:`rasterkit.raster.kernels.bands`, which calls :func:`raster_band` for each record of a band.
 """
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 from rasterkit.runtime.intrinsics import fetch_add
-from rasterkit.raster.kernels.setup import HALF, N_CHUNKS, ONE, chunk_range, pixel_bounds, signed_area2, snap
+from rasterkit.raster.kernels.face_setup import HALF, N_CHUNKS, ONE, chunk_range, pixel_bounds, signed_area2, snap
 
 
 @kernel(inline="always")

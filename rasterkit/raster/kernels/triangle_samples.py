@@ -14,13 +14,13 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 from rasterkit.runtime.intrinsics import fetch_add
-from rasterkit.raster.kernels.setup import N_CHUNKS, chunk_range, pixel_bounds
+from rasterkit.raster.kernels.face_setup import N_CHUNKS, chunk_range, pixel_bounds
 from rasterkit.raster.kernels.triangle import raster_vertices
 
 
 @kernel(inline="always")
 def moved_box(x0, y0, x1, y1, x2, y2, width, y_lo, y_hi):
-    """The pixel box of a fixed-point triangle as :func:`rasterkit.raster.kernels.setup.setup_triangle`
+    """The pixel box of a fixed-point triangle as :func:`rasterkit.raster.kernels.face_setup.setup_triangle`
     bounds it, its columns clamped to ``0 .. width - 1`` and its rows to ``y_lo .. y_hi``;
     ``(0, -1, 0, -1)`` when empty."""
     i_lo, i_hi = pixel_bounds(min(x0, x1, x2), max(x0, x1, x2))

@@ -10,7 +10,7 @@ Passes
     turns every face that needs no cutting into its record, culls it by the sign of its
     area (the lecture's n·v test, :mod:`rasterkit.raster.kernels.cull`), clamps its bounding box
     to the image and counts it into the bands it spans (the counting pass of binning,
-    :mod:`rasterkit.raster.kernels.tiles`). Faces that cross a clipping plane are left to
+    :mod:`rasterkit.raster.kernels.bands`). Faces that cross a clipping plane are left to
     :mod:`rasterkit.raster.kernels.fans`. Every pass is a worker of
     :func:`rasterkit.runtime.threads.run_parallel` over N_CHUNKS chunks of vertices or faces.
 
@@ -228,7 +228,7 @@ def setup_vertices(slot, counter, clip, width, height, pad, corners, depths, poi
 def count_bands(t, tri_box, band_shift, band_counts, ch):
     """Count drawn record ``t`` into the bands of ``1 << band_shift`` rows its box spans.
 
-    This is the counting pass of binning (:mod:`rasterkit.raster.kernels.tiles`), done here while
+    This is the counting pass of binning (:mod:`rasterkit.raster.kernels.bands`), done here while
     the box is at hand: ``band_counts[ch, b]`` counts chunk ``ch``'s records in band ``b``.
     (A shift, not a division: the band height is a run-time value, and a 64-bit division
     costs tens of cycles per face.)
@@ -363,7 +363,7 @@ def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode,
         none) in ``mask``, 0 in ``n_fan`` (filled in by :func:`count_fans`).
     counts : Counts
         :class:`rasterkit.raster.kernels.records.Counts`: ``shift`` is log2 of the rows per band
-        of the binning (:data:`rasterkit.raster.kernels.tiles.BAND_SHIFT`); ``bands`` and
+        of the binning (:data:`rasterkit.raster.kernels.bands.BAND_SHIFT`); ``bands`` and
         ``tally`` zeros in; out: drawn records per chunk and band (:func:`count_bands`), and
         faces per chunk and STATUS_* (column N_STATUS: faces cut with something left,
         counted by :func:`setup_cut_faces`).

@@ -11,7 +11,7 @@ Order
     order), so equal depths resolve the same way whatever the thread count: the image is
     bit-identical for 1 and N threads. Binning is a stable counting sort over the same
     face chunks as the setup stage (:data:`triangle.N_CHUNKS`), whose counting pass the
-    setup does (:func:`rasterkit.raster.kernels.setup.count_bands`).
+    setup does (:func:`rasterkit.raster.kernels.face_setup.count_bands`).
 
 Scheduling
     :func:`draw_bands` runs once per thread *slot*; each slot takes the next band that no
@@ -34,7 +34,7 @@ from rasterkit.raster.kernels.clear import fill_bytes
 from rasterkit.runtime.intrinsics import fetch_add, prefetch_row
 from rasterkit.raster.kernels.map_rows import band_maps
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
-from rasterkit.raster.kernels.setup import N_CHUNKS, ONE, chunk_range
+from rasterkit.raster.kernels.face_setup import N_CHUNKS, ONE, chunk_range
 from rasterkit.raster.kernels.triangle import raster_band
 
 #: Rows per band, ``1 << BAND_SHIFT`` (a shift: the face pass counts bands per face, and a
@@ -111,7 +111,7 @@ def _bin_chunk(ch, n_faces, n_fan, fan_start, tri_box, cursor, items, listed):
 
 
 def bin_cursors(band_counts):
-    """Turn the counts of :func:`rasterkit.raster.kernels.setup.count_bands` into cursors, in
+    """Turn the counts of :func:`rasterkit.raster.kernels.face_setup.count_bands` into cursors, in
     place (band-major, then chunk, that is face, order), for :func:`bin_records`; returns
     ``band_start`` (n_bands + 1,) int64: bin ``b`` will be ``items[band_start[b]:
     band_start[b + 1]]``. NumPy (a few thousand counts: microseconds), so that no process
@@ -142,7 +142,7 @@ def bin_records(slot, counter, n_faces, n_fan, fan_start, tri_box, band_counts, 
     band_counts : (N_CHUNKS, n_bands) int64
         The cursors of :func:`bin_cursors`; used up.
     listed : tuple
-        ``(faces_listed, n_listed)`` from :func:`rasterkit.raster.kernels.setup.setup_faces`:
+        ``(faces_listed, n_listed)`` from :func:`rasterkit.raster.kernels.face_setup.setup_faces`:
         the faces that can have records; the others are skipped without being read.
     items : (band_start[-1],) int32
         Out: the record indices, bin after bin.
