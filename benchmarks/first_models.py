@@ -3,7 +3,7 @@
 ``rasterkit render MODEL -o x.png --mode solid`` (or each mode of
 ``settings.first_model_modes``: ``--first-modes``) for each model of :data:`MODELS` alone, in a
 new, empty ``NUMBA_CACHE_DIR`` (so every kernel it needs compiles, the reader's included),
-as a whole process started by :func:`benchmarks.startup.launch`: wall seconds and user CPU
+as a whole process started by :func:`benchmarks.launch.launch`: wall seconds and user CPU
 seconds (the process and the compiling helper it starts). Repetitions alternate the order of
 the models; medians are reported. Models that are not on this machine are skipped.
 """
@@ -14,6 +14,7 @@ import statistics
 import tempfile
 from pathlib import Path
 
+from .launch import child_environment, launch, rasterkit_command
 from .report import Record
 from .settings import MODELS_DIR
 
@@ -49,8 +50,6 @@ def run(settings, results, scratch: Path) -> None:
 def run_mode(settings, results, scratch: Path, mode: str) -> None:
     """Each present model's first render in ``mode``, ``settings.first_model_runs`` times (0:
     skipped)."""
-    from .startup import child_environment, launch, rasterkit_command
-
     runs = settings.first_model_runs
     prefix = "startup/first-model" + ("" if mode == "solid" else f"/{mode}")
     if runs == 0:

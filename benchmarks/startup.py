@@ -37,8 +37,6 @@ rasterkit`` where there is none), with this checkout first on ``PYTHONPATH``.
 
 from __future__ import annotations
 
-import json
-import os
 import statistics
 import subprocess
 import sys
@@ -46,31 +44,15 @@ import tempfile
 from pathlib import Path
 
 from . import cli, first_models
+from .launch import ROOT, child_environment, launch, rasterkit_command
 from .compare import RASTERKIT, compare, start
 from .report import Record
 from .settings import MODES, model_path
 from .timing import interleaved
 
 FAMILY = "startup"
-ROOT = Path(__file__).resolve().parents[1]
 BARE = "python -c pass"
 """The peer of the import-time workloads: the interpreter starting and exiting."""
-
-# Runs one command (argv as JSON) with stdout discarded and stderr to a file, and prints
-# {"seconds", "maxrss" (bytes), "exit"}; stdlib only so that its own peak stays small.
-_LAUNCHER = r"""
-import json, os, sys, time
-argv, err = json.loads(sys.argv[1]), sys.argv[2]
-actions = [(os.POSIX_SPAWN_OPEN, 0, os.devnull, os.O_RDONLY, 0),
-           (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
-           (os.POSIX_SPAWN_OPEN, 2, err, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)]
-begin = time.perf_counter()
-pid = os.posix_spawn(argv[0], argv, os.environ, file_actions=actions)
-_, status, usage = os.wait4(pid, 0)
-end = time.perf_counter()
-print(json.dumps({"seconds": end - begin, "maxrss": usage.ru_maxrss * 1024,
-                  "user": usage.ru_utime, "exit": os.waitstatus_to_exitcode(status)}))
-"""
 
 # What the console script does (``from rasterkit.cli import main; sys.exit(main())``), then
 # whether numba was imported on the way.
@@ -85,40 +67,6 @@ except SystemExit:
 print()
 print("IMPORTS_NUMBA", "numba" in sys.modules)
 """
-
-
-def rasterkit_command() -> list[str]:
-    """The ``rasterkit`` console script of this interpreter, or ``python -m rasterkit``."""
-    script = Path(sys.executable).parent / "rasterkit"
-    if script.is_file() and os.access(script, os.X_OK):
-        return [str(script)]
-    return [sys.executable, "-m", "rasterkit"]
-
-
-def child_environment(**extra: str) -> dict:
-    """The suite's environment with this checkout first on PYTHONPATH, plus ``extra``."""
-    path = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
-    return {**os.environ, "PYTHONPATH": path, **extra}
-
-
-def launch(argv: list[str], env: dict, scratch: Path) -> dict:
-    """Run ``argv`` to completion through the launcher: {"seconds", "maxrss", "user"} of that
-    process (``user``: its user CPU seconds, its children's that it waited for included).
-
-    Raises RuntimeError with the last line of its stderr when it exits non-zero.
-    """
-    err = Path(tempfile.mkstemp(dir=scratch, suffix=".stderr")[1])
-    done = subprocess.run([sys.executable, "-c", _LAUNCHER, json.dumps(argv), str(err)], cwd=ROOT,
-                          env=env, capture_output=True, text=True)
-    if done.returncode != 0:
-        lines = done.stderr.strip().splitlines() or [f"launcher exit code {done.returncode}"]
-        raise RuntimeError(lines[-1])
-    result = json.loads(done.stdout.strip().splitlines()[-1])
-    if result["exit"] != 0:
-        lines = err.read_text(errors="replace").strip().splitlines() or [f"exit code {result['exit']}"]
-        raise RuntimeError(lines[-1])
-    err.unlink()
-    return result
 
 
 def _mib(n: float) -> str:

@@ -124,7 +124,7 @@ def test_first_renders_in_each_mode_asked_for(tmp_path, monkeypatch):
     import dataclasses
 
     monkeypatch.syspath_prepend(str(ROOT))  # the suite is not installed with the package
-    from benchmarks import first_models, report, startup
+    from benchmarks import first_models, report
     from benchmarks.__main__ import main
     from benchmarks.settings import TINY
 
@@ -138,7 +138,7 @@ def test_first_renders_in_each_mode_asked_for(tmp_path, monkeypatch):
         launched.append((argv[argv.index("--mode") + 1], env["NUMBA_CACHE_DIR"]))
         return {"seconds": 3.0, "user": 5.0}
 
-    monkeypatch.setattr(startup, "launch", launch)
+    monkeypatch.setattr(first_models, "launch", launch)
     results = report.Results()
     settings = dataclasses.replace(TINY, first_model_runs=1, first_model_modes=("solid", "hidden"))
     first_models.run(settings, results, tmp_path)

@@ -7,14 +7,10 @@ They are imported on first use, so that the command line's light modules of this
 
 from __future__ import annotations
 
-import importlib
+from rasterkit.lazy import on_first_use
 
 __all__ = ["BatchSummary", "Task", "render_many"]
 
-_HOMES = {"render_many": "api", "BatchSummary": "engine", "Task": "task"}
-
-
-def __getattr__(name: str):
-    if name in _HOMES:
-        return getattr(importlib.import_module(f"{__name__}.{_HOMES[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__, __dir__ = on_first_use(__name__, globals(), {
+    "render_many": f"{__name__}.api:render_many", "BatchSummary": f"{__name__}.engine:BatchSummary",
+    "Task": f"{__name__}.task:Task"})

@@ -8,15 +8,10 @@ command line's output checks (``atomic``) load no NumPy.
 
 from __future__ import annotations
 
-import importlib
+from rasterkit.lazy import on_first_use
 
 __all__ = ["to_pil", "encode_png", "save_image", "save_animation", "save_npy", "atomic_write", "PNG_COMPRESS_LEVEL"]
 
-_HOMES = {**dict.fromkeys(["to_pil", "encode_png", "save_image", "save_animation", "save_npy", "PNG_COMPRESS_LEVEL"],
-                          "files"), "atomic_write": "atomic"}
-
-
-def __getattr__(name: str):
-    if name in _HOMES:
-        return getattr(importlib.import_module(f"{__name__}.{_HOMES[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__, __dir__ = on_first_use(__name__, globals(), {
+    **{name: f"{__name__}.files:{name}" for name in __all__ if name != "atomic_write"},
+    "atomic_write": f"{__name__}.atomic:atomic_write"})
