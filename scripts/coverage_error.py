@@ -24,7 +24,7 @@ sup below takes both limits: a sample on the boundary counted in and counted out
   ``min_angle`` apart (a triangle's corner of at least that angle).
 
 The sups over θ and over the apex are taken on grids (:func:`measure`), those over the
-position of the lines exactly. ``tests/test_coverage.py`` checks these against clipping.
+position of the lines exactly. ``tests/raster/test_coverage.py`` checks these against clipping.
 """
 
 from __future__ import annotations

@@ -24,7 +24,7 @@ machine's memory) refuses a job up front, in one line, instead of failing after 
 
 The per-pixel numbers were measured (peak resident memory, ``VmHWM``, on images of random
 pixels, the worst case for compression and quantisation) and rounded up;
-``tests/test_job_memory.py`` checks that the estimate stays above the measured peak.
+``tests/batch/test_job_memory.py`` checks that the estimate stays above the measured peak.
 """
 
 from __future__ import annotations

@@ -1,0 +1,29 @@
+"""Shared by every test folder (tests/<package>/ mirrors rasterkit/<package>/).
+
+The helpers of ``tests/support`` (hostile children, slow references, the render corpus, the
+fuzzer) import as ``support.<module>``: this file puts ``tests/`` itself on ``sys.path``, once,
+so no test file needs a path of its own. The fixtures here are the ones several folders use.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+TESTS = Path(__file__).resolve().parent
+if str(TESTS) not in sys.path:
+    sys.path.insert(0, str(TESTS))
+
+from support.paths import MODELS  # noqa: E402
+
+
+@pytest.fixture(scope="session")
+def models_dir() -> Path:
+    """The real models of ``<repo>/../shared/models``; the test skips, with the reason, when
+    the folder is absent (it is not part of the repository). For a module-level skip or
+    parametrization use ``support.paths.MODELS`` and ``support.paths.needs_models``."""
+    if not MODELS.is_dir():
+        pytest.skip(f"{MODELS} is absent (the shared test models are not part of the repository)")
+    return MODELS

@@ -1,0 +1,329 @@
+"""rasterkit.runtime.warm, the first run's helper process: it compiles only the mode's band worker
+into Numba's cache, the main process then loads that worker instead of compiling it, and a
+first CLI render (with the helper) draws the same image as a cached one; the demo's helper
+compiles the OBJ reader for the first model.
+
+Each test compiles kernels into an empty NUMBA_CACHE_DIR of its own, in fresh interpreters
+(about 5-15 s each on two cores)."""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import rasterkit
+from rasterkit.runtime import warm as _warm
+from rasterkit.runtime.notice import MESSAGE
+from rasterkit.cli import _parser
+from rasterkit.cli.args import view_from_args
+from rasterkit.obj import load_obj
+from rasterkit.options import RenderOptions
+from support.startup import ENV
+
+SOLID_ORDER = {
+    "options": {"mode": "solid", "cull": "back", "shading": "flat", "background": "white", "aa": False},
+    "depth": False,
+    "workers": ["draw_bands"],
+}
+
+CUBE_OBJ = """\
+# a cube, quads counter-clockwise seen from outside
+v -1 -1 -1
+v 1 -1 -1
+v 1 1 -1
+v -1 1 -1
+v -1 -1 1
+v 1 -1 1
+v 1 1 1
+v -1 1 1
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 3 4 8 7
+f 2 3 7 6
+f 1 5 8 4
+"""
+
+
+def _env(cache: Path) -> dict:
+    cache.mkdir(exist_ok=True)
+    assert not any(cache.iterdir())
+    return {**ENV, "NUMBA_CACHE_DIR": str(cache)}
+
+
+def _run(argv, env, timeout=180) -> subprocess.CompletedProcess:
+    return subprocess.run(argv, capture_output=True, text=True, env=env, timeout=timeout, stdin=subprocess.DEVNULL)
+
+
+def _indexes(cache: Path) -> list[str]:
+    """File names of Numba's cache indexes (``module.function-line.pyXY.nbi``)."""
+    return sorted(p.name for p in cache.rglob("*.nbi"))
+
+
+def _kernel_indexes(cache: Path, module: str, function: str) -> list[str]:
+    return [name for name in _indexes(cache) if name.startswith(f"{module}.{function}-")]
+
+
+# Renders a small solid mesh and prints, as JSON, the names of the functions Numba compiled
+# (numba:compile fires only for a real compile, after the on-disk cache was tried).
+SOLID_RENDER = """
+import json
+from numba.core import event
+
+compiled = []
+
+class Record(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__name__)
+
+    def on_end(self, ev):
+        pass
+
+event.register("numba:compile", Record())
+
+import rasterkit
+from rasterkit import shapes
+from rasterkit.camera import Camera
+
+camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=40, height=30)
+fb = rasterkit.render(shapes.icosphere(1), camera, mode="solid")
+print(json.dumps({"compiled": sorted(set(compiled)), "colours": len({tuple(p) for p in fb.color.reshape(-1, 3)})}))
+"""
+
+
+def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path):
+    cache = tmp_path / "cache"
+    env = _env(cache)
+    helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(SOLID_ORDER)], env)
+    assert helper.returncode == 0, helper.stderr
+    assert helper.stdout == "draw_bands\n"  # what it compiled, named as each is cached
+    assert len(_kernel_indexes(cache, "bands", "draw_bands")) == 1, _indexes(cache)
+    # The setup, binning and edge workers went through run_parallel's hook: not compiled.
+    for module, function in [("face_setup", "setup_faces"), ("face_setup", "setup_vertices"), ("face_setup", "_setup_chunk"),
+                             ("bands", "bin_records"), ("fans", "setup_cut_faces"),
+                             ("edges_tested", "draw_edge_bands"), ("edges", "draw_wire_bands")]:
+        assert not _kernel_indexes(cache, module, function), _indexes(cache)
+    assert not [name for name in _indexes(cache) if "setup_" in name], _indexes(cache)
+
+    main = _run([sys.executable, "-c", textwrap.dedent(SOLID_RENDER)], env)
+    assert main.returncode == 0, main.stderr
+    report = json.loads(main.stdout.splitlines()[-1])
+    assert "draw_bands" not in report["compiled"]  # loaded from the helper's cache entry
+    assert "setup_faces" in report["compiled"]  # the listener does see this process's compiles
+    assert report["colours"] > 2  # background and some shades: the loaded worker drew
+    assert len(_kernel_indexes(cache, "bands", "draw_bands")) == 1
+
+
+def test_a_helper_of_several_workers_names_each_and_the_render_loads_them(tmp_path):
+    """A helper given several workers compiles them in the render's order, naming each as it
+    is cached, and the render's own process compiles none of them."""
+    def names(style):
+        return [[w.py_func.__name__ for w in workers] for workers in _warm.helped_workers(RenderOptions(**style))]
+
+    assert names(SOLID_ORDER["options"]) == [["bin_records", "draw_bands"]]
+    hidden = {**SOLID_ORDER["options"], "mode": "hidden"}
+    assert names(hidden) == [["bin_records", "offset_depths", "draw_bands"],
+                             ["setup_faces", "project_vertices", "plain_setup", "draw_edge_bands"]]
+    assert names({**hidden, "mode": "wire"}) == [["draw_wire_bands"]]
+    assert names({**hidden, "aa": True})[1][-1] == "draw_antialiased_bands"
+    cache = tmp_path / "cache"
+    env = _env(cache)
+    # without "normals" the helper takes the face normals from NumPy: the face pass it
+    # compiles with them is the one the render (normals from the kernel) loads
+    workers = ["setup_vertices", "setup_faces", "bin_records", "draw_bands"]
+    order = {**SOLID_ORDER, "workers": workers, "normals": False}
+    helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(order)], env)
+    assert helper.returncode == 0, helper.stderr
+    assert helper.stdout.split() == workers
+    main = _run([sys.executable, "-c", textwrap.dedent(SOLID_RENDER)], env)
+    assert main.returncode == 0, main.stderr
+    report = json.loads(main.stdout.splitlines()[-1])
+    assert not set(workers) & set(report["compiled"])
+    assert "face_normals" in report["compiled"]
+    assert report["colours"] > 2
+
+
+def _png(path: Path) -> np.ndarray:
+    with Image.open(path) as image:
+        return np.asarray(image.convert("RGB"))
+
+
+def test_first_cli_render_with_the_helper_equals_a_cached_one_and_the_api(tmp_path):
+    model = tmp_path / "cube.obj"
+    model.write_text(CUBE_OBJ)
+    env = _env(tmp_path / "cache")
+    options = ["--mode", "solid", "--size", "64x48"]
+    images = []
+    for k in range(2):
+        out = tmp_path / f"out{k}.png"
+        done = _run([sys.executable, "-m", "rasterkit", "render", str(model), "-o", str(out), *options], env)
+        assert done.returncode == 0, done.stderr
+        assert done.stderr == (MESSAGE + "\n" if k == 0 else "")  # the notice on the first run only
+        images.append(_png(out))
+    assert _kernel_indexes(tmp_path / "cache", "bands", "draw_bands")
+
+    first, second = images
+    assert first.shape == (48, 64, 3)
+    np.testing.assert_array_equal(first, second)
+    colours = {tuple(p) for p in first.reshape(-1, 3)}
+    assert (255, 255, 255) in colours and len(colours) >= 3  # background and several lit faces
+
+    # The same picture in this process, through the API, with the command line's camera.
+    args = _parser().parse_args(["render", str(model), "-o", "unused.png", *options])
+    mesh = load_obj(model)
+    fb = rasterkit.render(mesh, view_from_args(args).camera_for(mesh), mode="solid", cull=args.cull,
+                          shading=args.shading, color=args.color, line_color=args.line_color,
+                          background=args.background, aa=args.aa)
+    np.testing.assert_array_equal(fb.color, first)
+
+
+
+# Loads an OBJ file and prints, as JSON, the names of the functions Numba compiled.
+LOAD_OBJ = """
+import json, sys
+from numba.core import event
+
+compiled = []
+
+class Record(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__module__ + "." + ev.data["dispatcher"].py_func.__name__)
+
+    def on_end(self, ev):
+        pass
+
+event.register("numba:compile", Record())
+
+from rasterkit.obj import load_obj
+
+mesh = load_obj(sys.argv[1])
+print(json.dumps({"compiled": sorted(set(compiled)), "faces": len(mesh.faces)}))
+"""
+
+
+def test_the_demos_helper_compiles_the_obj_reader_for_the_first_model(tmp_path):
+    """The demo's helper reads its sample OBJ: afterwards a triangle model with texture
+    coordinates, normals and a line loads without compiling any of the reader's kernels."""
+    cache = tmp_path / "cache"
+    env = _env(cache)
+    helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps({"obj": True})], env)
+    assert helper.returncode == 0, helper.stderr
+    for module, function in _warm.PARSER:  # Numba names a cache file after the module's last part
+        assert _kernel_indexes(cache, module.rsplit(".", 1)[-1], function), _indexes(cache)
+    model = tmp_path / "model.obj"
+    model.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0.5 0.5\nvn 0 0 1\n"
+                     "f 1/1/1 2/1/1 3/1/1\nf 1//1 3//1 4//1\nf 2 3 4\nl 1 3\n")
+    loaded = _run([sys.executable, "-c", textwrap.dedent(LOAD_OBJ), str(model)], env)
+    assert loaded.returncode == 0, loaded.stderr
+    report = json.loads(loaded.stdout.splitlines()[-1])
+    assert report["faces"] == 3
+    assert not [name for name in report["compiled"] if name.startswith("rasterkit.")], report["compiled"]
+
+
+def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(monkeypatch):
+    orders = []
+    monkeypatch.setattr(_warm, "_spawn", lambda order: orders.append(order) or object())
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: dispatcher.py_func.__name__ == "draw_wire_bands")
+    monkeypatch.setattr(_warm, "_helpers", {})
+    monkeypatch.setattr(_warm, "_parser_helper", None)
+    wire = RenderOptions(mode="wire")
+    monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 1)
+    _warm.start(wire, depth=False, loading=False)
+    assert orders == []  # one core: the helper would only take it from the demo
+    monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 2)
+    _warm.start(wire, depth=False, loading=True)  # a model: its own process compiles the reader
+    assert orders == []
+    _warm.start(wire, depth=False, loading=False)
+    _warm.start(wire, depth=False, loading=False)  # once per process
+    assert orders == [{"obj": True}]
+    monkeypatch.setattr(_warm, "_parser_helper", None)
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: True)
+    _warm.start(wire, depth=False, loading=False)  # all cached: no helper
+    assert orders == [{"obj": True}]
+
+
+@pytest.mark.parametrize("forks", [True, False])
+def test_a_wire_demo_gets_a_band_worker_helper_only_where_helpers_are_forked(monkeypatch, forks):
+    """A forked helper costs no imports, so even the demo's wireframe (little else to compile
+    here) hands its band worker to one; the reader's helper of low priority starts after it.
+    A new interpreter would spend about a second importing: then only the reader's."""
+    orders = []
+    monkeypatch.setattr(_warm, "_spawn", lambda order, report=False: orders.append(order) or None)
+    monkeypatch.setattr(_warm, "_forks", lambda: forks)
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: False)
+    monkeypatch.setattr(_warm, "_helpers", {})
+    monkeypatch.setattr(_warm, "_parser_helper", None)
+    monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 2)
+    wire = RenderOptions(mode="wire", background="white")
+    _warm.start(wire, depth=False, loading=False)
+    style = {name: getattr(wire, name) for name in _warm.HELPED_OPTIONS}
+    band = {"options": style, "depth": False, "workers": ["draw_wire_bands"], "normals": True}
+    assert orders == ([band] if forks else []) + [{"obj": True}]
+
+
+def test_a_hidden_render_of_a_model_starts_a_helper_for_each_band_worker(monkeypatch):
+    """Faces and edges: one helper for the triangles' binning, depth offset and band worker,
+    one for the face pass and the edges' setup and band worker; only the workers that are not
+    cached; none when all are."""
+    orders = []
+    monkeypatch.setattr(_warm, "_spawn", lambda order, report=False: orders.append(order) or None)
+    monkeypatch.setattr(_warm, "_helpers", {})
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: dispatcher.py_func.__name__ == "project_vertices")
+    hidden = RenderOptions(**{**SOLID_ORDER["options"], "mode": "hidden"})
+    _warm.start(hidden, depth=False, loading=True)
+    assert [order["workers"] for order in orders] == [["bin_records", "offset_depths", "draw_bands"],
+                                                      ["setup_faces", "plain_setup", "draw_edge_bands"]]
+    assert [order["normals"] for order in orders] == [False, False]  # this process compiles them
+    orders.clear()
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: True)
+    _warm.start(hidden, depth=False, loading=True)
+    assert orders == []
+
+
+def test_a_forked_helper_can_be_waited_for_and_stopped():
+    import signal
+    import time
+
+    import pytest
+
+    if not hasattr(os, "fork"):
+        pytest.skip("no fork on this platform")
+    pid = os.fork()
+    if pid == 0:  # the child only sleeps
+        time.sleep(30)
+        os._exit(0)
+    helper = _warm._Forked(pid, None)
+    with pytest.raises(subprocess.TimeoutExpired):
+        helper.wait(timeout=0.05)
+    helper.terminate()
+    assert helper.wait(timeout=10) == -signal.SIGTERM
+    helper.terminate()  # ended: nothing to stop, no error
+    assert helper.wait() == -signal.SIGTERM
+
+
+FORKED_HELPER = """
+import json, sys
+from rasterkit.runtime import warm as _warm
+helper = _warm._spawn({"options": json.loads(sys.argv[1]), "depth": False, "workers": ["bin_records"]}, report=True)
+print(json.dumps({"forked": isinstance(helper, _warm._Forked), "reports": helper.stdout.read().decode().split(),
+                  "code": helper.wait(timeout=120)}))
+"""
+
+
+def test_a_helper_is_forked_on_linux_and_reports_on_its_pipe(tmp_path):
+    """Forked (no new interpreter) on Linux when no other thread runs, as at the start of a
+    command-line render; it names what it compiled on its pipe as a new interpreter's does."""
+    import pytest
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("forks only on Linux")
+    done = _run([sys.executable, "-c", FORKED_HELPER, json.dumps(SOLID_ORDER["options"])], _env(tmp_path / "cache"))
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout) == {"forked": True, "reports": ["bin_records"], "code": 0}
+    assert _kernel_indexes(tmp_path / "cache", "bands", "bin_records")

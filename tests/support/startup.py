@@ -1,0 +1,29 @@
+"""A fresh interpreter, without limits, that sees what this process sees (its ``sys.path`` as
+``PYTHONPATH``): how the start-up tests watch which modules the command line imports."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+#: The environment of a fresh interpreter: this one's, with this process's ``sys.path``.
+ENV = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+
+#: Runs the command line in a fresh interpreter; prints the exit code and which of the heavy
+#: modules got imported (NumPy too: it alone would take --help past its 0.15 s budget).
+MAIN = """
+import sys
+from rasterkit.cli import main
+try:
+    code = main(sys.argv[1:])
+except SystemExit as e:
+    code = e.code
+print(code, [m for m in ("numba", "llvmlite", "numpy") if m in sys.modules])
+"""
+
+
+def fresh(code: str, *argv: str) -> subprocess.CompletedProcess:
+    """Run the Python source ``code`` with ``argv`` in a fresh interpreter (two minutes at most)."""
+    return subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True,
+                          env=ENV, timeout=120)
