@@ -131,29 +131,22 @@ class RenderOptions:
     point_color: object = "black"
 
     def __post_init__(self):
-        checked = {
-            "mode": values.choice("mode", self.mode, MODES), "cull": values.choice("cull", self.cull, CULL),
-            "shading": values.choice("shading", self.shading, SHADING),
-            "color": _colour("color", self.color), "line_color": _colour("line_color", self.line_color),
-            "background": None if self.background is None else _colour("background", self.background),
-            "light": None if self.light is None else _direction("light", self.light),
-            "edges": values.choice("edges", self.edges, EDGES),
-            "crease_angle": _crease_angle(self.crease_angle),
-            "samples": values.whole("samples", self.samples, 1, MAX_SAMPLES),
-            "vignette": values.unit_interval("vignette", self.vignette),
-            "point_size": values.whole("point_size", self.point_size, 1, MAX_POINT_SIZE),
-            "point_color": _colour("point_color", self.point_color),
-            **{name: values.flag(name, getattr(self, name)) for name in ("aa", "ids", "normals", "camera_depth")},
-        }
-        for name, value in checked.items():
-            object.__setattr__(self, name, value)
+        for name, check in _CHECKS.items():
+            object.__setattr__(self, name, check(name, getattr(self, name)))
 
     def replace(self, **changes) -> RenderOptions:
-        """A copy with ``changes`` (``TypeError`` naming a field that does not exist)."""
+        """A copy with ``changes``, each checked (``TypeError`` naming a field that does not
+        exist). The other fields were checked when this record was made."""
+        if not changes:
+            return self
         unknown = set(changes) - FIELDS
         if unknown:
             raise TypeError(f"unknown render option {sorted(unknown)[0]!r} (the options are: {', '.join(sorted(FIELDS))})")
-        return dataclasses.replace(self, **changes) if changes else self
+        copy = object.__new__(RenderOptions)
+        copy.__dict__.update(self.__dict__)
+        for name, value in changes.items():
+            object.__setattr__(copy, name, _CHECKS[name](name, value))
+        return copy
 
 
 #: The names of :class:`RenderOptions`' fields.
@@ -179,9 +172,31 @@ def _direction(name: str, value) -> tuple[float, float, float]:
     return tuple(float(v) for v in real_array(value, name))
 
 
-def _crease_angle(value) -> float:
+def _crease_angle(name: str, value) -> float:
     if values._is_bool(value) or not isinstance(value, numbers.Real):
         raise TypeError(f"crease_angle must be a number of degrees, got {type(value).__name__}")
     if not 0.0 <= value <= 180.0:
         raise ValueError(f"crease_angle must be between 0 and 180 degrees, got {value!r}")
     return float(value)
+
+
+def _optional(check):
+    return lambda name, value: None if value is None else check(name, value)
+
+
+#: Each field's check, giving the value as it is stored.
+_CHECKS = {
+    "mode": lambda name, value: values.choice(name, value, MODES),
+    "cull": lambda name, value: values.choice(name, value, CULL),
+    "shading": lambda name, value: values.choice(name, value, SHADING),
+    "color": _colour, "line_color": _colour, "background": _optional(_colour), "light": _optional(_direction),
+    "aa": values.flag,
+    "edges": lambda name, value: values.choice(name, value, EDGES),
+    "crease_angle": _crease_angle,
+    "samples": lambda name, value: values.whole(name, value, 1, MAX_SAMPLES),
+    "vignette": values.unit_interval,
+    "ids": values.flag, "normals": values.flag, "camera_depth": values.flag,
+    "point_size": lambda name, value: values.whole(name, value, 1, MAX_POINT_SIZE),
+    "point_color": _colour,
+}
+assert set(_CHECKS) == FIELDS

@@ -94,7 +94,7 @@ def resolve_options(options: RenderOptions | None, mode: str | None, changes: di
     ``changes``; per-point colours (a 2-D ``point_color``) come apart, as they go with the
     points."""
     if options is None:
-        options = RenderOptions()
+        options = _DEFAULTS
     elif not isinstance(options, RenderOptions):
         raise TypeError(f"options must be a rasterkit.RenderOptions, got {type(options).__name__}")
     point_colors = None
@@ -104,6 +104,9 @@ def resolve_options(options: RenderOptions | None, mode: str | None, changes: di
     if mode is not None:
         changes = {**changes, "mode": mode}
     return options.replace(**changes), point_colors
+
+
+_DEFAULTS = RenderOptions()
 
 
 def _per_point(value) -> bool:
