@@ -302,7 +302,7 @@ class Mesh:
         seen from the front points out), zero for a degenerate face, NaN for a face with a
         non-finite corner. Worked out on first use and kept: flat shading needs them in every
         frame, and they do not depend on the camera."""
-        from rasterkit.raster.shading import face_normals
+        from rasterkit.raster.normals import face_normals
         self.check_intact()
         return seal(face_normals(self.vertices, self.faces))
 

@@ -36,7 +36,7 @@ Conventions
 """
 
 from rasterkit.camera.camera import Camera
-from rasterkit.camera.checks import Vec3  # noqa: F401  (importable from rasterkit.camera, as before the split)
+from rasterkit.camera.checks import Vec3  # noqa: F401  (importable from rasterkit.camera)
 from rasterkit.camera.projections import ISOMETRIC_ELEVATION, PROJECTIONS  # noqa: F401  (likewise)
 
 __all__ = ["Camera", "PROJECTIONS"]

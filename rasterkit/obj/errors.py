@@ -27,7 +27,7 @@ class ObjError(ValueError):
         What is wrong, without the location.
     """
 
-    __module__ = "rasterkit.obj"  # where the public API has it, as before the loader's split
+    __module__ = "rasterkit.obj"  # where the public API has it (rasterkit.ObjError)
 
     def __init__(self, path: str, line: int | None, reason: str):
         self.path = path

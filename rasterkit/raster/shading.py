@@ -10,7 +10,7 @@ import numpy as np
 
 from rasterkit._arrays import unit_vector
 from rasterkit.camera import Camera
-from rasterkit.raster.kernels import normals as normal_kernels
+from rasterkit.raster.normals import vertex_normals
 from rasterkit.raster.kernels import shade as shade_kernels
 from rasterkit.mesh import Mesh
 from rasterkit.raster.triangles import FlatLambert
@@ -41,15 +41,9 @@ def shade(mesh: Mesh, options):
     faces = mesh.faces
     if not np.isfinite(mesh.vertices).all():
         faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
-    normals = mesh.normals if mesh.normals is not None else normal_kernels.vertex_normals(mesh.vertices, faces)
+    normals = mesh.normals if mesh.normals is not None else vertex_normals(mesh.vertices, faces)
     base = _base_colors(mesh, options, per_face=False)
     return None, _lambert(normals, base, towards_light, two_sided)
-
-
-def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """(M, 3) float32 unit normals of ``faces`` (checked indices into ``vertices``): zero for
-    a degenerate face, NaN for one with a non-finite corner."""
-    return normal_kernels.face_normals(vertices, faces).astype(np.float32)
 
 
 def light_direction(light, camera: Camera) -> np.ndarray:

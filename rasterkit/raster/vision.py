@@ -68,7 +68,7 @@ def maps_record(height: int, width: int, mesh, camera, matrix, normals: str | No
     a scene (``object_faces``: the number of faces of each object, in order; None: not) and
     (``want_depth``) the metric depth."""
     from rasterkit.raster.kernels.records import Maps
-    from rasterkit.raster.kernels.normals import vertex_normals
+    from rasterkit.raster.normals import vertex_normals
     from rasterkit.raster.kernels.shade import bary_matrices
     from rasterkit.raster.vertex import transform_points
 

@@ -274,7 +274,8 @@ def _compile_only(names: list[str]):
     and name each on standard output once it is in the cache.
 
     It compiles from the bottom of a fresh Python stack (:func:`rasterkit.runtime.jit.compile_apart`:
-    deep in a render's calls the hidden-line band worker's compile took 11 s instead of 6.5)."""
+    started deep in a render's calls, the hidden-line band worker's compile takes about 1.7
+    times as long)."""
 
     def hook(worker, args):
         name = worker.py_func.__name__

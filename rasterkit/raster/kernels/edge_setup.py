@@ -133,7 +133,7 @@ REC_FIELDS = 3
 #: plain records (``BLOCK_EMPTY`` and -1 when it has none) and how many of its edges take the
 #: general path. A band skips a block of plain edges wholly outside its rows and steps one
 #: wholly inside without testing each edge: meshes list nearby faces together, so most
-#: blocks lie in one band, and a band no longer reads every edge's record.
+#: blocks lie in one band, and a band reads the records of few blocks besides its own.
 BLOCK_LO, BLOCK_HI, BLOCK_GENERAL = range(3)
 BLOCK_FIELDS = 3
 BLOCK = 512
