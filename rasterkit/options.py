@@ -102,10 +102,12 @@ class RenderOptions:
         of faces, edges and lines, and depth of field for a camera with an ``aperture``.
     vignette : float
         In [0, 1]: 1 darkens each pixel by the natural cos⁴θ falloff of a lens camera, 0 none.
-    ids, normals, camera_depth : bool
+    ids, normals, camera_depth, uv : bool
         The maps made with the frame: the visible face's index (``fb.ids``, and a scene's
         ``fb.object_ids``), camera-space unit normals (``fb.normals``), the metric depth of
-        ``fb.camera_depth()`` made while drawing (the same values as when made on request).
+        ``fb.camera_depth()`` made while drawing (the same values as when made on request),
+        the texture coordinates (``fb.uv``, (H, W, 2) float32, interpolated perspective-correctly,
+        NaN where no face or a face without texture coordinates is seen).
     point_size : int
         Side in pixels (1 to 64) of the squares that ``points`` are drawn as.
     point_color : colour
@@ -127,6 +129,7 @@ class RenderOptions:
     ids: bool = False
     normals: bool = False
     camera_depth: bool = False
+    uv: bool = False
     point_size: int = 1
     point_color: object = "black"
 
@@ -195,7 +198,7 @@ _CHECKS = {
     "crease_angle": _crease_angle,
     "samples": lambda name, value: values.whole(name, value, 1, MAX_SAMPLES),
     "vignette": values.unit_interval,
-    "ids": values.flag, "normals": values.flag, "camera_depth": values.flag,
+    "ids": values.flag, "normals": values.flag, "camera_depth": values.flag, "uv": values.flag,
     "point_size": lambda name, value: values.whole(name, value, 1, MAX_POINT_SIZE),
     "point_color": _colour,
 }

@@ -84,7 +84,7 @@ class Scene:
         m = sum(len(o.mesh.faces) for o in self.objects)
         e = sum(len(o.mesh.edges) for o in self.objects)
         # world-space copies (and their homogeneous temporaries), then the Mesh made of them
-        check_memory(n * (24 * 4 + 32 + 12) + m * (24 + 12) + e * 16 + mesh_bytes(n, m, e),
+        check_memory(n * (24 * 4 + 32 + 12 + 16) + m * (24 + 12) + e * 16 + mesh_bytes(n, m, e),
                      f"the world mesh of a scene of {len(self.objects)} objects ({n} vertices, {m} faces)")
         offsets = np.cumsum([0] + [len(o.mesh.vertices) for o in self.objects])
         vertices = np.concatenate([apply_points(o.matrix, o.mesh.vertices) for o in self.objects])
@@ -93,7 +93,7 @@ class Scene:
         vertex_colors = self._vertex_colors()
         face_colors = None if vertex_colors is not None else \
             self._face_colors(parse_color(default_color)[:3] / 255.0)
-        return Mesh(vertices, faces, edges=edges, normals=self._normals(),
+        return Mesh(vertices, faces, edges=edges, normals=self._normals(), texcoords=self._texcoords(),
                     vertex_colors=vertex_colors, face_colors=face_colors)
 
     def bounding_sphere(self) -> tuple[np.ndarray, float]:
@@ -105,6 +105,12 @@ class Scene:
         matrix whose linear part can be inverted (normals need its inverse transpose)."""
         if all(o.mesh.normals is not None and _invertible(o.matrix) for o in self.objects):
             return np.concatenate([apply_normals(o.matrix, o.mesh.normals) for o in self.objects])
+        return None
+
+    def _texcoords(self):
+        """The objects' texture coordinates, when every object has them."""
+        if all(o.mesh.texcoords is not None for o in self.objects):
+            return np.concatenate([o.mesh.texcoords for o in self.objects])
         return None
 
     def _vertex_colors(self):

@@ -118,7 +118,7 @@ def task_for(options=None, view=None, turntable=None, changes: dict | None = Non
         raise ValueError(f"hidden={changes['hidden']!r} draws the hidden lines of an SVG drawing; render_many "
                          f"writes PNG or GIF images (leave hidden=None)")
     changes.pop("hidden", None)
-    for name in ("ids", "normals", "camera_depth"):
+    for name in ("ids", "normals", "camera_depth", "uv"):
         if changes.get(name):
             raise ValueError(f"{name}: render_many writes images, not maps (render each model for its maps)")
     unknown = set(changes) - OPTION_FIELDS - VIEW_FIELDS

@@ -70,7 +70,7 @@ def _world_copy_bytes(mesh) -> int:
     from rasterkit.mesh import mesh_bytes
 
     n, m, e = len(mesh.vertices), len(mesh.faces), len(mesh.edges)
-    return n * (24 * 4 + 32 + 12) + m * (24 + 12) + e * 16 + mesh_bytes(n, m, e)
+    return n * (24 * 4 + 32 + 12 + 16) + m * (24 + 12) + e * 16 + mesh_bytes(n, m, e)
 
 
 def job_bytes(mesh, camera, task, output: Path, ideal=None) -> int:

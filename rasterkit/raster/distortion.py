@@ -189,6 +189,8 @@ def render_distorted(camera, render_ideal) -> Framebuffer:
         fb.object_ids, fb.object_first = gather(src.object_ids, -1), src.object_first
     if src.normals is not None:
         fb.normals = gather(src.normals, np.nan)
+    if src.uv is not None:
+        fb.uv = gather(src.uv, np.nan)
     fb.camera = camera
     return fb
 

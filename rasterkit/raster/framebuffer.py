@@ -58,6 +58,10 @@ class Framebuffer:
     normals : (H, W, 3) float32 or None
         ``render(..., normals=True)``: unit surface normals in camera space (x right, y up,
         looking down -z), NaN where nothing was drawn.
+    uv : (H, W, 2) float32 or None
+        ``render(..., uv=True)``: the texture coordinates (u, v) seen at each pixel centre,
+        interpolated perspective-correctly; NaN where nothing, or a face without texture
+        coordinates, was drawn.
     camera : Camera or None
         The camera a render drew with (:meth:`camera_depth` inverts its depth mapping).
     width, height : int
@@ -91,7 +95,7 @@ class Framebuffer:
         self._depth = None  # not made yet: all farthest, or what _depth_source draws (defer_depth)
         self._depth_source = None
         self.ids = _memory.take((height, width), np.int32) if ids else None
-        self.object_ids = self.normals = self.camera = None
+        self.object_ids = self.normals = self.uv = self.camera = None
         self.object_first = None  # (K,) int64: each scene object's first face, with object_ids
         self._camera_depth = None  # (metric depth, its camera), made by a render (keep_camera_depth)
         if cleared:

@@ -37,8 +37,9 @@ def frame_bytes(mesh: Mesh, width: int, height: int, style, alpha: bool, ids: bo
     return total
 
 
-def maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool, metric: bool) -> int:
-    """Bytes of the normal, object-id and metric depth images and their per-vertex and
-    per-face terms."""
+def maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool, metric: bool, uv: bool = False) -> int:
+    """Bytes of the normal, object-id, metric depth and texture-coordinate images and their
+    per-vertex and per-face terms."""
     return (12 * pixels + len(mesh.vertices) * 80 + len(mesh.faces) * 84 if normals else 0) + \
-        (4 * pixels + len(mesh.faces) * 4 if objects else 0) + (4 * pixels if metric else 0)
+        (4 * pixels + len(mesh.faces) * 4 if objects else 0) + (4 * pixels if metric else 0) + \
+        (8 * pixels + len(mesh.vertices) * 32 + len(mesh.faces) * 168 if uv else 0)

@@ -83,9 +83,9 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
                   options.aa, light_direction(light, camera))
     one_sample = options.samples == 1 and options.vignette == 0.0
-    normals, wanted_ids = options.normals, options.ids or options.normals
+    normals, wanted_ids = options.normals, options.ids or options.normals or options.uv
     # the maps made by the band worker: a one-sample render of faces, nothing drawn after
-    in_bands = (normals or object_faces is not None or options.camera_depth) and one_sample \
+    in_bands = (normals or options.uv or object_faces is not None or options.camera_depth) and one_sample \
         and row.faces and points is None
     if wanted_ids and one_sample and not (options.camera_depth and in_bands) or points is not None:
         # a vision frame (its depth is wanted too), or points to test against the depth: a
@@ -96,7 +96,8 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     need = (frame_bytes(mesh, width, height, style, alpha, wanted_ids)
             + _accumulate.extra_bytes(width, height, alpha, options.samples, options.vignette,
                                       len(mesh.faces) if row.faces else 0)
-            + maps_bytes(mesh, width * height, normals, object_faces is not None, options.camera_depth and in_bands))
+            + maps_bytes(mesh, width * height, normals, object_faces is not None, options.camera_depth and in_bands,
+                         options.uv))
     return FramePlan(mesh, camera, style, background, options, one_sample, in_bands, object_faces, need)
 
 

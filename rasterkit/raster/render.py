@@ -132,8 +132,8 @@ def _render_planned(plan: FramePlan) -> Framebuffer:
 
         style = replace(style, maps=maps_record(camera.height, camera.width, mesh, camera, camera.world_to_raster(),
                                                 options.shading if options.normals else None, plan.object_faces,
-                                                options.camera_depth))
-    with_ids = options.ids or options.normals
+                                                options.camera_depth, options.uv))
+    with_ids = options.ids or options.normals or options.uv
     if plan.one_sample:
         fb = new_frame(mesh, camera, style, plan.background, with_ids)
     else:
@@ -151,12 +151,12 @@ def _finish(fb: Framebuffer, plan: FramePlan, style) -> Framebuffer:
         from rasterkit.raster.vision import finish_maps
 
         finish_maps(fb, style.maps)
-    elif options.normals or object_faces is not None:
+    elif options.normals or options.uv or object_faces is not None:
         from rasterkit.raster.vision import fill_maps
 
         fill_maps(fb, plan.mesh, plan.camera, plan.camera.world_to_raster(),
-                  options.shading if options.normals else None, object_faces)
-    if (options.normals or object_faces is not None) and not options.ids:
+                  options.shading if options.normals else None, object_faces, options.uv)
+    if (options.normals or options.uv or object_faces is not None) and not options.ids:
         fb.ids = None
     return fb
 

@@ -61,12 +61,12 @@ def camera_depth(depth: np.ndarray, camera) -> np.ndarray:
 
 
 def maps_record(height: int, width: int, mesh, camera, matrix, normals: str | None, object_faces,
-                want_depth: bool = False):
+                want_depth: bool = False, want_uv: bool = False):
     """The :class:`rasterkit.raster.kernels.records.Maps` of an (H, W) render of ``mesh`` (world
     space) seen through ``matrix`` (world -> raster) by ``camera``, with its output arrays:
     normals (``normals``: 'flat' per face, 'smooth' interpolated, None: not), object ids for
-    a scene (``object_faces``: the number of faces of each object, in order; None: not) and
-    (``want_depth``) the metric depth."""
+    a scene (``object_faces``: the number of faces of each object, in order; None: not),
+    (``want_depth``) the metric depth and (``want_uv``) the texture coordinates."""
     from rasterkit.raster.kernels.records import Maps
     from rasterkit.raster.normals import vertex_normals
     from rasterkit.raster.kernels.shade import bary_matrices
@@ -75,10 +75,11 @@ def maps_record(height: int, width: int, mesh, camera, matrix, normals: str | No
     rotation = np.ascontiguousarray(camera.rotation())  # rows u, v, w: world -> camera
     smooth = normals == "smooth"
     world_normals, vertex, bary = readonly(np.zeros((0, 3), np.float32)), np.zeros((0, 3)), np.zeros((0, 9))
+    if smooth or want_uv:
+        bary = bary_matrices(transform_points(mesh.vertices, matrix), mesh.faces)
     if smooth:
         world = mesh.normals if mesh.normals is not None else vertex_normals(mesh.vertices, mesh.faces)
         vertex = np.ascontiguousarray(world, np.float64)
-        bary = bary_matrices(transform_points(mesh.vertices, matrix), mesh.faces)
     elif normals:  # turned into camera space per pixel by the kernel
         world_normals = readonly(mesh.face_normals)  # one compiled kernel: read-only either way
     out_normals = _memory.take((height, width, 3), np.float32) if normals else np.empty((0, 0, 3), np.float32)
@@ -91,9 +92,26 @@ def maps_record(height: int, width: int, mesh, camera, matrix, normals: str | No
         first, face_object = np.zeros(0, np.int64), np.zeros(0, np.int32)
     object_ids = _memory.take((height, width), np.int32) if objects else np.empty((0, 0), np.int32)
     metric = _memory.take((height, width), np.float32) if want_depth else np.empty((0, 0), np.float32)
+    uv = _memory.take((height, width, 2), np.float32) if want_uv else np.empty((0, 0, 2), np.float32)
+    corners = corner_uv(mesh) if want_uv else np.zeros((0, 6))
     return Maps(normals is not None, out_normals, smooth, world_normals, vertex, bary, mesh.faces, rotation,
                 objects, object_ids, face_object, first, bool(want_depth), metric, float(camera.near),
-                float(camera.far), camera.kind == "perspective")
+                float(camera.far), camera.kind == "perspective", bool(want_uv), uv, corners)
+
+
+def corner_uv(mesh) -> np.ndarray:
+    """(M, 6) float64: the texture coordinates (u0, v0, u1, v1, u2, v2) of each face's corners,
+    NaN for a face without: per corner where the mesh has them (``uv`` and ``uv_index``), else
+    its per-vertex ``texcoords``, else NaN everywhere."""
+    m = len(mesh.faces)
+    table, index = getattr(mesh, "uv", None), getattr(mesh, "uv_index", None)
+    if table is None or index is None:
+        if mesh.texcoords is None:
+            return np.full((m, 6), np.nan)
+        table, index = mesh.texcoords[:, :2], mesh.faces
+    table = np.asarray(table, np.float64)
+    rows = np.concatenate([table, np.full((1, 2), np.nan)])  # index -1: the last row, NaN
+    return np.ascontiguousarray(rows[np.asarray(index)].reshape(m, 6))
 
 
 def finish_maps(fb, maps) -> None:
@@ -101,13 +119,14 @@ def finish_maps(fb, maps) -> None:
     ``fb.object_ids`` (``fb.ids`` are indices within each object by now), and the metric
     depth that :meth:`rasterkit.Framebuffer.camera_depth` returns."""
     fb.normals = maps.normals if maps.want_normals else None
+    fb.uv = maps.uv if maps.want_uv else None
     if maps.want_objects:
         fb.object_ids, fb.object_first = maps.object_ids, maps.object_first
     if maps.want_depth:
         fb.keep_camera_depth(maps.metric)
 
 
-def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> None:
+def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces, want_uv: bool = False) -> None:
     """Fill ``fb.normals`` (``normals``: 'flat' per face, 'smooth' interpolated, None: not)
     and, for a scene (``object_faces``: the number of faces of each object, in order),
     ``fb.object_ids``, turning ``fb.ids`` into indices within each object; from ``fb.ids``,
@@ -116,7 +135,7 @@ def fill_maps(fb, mesh, camera, matrix, normals: str | None, object_faces) -> No
     from rasterkit.raster.kernels.maps import surface_maps
 
     height, width = fb.ids.shape
-    maps = maps_record(height, width, mesh, camera, matrix, normals, object_faces)
+    maps = maps_record(height, width, mesh, camera, matrix, normals, object_faces, want_uv=want_uv)
     run_workers(surface_maps, fb.ids, maps, threads=_threads(height * width))
     finish_maps(fb, maps)
 

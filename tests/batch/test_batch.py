@@ -317,15 +317,19 @@ def test_workers_stop_when_the_batch_process_is_killed_outright(tmp_path, busy):
 
 
 def test_workers_are_forked_only_when_no_other_thread_runs():
-    from rasterkit.batch.workers import _start_method
-
-    expected = "fork" if sys.platform.startswith("linux") else "spawn"
-    assert _start_method() == expected
-    stop = threading.Event()
-    other = threading.Thread(target=stop.wait, name="someone-else")
-    other.start()
-    try:
-        assert _start_method() == "spawn"  # its locks could be copied held into a fork
-    finally:
-        stop.set()
-        other.join()
+    """In a fresh interpreter (a test process may hold threads of earlier tests: Dask's)."""
+    code = ("import threading\n"
+            "from rasterkit.batch.workers import _start_method\n"
+            "alone = _start_method()\n"
+            "stop = threading.Event()\n"
+            "other = threading.Thread(target=stop.wait, name='someone-else')\n"
+            "other.start()\n"
+            "print(alone, _start_method())\n"
+            "stop.set()\n"
+            "other.join()\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                          env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+    assert done.returncode == 0, done.stderr
+    alone, with_a_thread = done.stdout.split()
+    assert alone == ("fork" if sys.platform.startswith("linux") else "spawn")
+    assert with_a_thread == "spawn"  # its locks could be copied held into a fork

@@ -14,6 +14,7 @@ import pytest
 import rasterkit
 from rasterkit import shapes
 from rasterkit.batch.manifest import read_manifest
+from support.frames import batch_matches_the_api, model_folder
 from support.objfiles import write_obj
 
 distributed = pytest.importorskip("distributed", reason="Dask's distributed is not installed ('rasterkit[dask]')")
@@ -88,3 +89,9 @@ def test_the_address_of_a_worker_is_not_taken_for_a_scheduler(cluster):
         assert client.scheduler_info()["address"] == cluster.scheduler.address
     finally:
         client.close()
+
+
+def test_a_cluster_draws_every_field_of_the_render_options(cluster, tmp_path):
+    """The task reaches Dask's workers whole: every field of RenderOptions (and the View) in
+    the images, bit for bit the API's frames (tests/support/frames.py)."""
+    batch_matches_the_api(model_folder(tmp_path / "models"), tmp_path / "out", client=cluster)

@@ -1,10 +1,11 @@
 """RenderOptions and View: one checked record each, passed whole by every path.
 
 Every field of RenderOptions must reach the frame through every way a frame is drawn: the
-plain render, a distorted camera, a multi-sample render, a batch on local workers
-(``--jobs 2``) and a batch on Dask. The check: a frame drawn with every field changed from
-its default, where putting back any one default changes the pixels (so each field is seen),
-is the same bit for bit whichever path draws it.
+plain render, a distorted camera, a multi-sample render (here), a batch on local workers
+(``--jobs 2``, tests/batch/test_batch_options.py) and a batch on Dask
+(tests/batch/test_batch_dask.py). The check: a frame drawn with every field changed from its
+default, where putting back any one default changes the pixels (so each field is seen), is
+the same bit for bit whichever path draws it.
 """
 
 from __future__ import annotations
@@ -18,18 +19,11 @@ from PIL import Image
 import rasterkit
 from rasterkit import Camera, Mesh, RenderOptions, View, shapes
 from rasterkit.options import FIELDS
+from support.frames import BALL, BOWL, IMAGE
 
-BALL = shapes.icosphere(2)
-#: An open bowl: where faces are missing its inside shows, so the culling is seen too.
-BOWL = Mesh(BALL.vertices, BALL.faces[BALL.vertices[BALL.faces].mean(axis=1)[:, 1] < 0.55])
 CAMERA = Camera.look_at(eye=(1.6, 2.2, 2.4), target=(0, 0, 0), width=96, height=72)
-
-#: Every field that decides the pixels of a frame, each away from its default.
-IMAGE = dict(mode="solid+wire", cull="none", shading="smooth", color="steelblue", line_color="orange",
-             background="navy", light=(1.0, 0.3, 0.2), aa=True, edges="feature", crease_angle=10.0,
-             samples=4, vignette=0.6)
 #: The fields that decide the maps made with the frame, and those of drawn points.
-MAPS = dict(ids=True, normals=True, camera_depth=True)
+MAPS = dict(ids=True, normals=True, camera_depth=True, uv=True)
 POINTS = dict(point_size=3, point_color="red")
 CLOUD = np.array([[0.8, 0.9, 0.9], [1.2, 0.3, 0.8], [0.4, 1.3, 0.5]])  # outside the ball, facing the camera
 
@@ -129,6 +123,7 @@ def test_the_maps_and_points_reach_the_frame(path):
     mapped = rasterkit.render(BOWL, camera, options=options.replace(**MAPS))
     assert mapped.ids is not None and (mapped.ids >= 0).any()
     assert mapped.normals is not None and np.isfinite(mapped.normals).any()
+    assert mapped.uv is not None and mapped.uv.shape == mapped.ids.shape + (2,)
     np.testing.assert_array_equal(mapped.camera_depth(), plain.camera_depth())
     dots = rasterkit.render(BOWL, camera, options=options, points=CLOUD)
     red = rasterkit.render(BOWL, camera, options=options.replace(**POINTS), points=CLOUD)
@@ -162,13 +157,12 @@ def test_feature_edges_through_a_distorted_camera_on_the_command_line(tmp_path):
     import json
 
     from support.hostile import run_cli
+    from support.objfiles import write_obj
 
     camera = {"K": [[300, 0, 160], [0, 300, 120], [0, 0, 1]], "R": np.eye(3).tolist(), "t": [0, 0, 4],
               "width": 320, "height": 240, "dist": [0.001, 0, 0, 0, 0]}
     (tmp_path / "cam.json").write_text(json.dumps(camera))
-    model = tmp_path / "ball.obj"
-    model.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in BALL.vertices.tolist())
-                     + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in BALL.faces.tolist()))
+    model = write_obj(tmp_path / "ball.obj", BALL)
     counts = {}
     for edges in ("feature", "all"):
         out = tmp_path / f"{edges}.png"
@@ -176,34 +170,3 @@ def test_feature_edges_through_a_distorted_camera_on_the_command_line(tmp_path):
         assert done.code == 0, done.describe()
         counts[edges] = int((np.asarray(Image.open(out)).max(axis=2) < 128).sum())
     assert counts["feature"] < counts["all"] / 5
-
-
-@pytest.fixture(scope="module")
-def model_folder(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("models")
-    for name, mesh in (("bowl", BOWL), ("ball", BALL)):
-        (folder / f"{name}.obj").write_text(
-            "".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in mesh.vertices.tolist())
-            + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in mesh.faces.tolist()))
-    return folder
-
-
-def _batch_matches_the_api(folder, out, **engine):
-    view = View(size=(96, 72), azimuth=40.0, elevation=35.0)
-    summary = rasterkit.render_many(folder, out, options=RenderOptions(**IMAGE), view=view, **engine)
-    assert summary.done == 2 and summary.exit_code == 0
-    for name in ("bowl", "ball"):
-        mesh = rasterkit.load_obj(folder / f"{name}.obj")
-        expected = rasterkit.render(mesh, view.camera_for(mesh), options=RenderOptions(**IMAGE)).color
-        assert np.array_equal(np.asarray(Image.open(out / f"{name}.png")), expected), name
-
-
-def test_a_batch_on_two_local_workers_draws_every_field(model_folder, tmp_path):
-    _batch_matches_the_api(model_folder, tmp_path / "out", jobs=2)
-
-
-def test_a_batch_on_dask_draws_every_field(model_folder, tmp_path):
-    distributed = pytest.importorskip("distributed", reason="Dask's distributed is not installed ('rasterkit[dask]')")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                                  silence_logs=50) as local, distributed.Client(local) as client:
-        _batch_matches_the_api(model_folder, tmp_path / "out", client=client)

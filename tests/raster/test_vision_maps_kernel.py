@@ -57,7 +57,8 @@ def _maps(ids, mesh, smooth=False, objects=None, bary=None, normals=True):
     return Maps(normals, out if normals else np.empty((0, 0, 3), np.float32), smooth,
                 readonly(mesh.face_normals if flat else np.zeros((0, 3), np.float32)), vertex,
                 bary if smooth else np.zeros((0, 9)), mesh.faces, _rotation(), objects is not None, object_ids,
-                face_object, first, False, np.empty((0, 0), np.float32), 0.1, 100.0, True)
+                face_object, first, False, np.empty((0, 0), np.float32), 0.1, 100.0, True,
+                False, np.empty((0, 0, 2), np.float32), np.zeros((0, 6)))
 
 
 def _flat_reference(ids, mesh):

@@ -150,25 +150,65 @@ def _object_row(iflat, lo, hi, oflat, face_object, object_first):
 
 
 @kernel(inline="always")
+def _uv_pixel(iflat, uflat, p, px, py, bary, corner_uv, nan):
+    """Pixel ``p`` (raster centre (px, py)) of texture coordinates: its face's corner UVs
+    interpolated perspective-correctly (the barycentrics of
+    :func:`rasterkit.raster.kernels.shade.bary_matrices`, normalised to sum 1); NaN for no
+    face or a face without UVs."""
+    f = iflat[p]
+    o = np.uint64(2) * p
+    if f < 0:
+        uflat[o] = uflat[o + np.uint64(1)] = nan
+        return
+    b0 = bary[f, 0] * px + bary[f, 1] * py + bary[f, 2]
+    b1 = bary[f, 3] * px + bary[f, 4] * py + bary[f, 5]
+    b2 = bary[f, 6] * px + bary[f, 7] * py + bary[f, 8]
+    s = 1.0 / (b0 + b1 + b2)
+    uflat[o] = (b0 * corner_uv[f, 0] + b1 * corner_uv[f, 2] + b2 * corner_uv[f, 4]) * s
+    uflat[o + np.uint64(1)] = (b0 * corner_uv[f, 1] + b1 * corner_uv[f, 3] + b2 * corner_uv[f, 5]) * s
+
+
+@kernel(inline="always")
+def _uv_row(iflat, lo, hi, py, uflat, bary, corner_uv, nan):
+    """Pixels ``lo`` to ``hi`` of texture coordinates, in blocks like :func:`_normals_row`."""
+    k = lo
+    while k + np.uint64(BLOCK) <= hi:
+        if _background(iflat, k):
+            o = np.uint64(2) * k
+            for q in range(2 * BLOCK):
+                uflat[o + np.uint64(q)] = nan
+        else:
+            for q in range(BLOCK):
+                p = k + np.uint64(q)
+                _uv_pixel(iflat, uflat, p, np.float64(p - lo) + 0.5, py, bary, corner_uv, nan)
+        k += np.uint64(BLOCK)
+    for p in range(k, hi):
+        _uv_pixel(iflat, uflat, p, np.float64(p - lo) + 0.5, py, bary, corner_uv, nan)
+
+
+@kernel(inline="always")
 def map_fields(maps):
     """The record's fields as locals (every access through the record inside a loop would
     count a reference, an atomic operation, in a kernel with reference counts)."""
     return (maps.want_normals and not maps.smooth, maps.want_normals, maps.want_objects, maps.normals,
             maps.world_normals, maps.rotation, maps.faces, maps.bary, maps.vertex_normals, maps.object_ids,
-            maps.face_object, maps.object_first)
+            maps.face_object, maps.object_first, maps.want_uv, maps.uv, maps.corner_uv)
 
 
 @kernel(inline="always")
 def surface_row(iflat, j, w, fields, nan):
-    """Row ``j`` (``w`` pixels) of the normals and object ids that ``fields`` (:func:`map_fields`)
-    ask for, from the face ids ``iflat`` (flat)."""
+    """Row ``j`` (``w`` pixels) of the normals, object ids and texture coordinates that
+    ``fields`` (:func:`map_fields`) ask for, from the face ids ``iflat`` (flat)."""
     (flat, want_normals, want_objects, normals, world_normals, rotation, faces, bary, vertex_normals,
-     object_ids, face_object, object_first) = fields
+     object_ids, face_object, object_first, want_uv, uv, corner_uv) = fields
     nflat, oflat = normals.reshape(normals.size), object_ids.reshape(object_ids.size)
     lo = w * j
+    py = np.float64(j) + 0.5
     if want_normals:
-        _normals_row(not flat, iflat, lo, lo + w, np.float64(j) + 0.5, nflat, world_normals, rotation.reshape(9),
+        _normals_row(not flat, iflat, lo, lo + w, py, nflat, world_normals, rotation.reshape(9),
                      faces, bary, vertex_normals, rotation, nan)
+    if want_uv:
+        _uv_row(iflat, lo, lo + w, py, uv.reshape(uv.size), bary, corner_uv, nan)
     if want_objects:
         _object_row(iflat, lo, lo + w, oflat, face_object, object_first)
 
@@ -184,7 +224,7 @@ def band_maps(ids, y0, y1, maps, band_depth, drawn):
     nan = np.float32(np.nan)
     fields = map_fields(maps)
     want_depth, metric, near, far, perspective = maps.want_depth, maps.metric, maps.near, maps.far, maps.perspective
-    surface = maps.want_normals or maps.want_objects
+    surface = maps.want_normals or maps.want_objects or maps.want_uv
     iflat = ids.reshape(ids.size)
     w = np.uint64(band_depth.shape[1])
     for j in range(np.uint64(y0), np.uint64(y1)):

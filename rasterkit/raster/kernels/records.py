@@ -67,7 +67,9 @@ Clear = namedtuple("Clear", "on color_bytes pattern")
 #: first face; when ``want_depth`` (made by the band worker only,
 #: :func:`rasterkit.raster.kernels.maps.band_maps`), ``metric`` (H, W) float32, the distance along
 #: the optical axis of each depth, for a camera with planes ``near``, ``far`` (floats),
-#: ``perspective`` or not.
+#: ``perspective`` or not; when ``want_uv``, ``uv`` (H, W, 2) float32, the texture
+#: coordinates of each face's corners ``corner_uv`` (M, 6) float64 (u0, v0, u1, v1, u2, v2;
+#: NaN for a face without) interpolated perspective-correctly with ``bary``.
 Maps = namedtuple("Maps", "want_normals normals smooth world_normals vertex_normals "
                           "bary faces rotation want_objects object_ids face_object object_first "
-                          "want_depth metric near far perspective")
+                          "want_depth metric near far perspective want_uv uv corner_uv")

@@ -1,0 +1,44 @@
+"""Frames in which every render option is seen: shared by the tests of each path that draws
+them (tests/core/test_render_options.py: render() and a distorted camera;
+tests/batch/test_batch_options.py and test_batch_dask.py: batches)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+import rasterkit
+from rasterkit import Mesh, RenderOptions, View, shapes
+from support.objfiles import write_obj
+
+BALL = shapes.icosphere(2)
+#: An open bowl: where faces are missing its inside shows, so the culling is seen too.
+BOWL = Mesh(BALL.vertices, BALL.faces[BALL.vertices[BALL.faces].mean(axis=1)[:, 1] < 0.55])
+
+#: Every field that decides the pixels of a frame, each away from its default: putting back
+#: any one default changes the frame of BOWL (tests/core/test_render_options.py).
+IMAGE = dict(mode="solid+wire", cull="none", shading="smooth", color="steelblue", line_color="orange",
+             background="navy", light=(1.0, 0.3, 0.2), aa=True, edges="feature", crease_angle=10.0,
+             samples=4, vignette=0.6)
+
+
+def model_folder(folder: Path) -> Path:
+    """``folder`` with bowl.obj and ball.obj."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, mesh in (("bowl", BOWL), ("ball", BALL)):
+        write_obj(folder / f"{name}.obj", mesh)
+    return folder
+
+
+def batch_matches_the_api(folder: Path, out: Path, **engine) -> None:
+    """``render_many`` of ``folder`` with every IMAGE field (and ``engine``: jobs, client)
+    writes the images that ``render`` draws with the same options and view, bit for bit."""
+    view = View(size=(96, 72), azimuth=40.0, elevation=35.0)
+    summary = rasterkit.render_many(folder, out, options=RenderOptions(**IMAGE), view=view, **engine)
+    assert summary.done == 2 and summary.exit_code == 0
+    for name in ("bowl", "ball"):
+        mesh = rasterkit.load_obj(folder / f"{name}.obj")
+        expected = rasterkit.render(mesh, view.camera_for(mesh), options=RenderOptions(**IMAGE)).color
+        assert np.array_equal(np.asarray(Image.open(out / f"{name}.png")), expected), name
