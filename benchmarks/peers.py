@@ -152,7 +152,8 @@ class Llvmpipe:
             towards_eye=tuple(float(c) for c in camera.basis()[2]),
             width=camera.width, height=camera.height, cull=cull == "back")
 
-    def _framebuffer(self, width: int, height: int, samples: int = 0):
+    def framebuffer(self, width: int, height: int, samples: int = 0):
+        """A colour + depth framebuffer of this size (and MSAA ``samples``), made once."""
         key = (width, height, samples)
         if key not in self._framebuffers:
             size = (width, height)
@@ -174,7 +175,7 @@ class Llvmpipe:
             The image, rows top-down (a reversed view of GL's bottom-up rows).
         """
         gl, ctx = self.gl, self.ctx
-        fbo = self._framebuffer(glmesh.width, glmesh.height, samples)
+        fbo = self.framebuffer(glmesh.width, glmesh.height, samples)
         fbo.use()
         fbo.clear(1.0, 1.0, 1.0, 1.0, depth=1.0)
         self.plain["mvp"].write(glmesh.mvp)
@@ -192,7 +193,7 @@ class Llvmpipe:
             self.plain["color"].value = (0.0, 0.0, 0.0)
             glmesh.lines_vao.render(gl.LINES)
         if samples:
-            resolved = self._framebuffer(glmesh.width, glmesh.height)
+            resolved = self.framebuffer(glmesh.width, glmesh.height)
             ctx.copy_framebuffer(resolved, fbo)
             fbo = resolved
         data = fbo.read(components=3, alignment=1)

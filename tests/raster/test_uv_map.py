@@ -86,3 +86,31 @@ def test_a_scene_keeps_its_objects_texture_coordinates():
     fb = rasterkit.render(scene, mode="solid", uv=True, cull="none")
     alone = rasterkit.render(PLANE, GRAZING, "solid", uv=True, cull="none")
     np.testing.assert_array_equal(fb.uv, alone.uv)
+
+
+def test_llvmpipe_samples_the_texels_that_the_uv_map_names(monkeypatch):
+    """Mesa llvmpipe drawing the checkerboard plane with GL_NEAREST picks, at every covered
+    pixel, the texel at rasterkit's uv (the GL side: benchmarks/texture_peer.py)."""
+    pytest.importorskip("moderngl")
+    from support.paths import ROOT
+
+    monkeypatch.syspath_prepend(str(ROOT))  # the benchmark suite is not installed with the package
+    from benchmarks.peers import Llvmpipe, PeerUnavailable
+    from benchmarks.texture_peer import TexturedGL
+
+    try:
+        gl = TexturedGL(Llvmpipe())
+    except PeerUnavailable as why:
+        pytest.skip(str(why))
+    checker = ((np.arange(64)[:, None] + np.arange(64)[None, :]) % 2 * 255).astype(np.uint8)
+    image = np.stack([checker, 255 - checker, np.full_like(checker, 128)], axis=2)
+    faces = PLANE.faces
+    drawn = gl.draw(gl.upload(SQUARE, faces, PLANE.texcoords[faces], image, GRAZING, filter="nearest",
+                              shading="unlit"), cull=False)
+    fb = rasterkit.render(PLANE, GRAZING, "solid", uv=True, cull="none")
+    ys, xs = np.nonzero(np.isfinite(fb.uv[..., 0]))
+    uv = fb.uv[ys, xs].astype(np.float64)
+    column = np.clip(np.floor(uv[:, 0] * 64), 0, 63).astype(int)
+    row = 63 - np.clip(np.floor(uv[:, 1] * 64), 0, 63).astype(int)  # v up, the image's row 0 at the top
+    agree = (np.abs(image[row, column].astype(int) - drawn[ys, xs].astype(int)).max(axis=1) <= 1).mean()
+    assert agree >= 0.995, agree
