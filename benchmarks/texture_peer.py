@@ -88,7 +88,7 @@ class TexturedGL:
         0 the top, seen by ``camera``. ``shading``: "flat" (face normals), "smooth"
         (``corner_normals`` (M, 3, 3)) or "unlit". ``levels``: the mip levels to upload (each
         (h, w, 4) uint8, level 0 first), else GL makes them for ``trilinear``."""
-        ctx, gl = self.ctx, self.gl
+        ctx = self.ctx
         vertices = np.asarray(vertices, np.float64)
         faces = np.asarray(faces, np.int64)
         corners = vertices[faces].reshape(-1, 3)
