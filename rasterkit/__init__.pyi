@@ -6,6 +6,8 @@ from rasterkit import transform as transform
 from rasterkit.batch import render_many as render_many
 from rasterkit.camera import Camera as Camera
 from rasterkit.colors import parse_color as parse_color
+from rasterkit.material import Material as Material
+from rasterkit.material import Texture as Texture
 from rasterkit.mesh import Mesh as Mesh
 from rasterkit.obj import ObjError as ObjError
 from rasterkit.obj import load_obj as load_obj

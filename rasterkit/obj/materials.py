@@ -1,5 +1,7 @@
 """Materials of an OBJ file: the ``usemtl`` names, the ``Kd`` colours read from its ``mtllib``
-(``.mtl``) files, and the colour of each triangle's material.
+(``.mtl``) files and the colour of each triangle's material (:func:`face_colors`), and the
+whole :class:`~rasterkit.Material` of each used material, textures and all
+(:func:`read_materials`).
 
 Libraries are looked up next to the ``.obj`` file and read by
 :func:`rasterkit.obj.files.read_file` (regular files within the file size limit only); each is
@@ -7,8 +9,10 @@ read once however often it is named. One that cannot be read (missing, not a reg
 large) is a warning that names it and says why, as is a used material that no library defines.
 An ``.mtl`` file is read as the OBJ file is (tokens separated by the blanks of
 :data:`rasterkit.obj.kernels.scan.BLANKS`, ``#`` at the start of a token begins a comment), and
-only the ``newmtl`` and ``Kd`` lines of materials the model uses are kept, so a library costs
-memory only for those.
+for the face colours only the ``newmtl`` and ``Kd`` lines of materials the model uses are
+kept, so a library costs memory only for those. :func:`read_materials` reads the other
+statements of those materials (:mod:`rasterkit.obj.mtl`) and opens their textures
+(:mod:`rasterkit.obj.textures`).
 """
 
 from __future__ import annotations
@@ -18,16 +22,20 @@ import re
 
 import numpy as np
 
+from rasterkit.material import DEFAULT_DIFFUSE, Material
 from rasterkit.obj.document import Document, decode
 from rasterkit.obj.errors import ObjError, Report, count
 from rasterkit.obj.files import read_file
+from rasterkit.obj.mtl import MaterialSpec, parse_library
 from rasterkit.obj.statements import Elements, latest_above
+from rasterkit.obj.textures import TextureFiles
 from rasterkit.obj.kernels.scan import BLANKS, KIND_MTLLIB, KIND_USEMTL, split_tokens
 
-__all__ = ["DEFAULT_KD", "face_colors", "material_names"]
+__all__ = ["DEFAULT_KD", "face_colors", "library_files", "material_names", "read_materials"]
 
-DEFAULT_KD = (0.8, 0.8, 0.8)
-"""Diffuse colour of faces whose material is unknown or has no ``Kd``."""
+DEFAULT_KD = DEFAULT_DIFFUSE
+"""Diffuse colour of faces whose material is unknown or has no ``Kd``
+(:data:`rasterkit.material.DEFAULT_DIFFUSE`)."""
 
 #: Libraries that cannot be read are named one warning each up to this many, then counted.
 LIBRARY_WARNINGS = 5
@@ -64,9 +72,21 @@ def _load_libraries(doc: Document, wanted: set, report: Report):
     """Kd (r, g, b) of the wanted materials in the file's mtllib files that can be read, and
     whether any library could be read."""
     materials: dict = {}
+    failed: list = []  # (statement, file, reason)
+    read = 0
+    for path, data in library_files(doc, failed):
+        read += 1
+        materials.update(_parse_mtl(data, path, wanted, report))
+    _warn_unreadable(doc, failed, report)
+    return materials, read > 0
+
+
+def library_files(doc: Document, failed: list):
+    """``(path, bytes)`` of each ``mtllib`` library of the file that can be read, once each
+    however often it is named, in file order; ``(statement, file, reason)`` of each that
+    cannot be read is appended to ``failed``."""
     folder = os.path.dirname(doc.name)
     seen = set()
-    failed = []  # (statement, file, reason)
     for s in doc.of_kind(KIND_MTLLIB):
         words = doc.tokens(s)[1:]
         argument = " ".join(words)  # one name with spaces, or several names
@@ -81,14 +101,47 @@ def _load_libraries(doc: Document, wanted: set, report: Report):
             except ObjError as e:
                 failed.append((s, file, e.reason.removeprefix("cannot read: ")))
                 continue
-            materials.update(_parse_mtl(data, path, wanted, report))
+            yield path, data
+
+
+def _warn_unreadable(doc: Document, failed: list, report: Report) -> None:
     for s, file, reason in failed[:LIBRARY_WARNINGS]:
         report.warn(doc.line(s), f"material library {file!r} cannot be read: {reason}")
     if len(failed) > LIBRARY_WARNINGS:
         more = count(len(failed) - LIBRARY_WARNINGS, "more material library",
                      "more material libraries")
         report.warn(doc.line(failed[LIBRARY_WARNINGS][0]), f"{more} cannot be read")
-    return materials, len(seen) > len(failed)
+
+
+def read_materials(doc: Document, report: Report) -> dict:
+    """``{name: Material}`` of the materials the file uses (``usemtl``) that its libraries
+    define, in the order they are first defined, with their textures
+    (:mod:`rasterkit.obj.mtl` says what is read, :mod:`rasterkit.obj.textures` how the
+    texture files are found and opened).
+
+    The warnings about the libraries themselves (one that cannot be read, a used material
+    that none defines, a bad ``Kd``) are left to :func:`face_colors`, which reads the same
+    libraries, so that a loader calling both says each once; this adds those of the other
+    statements and of the textures.
+    """
+    wanted = set(material_names(doc))
+    specs: dict = {}
+    if wanted:
+        for path, data in library_files(doc, []):
+            specs.update(parse_library(data, path, wanted, report))
+    files = TextureFiles(report)
+    materials = {name: _material(name, spec, files) for name, spec in specs.items()}
+    files.finish()
+    return materials
+
+
+def _material(name: str, spec: MaterialSpec, files: TextureFiles) -> Material:
+    values = dict(spec.values)
+    if "opacity" not in values and spec.transparency is not None and spec.transparency < 1.0:
+        values["opacity"] = 1.0 - spec.transparency  # Tr 1 is opaque: see rasterkit.obj.mtl
+    for field, statement in spec.maps.items():
+        values[field] = files.texture(spec.library, statement, srgb=field == "diffuse_map")
+    return Material(name, **values)
 
 
 def _words(line: bytes) -> list:

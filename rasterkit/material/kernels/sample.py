@@ -1,0 +1,191 @@
+"""Texture sampling kernels: nearest, bilinear and trilinear lookups with repeat, clamp and
+mirror wrapping, and the level of detail from UV derivatives, as OpenGL defines them.
+
+Everything a lookup needs is a handful of arrays and scalars, so that a band worker calls
+:func:`sample` per pixel (the arrays made once per texture by
+:mod:`rasterkit.material.sampling`):
+
+``texels`` (n,) uint8, ``levels`` (L, 3) int64
+    Every mipmap level of every texture of a draw: a level's offset into ``texels``, its
+    width and height; rows bottom first (:mod:`rasterkit.material.mipmaps`).
+``samplers`` (T, 6) int64, ``transforms`` (T, 4) float64, row ``t`` for texture ``t``
+    Its first level (a row of ``levels``), its level count, channels (3 or 4), filter
+    (``FILTER_*``), wrap (``WRAP_*``) and whether its colours are sRGB; its ``scale`` (u, v)
+    and ``offset`` (u, v).
+``decode`` (2, 256) float64
+    :data:`rasterkit.material.colorspace.DECODE`: each code's value, linear or from sRGB.
+
+Coordinates are OpenGL's: ``u`` to the right, ``v`` up (``v = 0`` is the bottom of the image),
+texel centres at ``(i + 0.5) / width``; the texture's ``scale`` and ``offset`` apply first,
+``u * scale + offset``. A lookup returns ``(r, g, b, a)`` float32 in [0, 1]: linear light for
+an sRGB texture (the texels are decoded, then blended; the caller encodes the shaded colour
+back to sRGB once), the codes / 255 otherwise; alpha is linear, 1 for an RGB texture.
+
+Filters (OpenGL's names): ``nearest`` is GL_NEAREST on level 0 (the texel that contains the
+point), ``bilinear`` GL_LINEAR on level 0 (the 4 texels around the point, weighted by
+distance from their centres), ``trilinear`` GL_LINEAR_MIPMAP_LINEAR: GL_LINEAR on levels
+``floor(lod)`` and ``floor(lod) + 1`` blended by ``lod - floor(lod)``, the level of detail
+clamped to ``[0, levels - 1]`` (so a magnified texture is GL_LINEAR on level 0).
+
+Wrapping (applied to the integer texel indices, as GL does): ``repeat`` takes the index
+modulo the size, ``clamp`` clamps it to the edge texels (GL_CLAMP_TO_EDGE), ``mirror`` repeats
+the texture mirrored every other time (GL_MIRRORED_REPEAT). Before that, the coordinate is
+brought into a bounded range that the wrap does not change (``repeat``: its fractional part;
+``mirror``: modulo 2; ``clamp``: clamped to [-1, 2]), and NaN is taken as 0 (an infinity
+too with ``repeat`` and ``mirror``, which have no edge to send it to; ``clamp`` sends it to
+its edge): no input, however large or undefined, makes an index outside the texture.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit.runtime.jit import kernel
+
+FILTER_NEAREST, FILTER_BILINEAR, FILTER_TRILINEAR = 0, 1, 2
+WRAP_REPEAT, WRAP_CLAMP, WRAP_MIRROR = 0, 1, 2
+
+#: Columns of a ``samplers`` row.
+FIRST, COUNT, CHANNELS, FILTER, WRAP, SRGB = 0, 1, 2, 3, 4, 5
+#: Columns of a ``transforms`` row.
+SCALE_U, SCALE_V, OFFSET_U, OFFSET_V = 0, 1, 2, 3
+
+
+@kernel(inline="always")
+def bounded_coordinate(u, wrap):
+    """``u`` in a range of a few units that ``wrap`` maps as it maps ``u``; NaN gives 0, and
+    so do the infinities with repeat and mirror (their fractional part is NaN)."""
+    if wrap == WRAP_REPEAT:
+        u = u - np.floor(u)
+    elif wrap == WRAP_MIRROR:
+        u = u - 2.0 * np.floor(0.5 * u)
+    elif u < -1.0:
+        u = -1.0
+    elif u > 2.0:
+        u = 2.0
+    if u != u:
+        u = 0.0
+    return u
+
+
+@kernel(inline="always")
+def wrap_index(i, n, wrap):
+    """Texel index ``i`` wrapped into [0, n)."""
+    if wrap == WRAP_REPEAT:
+        return i % n
+    if wrap == WRAP_MIRROR:
+        m = i % (2 * n)
+        return 2 * n - 1 - m if m >= n else m
+    return min(max(i, 0), n - 1)
+
+
+@kernel(inline="always")
+def texel(texels, decode, srgb, channels, at):
+    """The texel at byte ``at``: (r, g, b, a) float64, colours through row ``srgb`` of
+    ``decode``, alpha linear (1 without an alpha channel)."""
+    a = decode[0, texels[at + 3]] if channels == 4 else 1.0
+    return decode[srgb, texels[at]], decode[srgb, texels[at + 1]], decode[srgb, texels[at + 2]], a
+
+
+@kernel(inline="always")
+def nearest(texels, levels, level, decode, srgb, channels, wrap, u, v):
+    """GL_NEAREST: the texel of ``level`` that contains (u, v) (bounded coordinates)."""
+    offset, width, height = levels[level, 0], levels[level, 1], levels[level, 2]
+    i = wrap_index(np.int64(np.floor(u * width)), width, wrap)
+    j = wrap_index(np.int64(np.floor(v * height)), height, wrap)
+    return texel(texels, decode, srgb, channels, offset + (j * width + i) * channels)
+
+
+@kernel(inline="always")
+def bilinear(texels, levels, level, decode, srgb, channels, wrap, u, v):
+    """GL_LINEAR: the 4 texels of ``level`` around (u, v) (bounded coordinates), weighted by
+    how near their centres are."""
+    offset, width, height = levels[level, 0], levels[level, 1], levels[level, 2]
+    x = u * width - 0.5
+    y = v * height - 0.5
+    fx = np.floor(x)
+    fy = np.floor(y)
+    ax = x - fx
+    ay = y - fy
+    i0 = wrap_index(np.int64(fx), width, wrap)
+    i1 = wrap_index(np.int64(fx) + 1, width, wrap)
+    row0 = offset + wrap_index(np.int64(fy), height, wrap) * width * channels
+    row1 = offset + wrap_index(np.int64(fy) + 1, height, wrap) * width * channels
+    r00, g00, b00, a00 = texel(texels, decode, srgb, channels, row0 + i0 * channels)
+    r10, g10, b10, a10 = texel(texels, decode, srgb, channels, row0 + i1 * channels)
+    r01, g01, b01, a01 = texel(texels, decode, srgb, channels, row1 + i0 * channels)
+    r11, g11, b11, a11 = texel(texels, decode, srgb, channels, row1 + i1 * channels)
+    w00 = (1.0 - ax) * (1.0 - ay)
+    w10 = ax * (1.0 - ay)
+    w01 = (1.0 - ax) * ay
+    w11 = ax * ay
+    return (w00 * r00 + w10 * r10 + w01 * r01 + w11 * r11, w00 * g00 + w10 * g10 + w01 * g01 + w11 * g11,
+            w00 * b00 + w10 * b10 + w01 * b01 + w11 * b11, w00 * a00 + w10 * a10 + w01 * a01 + w11 * a11)
+
+
+@kernel(inline="always")
+def lod_from_derivatives(dudx, dvdx, dudy, dvdy, width, height):
+    """OpenGL's level of detail: log2 of the longer of the two screen-space derivative
+    vectors of the texel coordinates, ``(dudx * width, dvdx * height)`` and ``(dudy * width,
+    dvdy * height)`` (u, v as the texture sees them: after its scale). -inf for no change,
+    NaN for NaN derivatives (both taken as 0 by :func:`sample`)."""
+    x = (dudx * width) ** 2 + (dvdx * height) ** 2
+    y = (dudy * width) ** 2 + (dvdy * height) ** 2
+    return 0.5 * np.log2(max(x, y)) if x == x and y == y else np.nan
+
+
+@kernel(inline="always")
+def texture_lod(levels, samplers, transforms, t, dudx, dvdx, dudy, dvdy):
+    """:func:`lod_from_derivatives` for texture ``t``: the derivatives of the mesh's (u, v),
+    scaled by the texture's ``scale``, over its level 0."""
+    first = samplers[t, FIRST]
+    su = transforms[t, SCALE_U]
+    sv = transforms[t, SCALE_V]
+    return lod_from_derivatives(dudx * su, dvdx * sv, dudy * su, dvdy * sv, levels[first, 1], levels[first, 2])
+
+
+@kernel(refcounts=False)
+def sample(texels, levels, samplers, transforms, decode, t, u, v, lod):
+    """Texture ``t`` at (u, v) float64 with level of detail ``lod``: (r, g, b, a) float32
+    (see the module documentation). Allocates nothing."""
+    first = samplers[t, FIRST]
+    count = samplers[t, COUNT]
+    channels = samplers[t, CHANNELS]
+    mode = samplers[t, FILTER]
+    wrap = samplers[t, WRAP]
+    srgb = samplers[t, SRGB]
+    u = bounded_coordinate(u * transforms[t, SCALE_U] + transforms[t, OFFSET_U], wrap)
+    v = bounded_coordinate(v * transforms[t, SCALE_V] + transforms[t, OFFSET_V], wrap)
+    if mode == FILTER_NEAREST:
+        r, g, b, a = nearest(texels, levels, first, decode, srgb, channels, wrap, u, v)
+    elif mode == FILTER_BILINEAR:
+        r, g, b, a = bilinear(texels, levels, first, decode, srgb, channels, wrap, u, v)
+    else:
+        if lod != lod or lod < 0.0:
+            lod = 0.0
+        elif lod > count - 1.0:
+            lod = count - 1.0
+        d = np.floor(lod)
+        f = lod - d
+        level = first + np.int64(d)
+        r, g, b, a = bilinear(texels, levels, level, decode, srgb, channels, wrap, u, v)
+        if f > 0.0:
+            r1, g1, b1, a1 = bilinear(texels, levels, level + 1, decode, srgb, channels, wrap, u, v)
+            r = (1.0 - f) * r + f * r1
+            g = (1.0 - f) * g + f * g1
+            b = (1.0 - f) * b + f * b1
+            a = (1.0 - f) * a + f * a1
+    return np.float32(r), np.float32(g), np.float32(b), np.float32(a)
+
+
+@kernel
+def sample_points(texels, levels, samplers, transforms, decode, t, uv, lod, out):
+    """:func:`sample` at each point: ``uv`` (N, 2) float64, ``lod`` (N,) float64, into ``out``
+    (N, 4) float32. The entry point of :func:`rasterkit.material.sampling.sample` and tests,
+    in this thread."""
+    for k in range(uv.shape[0]):
+        r, g, b, a = sample(texels, levels, samplers, transforms, decode, t, uv[k, 0], uv[k, 1], lod[k])
+        out[k, 0] = r
+        out[k, 1] = g
+        out[k, 2] = b
+        out[k, 3] = a
