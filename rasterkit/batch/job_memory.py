@@ -58,10 +58,9 @@ def gif_frame_bytes(pixels: int) -> int:
 
 
 def _mesh_bytes(mesh) -> int:
-    """Bytes of the arrays a Mesh holds."""
-    arrays = (mesh.vertices, mesh.faces, mesh.edges, mesh.lines, mesh.vertex_colors, mesh.normals,
-              mesh.texcoords, mesh.face_colors, mesh.face_groups)
-    return sum(a.nbytes for a in arrays if a is not None)
+    """Bytes of the arrays a Mesh holds (:attr:`rasterkit.Mesh.nbytes`: its per-corner
+    attributes and material indices too)."""
+    return mesh.nbytes
 
 
 def _world_copy_bytes(mesh) -> int:

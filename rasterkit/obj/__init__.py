@@ -12,9 +12,11 @@ This module holds the public names (:func:`load_obj`, :class:`ObjError`, :class:
 and the report of errors and warnings), ``files`` (reading a file, within the limits),
 ``memory`` (the memory loading will take, checked first), ``document`` (the file's
 bytes and statements), ``statements`` (the numbers and corners of the geometry
-statements, checked), ``assemble`` (triangles, by ``split`` and ``ears`` or the
-kernels, edges, per-vertex attributes and groups of the Mesh) and ``materials`` (``usemtl``
-and the ``.mtl`` files), all modules of this package, its kernels in ``kernels/``.
+statements, checked), ``assemble`` (triangles as the corners of their polygons, by
+``split`` and ``ears`` or the kernels, edges, groups and materials of the triangles),
+``attributes`` (the texture coordinates and normals of the corners, and per vertex) and
+``materials`` (``usemtl`` and the ``.mtl`` files), all modules of this package, its kernels
+in ``kernels/``.
 
 What is accepted, and how it is read
 ------------------------------------
@@ -38,7 +40,9 @@ What is accepted, and how it is read
   reported in a warning, not drawn.
 - ``o``, ``g`` (the names of a face's latest ``g`` or ``o`` become ``Mesh.group_names``, with
   ``face_groups`` per triangle; faces before any of them are in group ``default``), ``s``
-  (ignored), ``usemtl`` (names in ``Mesh.material_names``), ``mtllib`` (``Kd`` of each used
+  (ignored), ``usemtl`` (names in ``Mesh.material_names``, in the order of their first
+  ``usemtl``, and ``Mesh.face_materials`` per triangle: -1 before any ``usemtl`` and after
+  one without a name), ``mtllib`` (``Kd`` of each used
   material becomes ``Mesh.face_colors``; a material without ``Kd``, and faces without a
   material, get :data:`DEFAULT_KD`; a library that cannot be read (missing, not a regular
   file, over the size limit) or a missing material is a warning).
@@ -52,13 +56,29 @@ What is accepted, and how it is read
   every value is the correctly rounded float64 of its text.
 - Unknown keywords (``vp``, ``curv``, ``t``, ``vw``...) are skipped and counted in one warning.
 
-Per-vertex attributes
----------------------
-``Mesh`` holds one normal and one texture coordinate per vertex, while OBJ gives them per face
-corner. A vertex's normal is the sum of the unit ``vn`` of all face corners that use it,
-normalised ((0, 0, 0) for a vertex no corner gives a normal: a smooth-shading normal, which
-rounds hard edges); its texture coordinate is the ``vt`` of the first corner (in file order)
-that gives one ((0, 0) otherwise; at a UV seam the other corners' coordinates are lost).
+Texture coordinates and normals
+-------------------------------
+OBJ gives them per face corner, and ``Mesh`` keeps them so (``rasterkit.obj.attributes``):
+``Mesh.uv`` (U, 2) holds every ``vt`` line (u, v as written, NaN and infinities too; v = 0
+when the line has only u; w dropped) and ``Mesh.corner_normals`` (C, 3) every ``vn`` line
+scaled to unit length ((0, 0, 0) for a zero normal or one with a NaN or infinite component);
+``Mesh.uv_index`` and ``Mesh.normal_index`` (M, 3) give each triangle corner the row its
+polygon's corner names (relative indices resolved), so a UV seam keeps both of its
+coordinates and a hard edge (``vn`` differing across it) both of its normals. A polygon split
+into triangles gives each triangle corner the attributes of the polygon corner it was cut
+from (the splitters return polygon corners, not vertex indices: a vertex a polygon visits
+twice, at a hole's bridge, keeps each visit's own; of repeated corners that are merged the
+first is kept). A polygon that does not give a valid ``vt`` (``vn``) at every corner has
+none: its triangles' rows are -1, -1, -1 (a bad index is warned about with the other bad
+references; a polygon that gives them at some corners only, in one warning). A file whose
+faces name no ``vt`` (``vn``) has ``uv`` and ``uv_index`` (``corner_normals`` and
+``normal_index``) None.
+
+``Mesh`` also holds one normal and one texture coordinate per vertex: a vertex's normal is the
+sum of the unit ``vn`` of all face corners that use it, normalised ((0, 0, 0) for a vertex no
+corner gives a normal: a smooth-shading normal, which rounds hard edges); its texture
+coordinate is the ``vt`` of the first corner (in file order) that gives one ((0, 0)
+otherwise).
 
 What fails
 ----------
@@ -87,8 +107,9 @@ from __future__ import annotations
 
 import os
 
-from rasterkit.obj.assemble import (
-    face_labels, finite_vertices, polygon_sides, triangulate, vertex_normals, vertex_texcoords,
+from rasterkit.obj.assemble import face_labels, face_materials, finite_vertices, polygon_sides, triangulate
+from rasterkit.obj.attributes import (
+    corner_rows, normal_table, unit_rows, uv_table, vertex_normals, vertex_texcoords,
 )
 from rasterkit.obj.document import Document
 from rasterkit.obj.errors import ObjError, ObjLimitError, Report, count
@@ -116,8 +137,9 @@ def load_obj(path) -> Mesh:
         ``faces`` (M, 3) int64 triangles; ``edges`` (E, 2) int64, the unique sides of the
         original polygons and the ``l`` segments; ``lines`` (K, 2) int64; and, when the file has
         them, ``vertex_colors``, ``normals``, ``texcoords``, ``face_colors``, ``face_groups``
-        with ``group_names``, and ``material_names``. ``warnings`` lists what was accepted with
-        a remark. See the module documentation for every rule.
+        with ``group_names``, ``material_names`` with ``face_materials``, and per corner
+        ``uv`` with ``uv_index`` and ``corner_normals`` with ``normal_index``. ``warnings``
+        lists what was accepted with a remark. See the module documentation for every rule.
 
     Raises
     ------
@@ -153,17 +175,24 @@ def load_obj(path) -> Mesh:
     note_skipped(doc, report)
     finite = finite_vertices(doc, vertices, faces, lines, report)
     keep_polygons = faces.uses_only(finite)
-    triangles, triangle_polygon = triangulate(doc, vertices, faces, keep_polygons, report)
+    corners, triangle_polygon = triangulate(doc, vertices, faces, keep_polygons, report)
     segments = lines.segments(lines.uses_only(finite))
     edges = unique_edges(segments, len(vertices), keys=polygon_sides(faces, keep_polygons, len(vertices)))
     groups, group_names = face_labels(doc, (KIND_G, KIND_O), faces, triangle_polygon)
+    materials = material_names(doc)
+    uv_index = corner_rows(faces, "texcoord", corners, triangle_polygon, doc, report)
+    normal_index = corner_rows(faces, "normal", corners, triangle_polygon, doc, report)
+    unit_normals = unit_rows(normals)
     return Mesh(
-        vertices, triangles, edges=edges, lines=segments,
+        vertices, faces.vertex[corners], edges=edges, lines=segments,
         vertex_colors=colors,
-        normals=vertex_normals(faces, normals, len(vertices)),
+        normals=vertex_normals(faces, unit_normals, len(vertices)),
         texcoords=vertex_texcoords(faces, texcoords, len(vertices)),
         face_colors=face_colors(doc, faces, triangle_polygon, report),
         face_groups=groups, group_names=group_names,
-        material_names=material_names(doc),
+        material_names=materials,
         warnings=report.warnings,
+        uv=None if uv_index is None else uv_table(doc, texcoords), uv_index=uv_index,
+        corner_normals=None if normal_index is None else normal_table(normals, unit_normals), normal_index=normal_index,
+        face_materials=face_materials(doc, faces, triangle_polygon, materials),
     )

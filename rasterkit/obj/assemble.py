@@ -1,6 +1,7 @@
 """From the checked statements of an OBJ file to the arrays of its Mesh: finite vertices, the
-triangles (fans by NumPy, the rest by the polygon kernels) and edges, per-vertex normals and texture coordinates, and
-the group of each triangle."""
+triangles (fans by NumPy, the rest by the polygon kernels) as the corners of their polygons,
+edges, and the group and material of each triangle. (The attributes of the corners:
+:mod:`rasterkit.obj.attributes`.)"""
 
 from __future__ import annotations
 
@@ -10,10 +11,9 @@ from rasterkit.obj.errors import count
 from rasterkit.obj.split import split_in_numpy
 from rasterkit.obj.statements import Elements, latest_above
 from rasterkit.obj.kernels import polygons as obj_polygons
-from rasterkit.obj.kernels.scan import KIND_V
+from rasterkit.obj.kernels.scan import KIND_USEMTL, KIND_V
 
-__all__ = ["face_labels", "finite_vertices", "polygon_sides", "split_polygons", "triangulate",
-           "vertex_normals", "vertex_texcoords"]
+__all__ = ["face_labels", "face_materials", "finite_vertices", "polygon_sides", "split_polygons", "triangulate"]
 
 
 def finite_vertices(doc, vertices, faces, lines, report) -> np.ndarray:
@@ -30,8 +30,9 @@ def finite_vertices(doc, vertices, faces, lines, report) -> np.ndarray:
 
 
 def triangulate(doc, vertices, faces: Elements, keep: np.ndarray, report):
-    """Triangles (M, 3) int64 of the kept polygons, and the polygon (M,) of each; warns about
-    polygons that could not be split exactly."""
+    """Triangles (M, 3) int64 of the kept polygons as their corners (indices into
+    ``faces.vertex``, ``faces.texcoord`` and ``faces.normal``), and the polygon (M,) of
+    each; warns about polygons that could not be split exactly."""
     if faces.count == 0:
         return np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
     triangles, counts, inexact = split_polygons(vertices, faces.vertex, faces.offsets, keep)
@@ -44,14 +45,16 @@ def triangulate(doc, vertices, faces: Elements, keep: np.ndarray, report):
 
 
 def split_polygons(vertices, corners, offsets, keep):
-    """The triangles (T, 3) int64 of the kept polygons in polygon order, the count (P,) of
-    each polygon's and whether (P,) it could not be split exactly: made by NumPy where it can
-    (:mod:`rasterkit.obj.split`), by the kernels of :mod:`rasterkit.obj.kernels.polygons`
-    (compiled on first use) where not. Triangles that a repeated vertex makes degenerate are
-    left out."""
+    """The triangles (T, 3) int64 of the kept polygons in polygon order, as corners (indices
+    into ``corners``, the vertex index of each corner: a triangle's vertices are
+    ``corners[triangles]``), the count (P,) of each polygon's and whether (P,) it could not
+    be split exactly: made by NumPy where it can (:mod:`rasterkit.obj.split`), by the
+    kernels of :mod:`rasterkit.obj.kernels.polygons` (compiled on first use) where not.
+    Triangles that a repeated vertex makes degenerate are left out."""
     if np.all(np.diff(offsets) == 3):  # a triangle mesh: its rows as they are
-        parts, inexact = [(np.arange(len(keep))[keep], corners.reshape(-1, 3)[keep])], np.zeros(len(keep), bool)
-        return (*_in_polygon_order(parts, len(keep)), inexact)
+        a, b, c = corners.reshape(-1, 3).T
+        kept = keep & (a != b) & (b != c) & (c != a)
+        return 3 * np.flatnonzero(kept)[:, None] + np.arange(3), kept.astype(np.int64), np.zeros(len(keep), bool)
     parts, inexact, left = split_in_numpy(vertices, corners, offsets, keep)
     parts = [(np.repeat(polygons, rows.shape[1]), rows.reshape(-1, 3)) for polygons, rows in parts]
     if left.any():
@@ -61,20 +64,21 @@ def split_polygons(vertices, corners, offsets, keep):
         for p in np.flatnonzero(state == obj_polygons.LARGE):
             rows, exact = obj_polygons.split_large(vertices, corners[offsets[p]:offsets[p + 1]].copy())
             inexact[p] = not exact
-            parts.append((np.full(len(rows), p), rows))
-    return (*_in_polygon_order(parts, len(keep)), inexact)
+            parts.append((np.full(len(rows), p), np.where(rows >= 0, rows + offsets[p], -1)))
+    return (*_in_polygon_order(parts, len(keep), corners), inexact)
 
 
-def _in_polygon_order(parts, polygons: int):
-    """The triangles of parts [(polygon of each row (K,), rows (K, 3))] merged into polygon
-    order (each polygon's rows come from one part, in order there), without the rows that are
-    no triangle (-1, a repeated vertex); and the count (P,) of each polygon's."""
+def _in_polygon_order(parts, polygons: int, corners: np.ndarray):
+    """The triangles of parts [(polygon of each row (K,), rows (K, 3) of corners)] merged
+    into polygon order (each polygon's rows come from one part, in order there), without the
+    rows that are no triangle (-1, or a repeated vertex: ``corners`` holds each corner's);
+    and the count (P,) of each polygon's."""
     if not parts:  # no polygon kept (each has a corner that is not finite)
         return np.zeros((0, 3), np.int64), np.zeros(polygons, np.int64)
     kept = []
     for polygon, rows in parts:
-        a, b, c = rows.T
-        valid = (a >= 0) & (a != b) & (b != c) & (c != a)
+        a, b, c = corners[rows.T]
+        valid = (rows[:, 0] >= 0) & (a != b) & (b != c) & (c != a)
         kept.append((polygon[valid], rows[valid]))
     every = np.concatenate([polygon for polygon, _ in kept])
     counts = np.bincount(every, minlength=polygons)
@@ -108,45 +112,6 @@ def polygon_sides(faces: Elements, keep: np.ndarray, n_vertices: int) -> np.ndar
     return keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
 
 
-def vertex_normals(faces: Elements, normals: np.ndarray, n_vertices: int):
-    """(N, 3) float64 unit normals averaged over each vertex's corners, or None."""
-    used = faces.normal
-    if not (used >= 0).any():
-        return None
-    unit = _unit_rows(normals)
-    given = used >= 0
-    vertex, unit = faces.vertex[given], unit[used[given]]
-    # bincount adds in corner order, one column at a time
-    total = np.stack([np.bincount(vertex, unit[:, d], n_vertices) for d in range(3)], axis=1)
-    return _unit_rows(total)
-
-
-def _unit_rows(a: np.ndarray) -> np.ndarray:
-    """Rows of a scaled to length 1; rows of length 0 or not finite become 0."""
-    a = np.nan_to_num(a, nan=0.0, posinf=0.0, neginf=0.0)
-    # Rows whose squares would overflow (or vanish) are scaled towards 1 first: the other
-    # rows keep their exact values.
-    biggest = np.abs(a).max(axis=1, keepdims=True)
-    extreme = (biggest > 1e150) | ((biggest < 1e-150) & (biggest > 0))
-    if extreme.any():
-        a = np.where(extreme, a / np.where(extreme, biggest, 1.0), a)
-    length = np.linalg.norm(a, axis=1, keepdims=True)
-    return np.divide(a, length, out=np.zeros_like(a), where=length > 0)
-
-
-def vertex_texcoords(faces: Elements, texcoords: np.ndarray, n_vertices: int):
-    """(N, 2) float64 texture coordinates of each vertex's first corner with one, or None."""
-    used = faces.texcoord
-    if not (used >= 0).any():
-        return None
-    given = np.flatnonzero(used >= 0)
-    vertex, at = np.unique(faces.vertex[given], return_index=True)  # each vertex's first
-    first = np.full(n_vertices, -1, np.int64)
-    first[vertex] = used[given[at]]
-    uv = np.nan_to_num(texcoords[:, :2], nan=0.0, posinf=0.0, neginf=0.0)
-    return np.where(first[:, None] >= 0, uv[first], 0.0)
-
-
 def face_labels(doc, kinds, faces, triangle_polygon):
     """face_groups (M,) int32 and group_names, or (None, ()) when the file names no groups."""
     names, latest = latest_above(doc, kinds, faces)
@@ -158,3 +123,16 @@ def face_labels(doc, kinds, faces, triangle_polygon):
     # The extra last entry is what latest == -1 (no statement above) picks.
     ids = np.array([position[n] for n in names] + [position.get("default", 0)])
     return ids[latest[triangle_polygon]].astype(np.int32), tuple(unique)
+
+
+def face_materials(doc, faces: Elements, triangle_polygon: np.ndarray, names: tuple):
+    """(M,) int32 index into ``names`` (the Mesh's ``material_names``) of each triangle's
+    material, the latest ``usemtl`` above its polygon; -1 where there is none (no ``usemtl``
+    above, or one without a name); None when the file names no material."""
+    if not names:
+        return None
+    used, latest = latest_above(doc, (KIND_USEMTL,), faces)
+    position = {n: i for i, n in enumerate(names)}
+    # The extra last entry is what latest == -1 (no statement above) picks.
+    ids = np.array([position.get(n, -1) for n in used] + [-1], np.int32)
+    return ids[latest[triangle_polygon]]

@@ -134,7 +134,8 @@ def ear_clip(xy: np.ndarray, ring: np.ndarray):
     """Triangulate polygons ring (G, m) int64 whose plane coordinates xy (G, m, 2) wind
     counter-clockwise, as :func:`rasterkit.obj.kernels.ears.ear_clip` does each.
 
-    Returns triangles (G, m - 2, 3) int64 (vertex indices from ring, same winding) and
+    Returns triangles (G, m - 2, 3) int64 (entries of ring, which are only copied: the
+    polygons' corners or vertex indices; same winding) and
     exact (G,) bool: False where the work limit was reached and the rest split as a fan."""
     clipper = _Clipper(xy, ring)
     while True:

@@ -45,9 +45,10 @@ def split_in_numpy(vertices: np.ndarray, corners: np.ndarray, offsets: np.ndarra
     run after another, polygon p at ``offsets[p]:offsets[p + 1]`` (at least 3 corners, every
     index in [0, N)); ``keep`` (P,) bool.
 
-    Returns ``parts``, a list of (polygons (K,) ascending, triangles (K, m - 2, 3) int64 with
-    rows of -1 where none), ``inexact`` (P,) bool and ``left`` (P,) bool, the kept polygons
-    left to the kernels."""
+    Returns ``parts``, a list of (polygons (K,) ascending, triangles (K, m - 2, 3) int64 as
+    corners, indices into ``corners`` (the vertex of corner c is ``corners[c]``), with rows
+    of -1 where none), ``inexact`` (P,) bool and ``left`` (P,) bool, the kept polygons left
+    to the kernels."""
     sizes = np.diff(offsets)
     inexact = np.zeros(len(sizes), bool)
     left = keep & (sizes > EAR_CLIP_LIMIT)
@@ -55,30 +56,32 @@ def split_in_numpy(vertices: np.ndarray, corners: np.ndarray, offsets: np.ndarra
     for m in np.unique(sizes[keep & (sizes <= EAR_CLIP_LIMIT)]):
         group = np.flatnonzero(keep & (sizes == m))
         if m == 3:
-            parts.append((group, corners[offsets[group][:, None] + np.arange(3)][:, None, :]))
+            parts.append((group, (offsets[group][:, None] + np.arange(3))[:, None, :]))
             continue
         for first in range(0, len(group), CHUNK):  # bounded memory: (chunk, m, 3) arrays
             chunk = group[first:first + CHUNK]
-            ring = corners[offsets[chunk][:, None] + np.arange(m)]
+            at = offsets[chunk][:, None] + np.arange(m)
+            ring = corners[at]
             with np.errstate(all="ignore"):  # huge or tiny coordinates are the kernels' too
-                triangles, exact, done = _split(vertices, ring)
+                triangles, exact, done = _split(vertices, ring, at)
             if m == 4:
-                triangles[~done], done[~done] = _quads_with_a_repeat(ring[~done])
+                triangles[~done], done[~done] = _quads_with_a_repeat(ring[~done], at[~done])
             parts.append((chunk[done], triangles[done]))
             inexact[chunk[done]] = ~exact[done]
             left[chunk[~done]] = True
     return parts, inexact, left
 
 
-def _split(vertices: np.ndarray, ring: np.ndarray):
-    """Triangles (G, m - 2, 3), exact (G,) and done (G,) of polygons ring (G, m), m > 3."""
+def _split(vertices: np.ndarray, ring: np.ndarray, at: np.ndarray):
+    """Triangles (G, m - 2, 3) as the corners at (G, m) of the polygons, exact (G,) and
+    done (G,) of polygons ring (G, m) (vertex indices), m > 3."""
     g, m = ring.shape
     triangles = np.full((g, m - 2, 3), -1, np.int64)
     exact = np.ones(g, bool)
     done = _distinct(ring)
     if m == 4:  # most quads are a fan from corner 0: decided on columns, without the plane
         first = done & _quad_fans(vertices, ring)
-        triangles[first] = _fans(ring[first], 0)
+        triangles[first] = _fans(at[first], 0)
         rest = np.flatnonzero(done & ~first)
     else:
         rest = np.flatnonzero(done)
@@ -86,17 +89,17 @@ def _split(vertices: np.ndarray, ring: np.ndarray):
     rel = points - points[:, :1]
     normal = _newell(rel)
     flat = ~((normal * normal).sum(axis=1) > 0.0)  # no normal: on one line
-    triangles[rest[flat]] = _fans(ring[rest[flat]], 0)
+    triangles[rest[flat]] = _fans(at[rest[flat]], 0)
     plane = np.flatnonzero(~flat)
     xy = _plane(rel[plane], normal[plane])
     usable = np.isfinite(xy).all(axis=(1, 2)) & (xy != np.roll(xy, -1, axis=1)).any(axis=2).all(axis=1)
     done[rest[plane[~usable]]] = False
     plane, xy = rest[plane[usable]], xy[usable]
     convex = _fans_like_ear_clipping(xy)
-    triangles[plane[convex]] = _fans(ring[plane[convex]], m - 1)
+    triangles[plane[convex]] = _fans(at[plane[convex]], m - 1)
     clip = plane[~convex]
     if len(clip):
-        triangles[clip], exact[clip] = ear_clip(np.ascontiguousarray(xy[~convex]), ring[clip])
+        triangles[clip], exact[clip] = ear_clip(np.ascontiguousarray(xy[~convex]), at[clip])
     return triangles, exact, done
 
 
@@ -123,10 +126,11 @@ def _quad_fans(vertices: np.ndarray, ring: np.ndarray) -> np.ndarray:
     return fan | ~(nx * nx + ny * ny + nz * nz > 0.0)
 
 
-def _quads_with_a_repeat(ring: np.ndarray):
-    """Triangles (G, 2, 3) and done (G,) of quads ring (G, 4) whose one repeated vertex is
-    on neighbouring corners (``f 1 2 2 3``, ``f 1 2 3 1``): the triangle of the other three
-    corners in order (the kernels merge the repeat); the others are not done."""
+def _quads_with_a_repeat(ring: np.ndarray, at: np.ndarray):
+    """Triangles (G, 2, 3), as the corners at (G, 4), and done (G,) of quads ring (G, 4)
+    whose one repeated vertex is on neighbouring corners (``f 1 2 2 3``, ``f 1 2 3 1``):
+    the triangle of the other three corners in order (the kernels merge the repeat and
+    keep its first corner); the others are not done."""
     same = ring == np.roll(ring, -1, axis=1)  # corner k repeats corner k + 1
     ordered = np.sort(ring, axis=1)
     done = (same.sum(axis=1) == 1) & ((ordered[:, 1:] != ordered[:, :-1]).sum(axis=1) == 2)
@@ -134,12 +138,12 @@ def _quads_with_a_repeat(ring: np.ndarray):
     drop = np.where(k == 3, 3, k + 1)  # the kernels keep the first of the two (corner 0 of 3, 0)
     order = np.sort((drop[:, None] + np.arange(1, 4)) % 4, axis=1)
     triangles = np.full((len(ring), 2, 3), -1, np.int64)
-    triangles[done, 0] = np.take_along_axis(ring, order, axis=1)[done]
+    triangles[done, 0] = np.take_along_axis(at, order, axis=1)[done]
     return triangles, done
 
 
 def _fans(ring: np.ndarray, apex: int) -> np.ndarray:
-    """(G, m - 2, 3): the fans of polygons ring (G, m) from corner apex."""
+    """(G, m - 2, 3): the fans of polygons ring (G, m) (their corners) from corner apex."""
     m = ring.shape[1]
     step = np.arange(m - 2)
     return np.stack([np.broadcast_to(ring[:, apex:apex + 1], (len(ring), m - 2)),

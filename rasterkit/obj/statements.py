@@ -184,6 +184,7 @@ class Elements:
     vertex: np.ndarray  # (C,) int64 0-based vertex of each corner
     texcoord: np.ndarray  # (C,) int64 its vt, -1 where absent; empty when no corner has one
     normal: np.ndarray  # (C,) int64 its vn, likewise
+    reported: np.ndarray  # (K, 2) bool: a bad vt (column 0) or vn (1) reference was reported
 
     @property
     def count(self) -> int:
@@ -231,14 +232,16 @@ def read_elements(doc: Document, kind: int, minimum: int, what: str,
         given = {0: "no vertices", 1: "1 vertex"}.get(int(sizes[r]), f"{sizes[r]} vertices")
         report.error(doc.line(rows[r]), f"{what} with {given}: a {what} needs at least "
                                         f"{minimum}")
+    reported = np.zeros((len(rows), 2), bool)
     for attribute in (1, 2):
         bad = np.flatnonzero((problems[:, 0] != INDEX_OK) & (problems[:, 2] == attribute))
+        reported[bad, attribute - 1] = True
         if len(bad):
             name = _ATTRIBUTES[attribute][0]
             message = _index_message(doc, rows[bad[0]], problems[bad[0]], before[bad[0]], totals)
             report.warn(doc.line(rows[bad[0]]), f"{message}; {name}s ignored in "
                                                  f"{count(len(bad), what)}")
-    return Elements(rows, offsets, *corners)
+    return Elements(rows, offsets, *corners, reported)
 
 
 def _index_message(doc: Document, s: int, problem, before, totals) -> str:

@@ -3,8 +3,9 @@
 Two sources of hostile files:
 
 - **grammar**: Hypothesis draws OBJ documents from a grammar of the statements rasterkit
-  reads (``v``, ``vt``, ``vn``, ``f``, ``l``, ``p``, ``o``, ``g``, ``s``, ``usemtl``,
-  ``mtllib`` with a material file of its own, comments, unknown keywords, continuations),
+  reads (``v``, ``vt``, ``vn``, ``f`` with plain and ``v/vt/vn`` corners, ``l``, ``p``,
+  ``o``, ``g``, ``s``, ``usemtl``, ``mtllib`` with a material file of its own, comments,
+  unknown keywords, continuations), on a start with or without texture coordinates and normals,
   with hostile numbers (NaN, inf, 1e308, 400 digits, ``1.#IND``, half numbers), hostile
   indices (0, negative, huge, malformed ``1//2/3``), odd whitespace and line breaks, and
   random bytes spliced in;
@@ -13,7 +14,8 @@ Two sources of hostile files:
 
 The oracle for each file: :func:`rasterkit.load_obj` gives a Mesh, or raises a
 ``ValueError`` (``ObjError``) or ``OSError`` whose message is one line naming the file; no
-warning of any kind escapes; a loaded mesh is framed and drawn in every mode at 48x32, which
+warning of any kind escapes; a loaded mesh's per-corner attributes and materials index their
+tables (:func:`check_corners`); it is framed and drawn in every mode at 48x32, which
 succeeds or raises such a one-line ``ValueError``. Anything else (another exception type,
 a message of several lines or without the file's name, a crash, more than
 ``--example-seconds`` for one file, memory past the child's limit) is a failure; the
@@ -77,6 +79,7 @@ def check(path: Path) -> str:
             mesh = rasterkit.load_obj(path)
         except Exception as e:  # noqa: BLE001 - the oracle judges every exception
             return clean(e, "load_obj", name_needed=True)
+        check_corners(mesh)
         try:
             center, radius = mesh.bounding_sphere()
             camera = rasterkit.Camera.frame(center, radius, width=48, height=32)
@@ -90,6 +93,26 @@ def check(path: Path) -> str:
             if fb.color.shape != (32, 48, 3) or fb.color.dtype != np.uint8:
                 raise Failure(f"render {mode}: colour buffer {fb.color.shape} {fb.color.dtype}")
     return "ok"
+
+
+def check_corners(mesh) -> None:
+    """:class:`Failure` unless each face's ``uv_index`` and ``normal_index`` row is three
+    rows of its table or -1, -1, -1, and ``face_materials`` index ``material_names`` (the
+    Mesh's own checks, done again here from the outside)."""
+    for table, index in (("uv", "uv_index"), ("corner_normals", "normal_index")):
+        values, rows = getattr(mesh, table), getattr(mesh, index)
+        if (values is None) != (rows is None):
+            raise Failure(f"load_obj: {table} and {index}: one without the other")
+        if rows is None:
+            continue
+        given = (rows >= 0).all(axis=1)
+        if rows.shape != mesh.faces.shape or not (given | (rows == -1).all(axis=1)).all() or \
+                (rows[given] >= len(values)).any():
+            raise Failure(f"load_obj: {index} does not index {table} ({len(values)} rows)")
+    if mesh.face_materials is not None:
+        m = mesh.face_materials
+        if m.shape != (len(mesh.faces),) or (m < -1).any() or (m >= len(mesh.material_names)).any():
+            raise Failure("load_obj: face_materials does not index material_names")
 
 
 # --- the grammar --------------------------------------------------------------------------
@@ -112,6 +135,10 @@ def strategies():
     small_index = st.integers(-12, 12).map(str)
     indices = st.one_of(small_index, small_index, st.integers(-(2**70), 2**70).map(str),
                         st.sampled_from(["0", "-0", "+1", "1.0", "a", "", "99999999999999999999"]))
+    # corners mostly in range of the textured start (4 v, 3 vt, 2 vn), now and then not, in every form
+    attributed = st.tuples(st.sampled_from([1, 2, 3, 4, -1, -2, -3, -4]), st.integers(-4, 4), st.integers(-3, 3),
+                           st.sampled_from(["v", "t", "n", "b", "b", "b"])).map(
+        lambda t: {"v": f"{t[0]}", "t": f"{t[0]}/{t[1]}", "n": f"{t[0]}//{t[2]}"}.get(t[3], f"{t[0]}/{t[1]}/{t[2]}"))
     corners = st.one_of(
         indices,
         st.tuples(indices, indices).map("/".join),
@@ -134,6 +161,7 @@ def strategies():
     statements = st.one_of(
         statement("v", numbers), statement("v", numbers), statement("vt", numbers), statement("vn", numbers),
         statement("f", corners), statement("f", corners), statement("f", small_index), statement("l", corners),
+        statement("f", attributed), statement("f", attributed),
         statement("p", indices), statement("o", material_names), statement("g", material_names),
         statement("s", st.sampled_from(["1", "off", "0", "x"])), statement("usemtl", material_names),
         statement("mtllib", names), statement("#", st.text(max_size=10)),
@@ -141,12 +169,17 @@ def strategies():
     )
     endings = st.sampled_from(["\n"] * 6 + ["\r\n", "\r", "\\\n", "\n\n", ""])
     base = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\n"
+    textured = ("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nvn 1 0 0\n"
+                "f 1/1/1 2/2/1 3/3/1\nf 1/1/2 3/3/2 4/2/2\n")
 
     @st.composite
     def documents(draw):
         lines = draw(st.lists(st.tuples(statements, endings), max_size=14))
-        text = draw(st.sampled_from([base, "", base])) + "".join(
+        text = draw(st.sampled_from([base, "", base, textured])) + "".join(
             kw + (sep + sep.join(args) if args else "") + end for (kw, args, sep), end in lines)
+        if draw(st.integers(0, 3)) == 0:  # faces of v, v/vt, v//vn and v/vt/vn corners alone: most load
+            faces = draw(st.lists(st.lists(attributed, min_size=3, max_size=9), max_size=8))
+            text = textured + "".join("f " + " ".join(face) + "\n" for face in faces)
         data = text.encode("utf-8", "surrogatepass")
         if draw(st.integers(0, 9)) == 0:  # raw bytes spliced in
             junk = draw(st.binary(max_size=12))

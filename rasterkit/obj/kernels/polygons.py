@@ -23,7 +23,11 @@ Most polygons of real files never reach these kernels: :mod:`rasterkit.obj.split
 their triangles (these kernels' own) with NumPy, and :mod:`rasterkit.obj.assemble` calls
 :func:`triangulate` only for the rest, and :func:`split_large` (the monotone sweep, a kernel
 of its own) only for polygons larger than ear clipping takes. Inputs are vertex indices
-already checked by the caller."""
+already checked by the caller. A triangle's corners come out as corners of its polygon
+(positions in it, or indices into the array of every polygon's corners), not as vertex
+indices: the caller takes each corner's vertex, texture coordinate and normal from them,
+so that a corner keeps the attributes the file gave it (a vertex repeated in a polygon,
+as a hole's bridge repeats two, may have different ones at each visit)."""
 
 from __future__ import annotations
 
@@ -107,24 +111,23 @@ def _convex_quad(vertices, polygon_vertices, o):
 @kernel
 def _merge_repeats(polygon):
     """The polygon without consecutive (cyclically) repeated vertex indices, and walked once
-    when it is one cycle of vertices walked several times (``1 2 3 1 2 3``)."""
+    when it is one cycle of vertices walked several times (``1 2 3 1 2 3``): the positions
+    (k,) in polygon of the corners kept (the first of each run of repeats, the first walk
+    of a cycle), and their vertex indices (k,)."""
     m = len(polygon)
-    repeats = polygon[m - 1] == polygon[0]
-    for k in range(1, m):
-        repeats = repeats or polygon[k] == polygon[k - 1]
-    if repeats:
-        ring = np.empty(m, np.int64)
-        k = 0
-        for v in polygon:
-            if k == 0 or v != ring[k - 1]:
-                ring[k] = v
-                k += 1
-        while k > 1 and ring[k - 1] == ring[0]:
-            k -= 1
-        ring = ring[:k]
-    else:
-        ring = polygon  # no copy: most polygons repeat nothing
-    return ring[:_period(ring)]
+    at = np.empty(m, np.int64)
+    k = 0
+    for j in range(m):
+        if k == 0 or polygon[j] != polygon[at[k - 1]]:
+            at[k] = j
+            k += 1
+    while k > 1 and polygon[at[k - 1]] == polygon[at[0]]:
+        k -= 1
+    ring = np.empty(k, np.int64)
+    for j in range(k):
+        ring[j] = polygon[at[j]]
+    period = _period(ring)
+    return at[:period], ring[:period]
 
 
 @kernel
@@ -215,41 +218,41 @@ _SPLIT = 3  # (only between _prepare and its callers: still to split in the plan
 @kernel
 def _prepare(vertices, polygon, out):
     """The steps every split begins with: repeats merged, the polygons that need no search
-    split as a fan into out (m - 2, 3). Returns (ring, xy, state): state EXACT or INEXACT
-    when out is done, else _SPLIT: ring (k,) is still to split in its plane coordinates
-    xy (k, 2)."""
-    ring = _merge_repeats(polygon)
+    split as a fan into out (m - 2, 3), as positions in polygon. Returns (at, xy, state):
+    state EXACT or INEXACT when out is done, else _SPLIT: the corners at positions at (k,)
+    are still to split in their plane coordinates xy (k, 2)."""
+    at, ring = _merge_repeats(polygon)
     nowhere = np.empty((0, 2))
     if len(ring) < 3:
-        return ring, nowhere, EXACT
+        return at, nowhere, EXACT
     nx, ny, nz = _newell_normal(vertices, ring)
     if len(ring) == 3 or not nx * nx + ny * ny + nz * nz > 0.0:
-        _fan(ring, out)
-        return ring, nowhere, EXACT
+        _fan(at, out)
+        return at, nowhere, EXACT
     xy = _plane_coordinates(vertices, ring, nx, ny, nz)
     if not np.isfinite(xy).all():
-        _fan(ring, out)
-        return ring, xy, INEXACT
+        _fan(at, out)
+        return at, xy, INEXACT
     if _fans_like_ear_clipping(xy):
-        last = len(ring) - 1
+        last = len(at) - 1
         for k in range(last - 1):
-            out[k, 0], out[k, 1], out[k, 2] = ring[last], ring[k], ring[k + 1]
-        return ring, xy, EXACT
-    return ring, xy, _SPLIT
+            out[k, 0], out[k, 1], out[k, 2] = at[last], at[k], at[k + 1]
+        return at, xy, EXACT
+    return at, xy, _SPLIT
 
 
 @kernel
 def _triangulate_polygon(vertices, polygon, out):
-    """Triangles of one polygon (m >= 4 vertex indices) into out (m - 2, 3) in the polygon's
-    best-fit plane; rows left over stay -1. Returns EXACT, INEXACT (could not be split
-    exactly: see the module documentation) or LARGE (left for :func:`split_large`: more
-    corners than ear clipping takes)."""
-    ring, xy, state = _prepare(vertices, polygon, out)
+    """Triangles of one polygon (m >= 4 vertex indices) into out (m - 2, 3), as positions
+    in polygon, in the polygon's best-fit plane; rows left over stay -1. Returns EXACT,
+    INEXACT (could not be split exactly: see the module documentation) or LARGE (left for
+    :func:`split_large`: more corners than ear clipping takes)."""
+    at, xy, state = _prepare(vertices, polygon, out)
     if state != _SPLIT:
         return state
-    if len(ring) > EAR_CLIP_LIMIT:
+    if len(at) > EAR_CLIP_LIMIT:
         return LARGE
-    return EXACT if _ear_clip_with_repeated_places(xy, ring, out) else INEXACT
+    return EXACT if _ear_clip_with_repeated_places(xy, at, out) else INEXACT
 
 
 @kernel
@@ -271,9 +274,11 @@ def triangulate(vertices, polygon_vertices, offsets, keep):
     Returns
     -------
     triangles : (T, 3) int64
-        The triangles of the kept polygons in polygon order, each polygon's in its winding;
-        T <= sum(m - 2): triangles that repeated vertices make degenerate are left out. A view
-        of an array of sum(m - 2) rows.
+        The triangles of the kept polygons in polygon order, each polygon's in its winding,
+        as corners: indices into polygon_vertices (so that the caller finds each corner's
+        attributes; its vertex is ``polygon_vertices[triangles]``). T <= sum(m - 2):
+        triangles that repeated vertices make degenerate are left out. A view of an array of
+        sum(m - 2) rows.
     counts : (P,) int64
         Triangles of each polygon.
     state : (P,) int8
@@ -294,16 +299,17 @@ def triangulate(vertices, polygon_vertices, offsets, keep):
         rows[:] = -1
         if m == 3 or (m == 4 and _convex_quad(vertices, polygon_vertices, o)):
             for j in range(m - 2):
-                rows[j, 0] = polygon_vertices[o]
-                rows[j, 1] = polygon_vertices[o + j + 1]
-                rows[j, 2] = polygon_vertices[o + j + 2]
+                rows[j, 0], rows[j, 1], rows[j, 2] = 0, j + 1, j + 2
         else:
             state[p] = _triangulate_polygon(vertices, polygon_vertices[o:o + m], rows)
         start = n
-        for j in range(m - 2):
+        for j in range(m - 2):  # rows: positions in the polygon, -1 where none
             a, b, c = rows[j, 0], rows[j, 1], rows[j, 2]
-            if a >= 0 and a != b and b != c and c != a:
-                triangles[n, 0], triangles[n, 1], triangles[n, 2] = a, b, c
+            if a < 0:
+                continue
+            va, vb, vc = polygon_vertices[o + a], polygon_vertices[o + b], polygon_vertices[o + c]
+            if va != vb and vb != vc and vc != va:
+                triangles[n, 0], triangles[n, 1], triangles[n, 2] = o + a, o + b, o + c
                 n += 1
         counts[p] = n - start
     return triangles[:n], counts, state
@@ -311,15 +317,16 @@ def triangulate(vertices, polygon_vertices, offsets, keep):
 
 @kernel
 def split_large(vertices, polygon):
-    """The triangles (m - 2, 3) of one polygon that :func:`triangulate` left LARGE (its rows
-    -1 where none), and whether the split is exact: a polygon whose sides do not turn round
-    once is a fan, others are split by the monotone sweep. A kernel of its own: the sweep
-    compiles for about 17 s, which only files with such polygons pay."""
+    """The triangles (m - 2, 3) of one polygon that :func:`triangulate` left LARGE, as
+    positions in polygon (its rows -1 where none), and whether the split is exact: a
+    polygon whose sides do not turn round once is a fan, others are split by the monotone
+    sweep. A kernel of its own: the sweep compiles for about 17 s, which only files with
+    such polygons pay."""
     out = np.full((len(polygon) - 2, 3), -1, np.int64)
-    ring, xy, state = _prepare(vertices, polygon, out)
+    at, xy, state = _prepare(vertices, polygon, out)
     if state != _SPLIT:
         return out, state == EXACT
     if _turning_number(xy) != 1:  # not simple: a fan, in O(m)
-        _fan(ring, out)
+        _fan(at, out)
         return out, False
-    return out, triangulate_monotone(xy, ring, out)
+    return out, triangulate_monotone(xy, at, out)

@@ -1,15 +1,19 @@
 """Mesh: validated, C-contiguous arrays of one polygonal model.
 
 A Mesh never holds an index out of range, a face with repeated shape errors or arrays of the
-wrong dtype: the constructor checks everything once, so the kernels can trust its arrays.
-They are the Mesh's own and immutable: read-only views of ``bytes`` objects the Mesh made
-(an array passed in is copied), which NumPy cannot make writeable again nor resize, so what
-was checked stays true, and what is worked out from them once (:attr:`Mesh.face_normals`)
-stays valid. What NumPy still lets anyone change in place, an array's ``shape``, ``dtype``
-and ``strides``, or an attribute replaced behind the frozen dataclass's back, is caught by
-:meth:`Mesh.check_intact` (a few attribute reads), which the renderer calls before any
-kernel runs. To move a mesh, make a new one (``dataclasses.replace(mesh, vertices=...)``
-keeps its edges).
+wrong dtype: the constructor checks everything once (:mod:`rasterkit.mesh.checks`), so the
+kernels can trust its arrays. They are the Mesh's own and immutable: read-only views of
+``bytes`` objects the Mesh made (an array passed in is copied), which NumPy cannot make
+writeable again nor resize, so what was checked stays true, and what is worked out from them
+once (:attr:`Mesh.face_normals`) stays valid. What NumPy still lets anyone change in place,
+an array's ``shape``, ``dtype`` and ``strides``, or an attribute replaced behind the frozen
+dataclass's back, is caught by :meth:`Mesh.check_intact` (a few attribute reads), which the
+renderer calls before any kernel runs. To move a mesh, make a new one
+(``dataclasses.replace(mesh, vertices=...)`` keeps its edges and every attribute).
+
+The package: the Mesh (here), the checks of its arrays (``checks``), edges of polygons and
+the faces across each side (``edges``), and the attributes of meshes from other libraries
+(``foreign``: trimesh's texture coordinates, images and colours).
 """
 
 from __future__ import annotations
@@ -19,147 +23,29 @@ from functools import cached_property
 
 import numpy as np
 
-from rasterkit._arrays import real_array
 from rasterkit.limits import check_memory
+from rasterkit.mesh.checks import (
+    check_unit_colors, checked_array, corner_attributes, face_labels, immutable, seal, vertex_indices,
+)
+from rasterkit.mesh.edges import polygon_edges, side_neighbours, unique_edges
+from rasterkit.mesh.foreign import visual_fields
 
-__all__ = ["Mesh", "as_mesh", "mesh_bytes", "polygon_edges", "unique_edges"]
-
-
-def polygon_edges(polygons) -> np.ndarray:
-    """Unique undirected edges (E, 2) int64 of a list of polygons (sequences of vertex indices).
-
-    Each polygon contributes its boundary ``p[0]-p[1], ..., p[-1]-p[0]``; an edge shared by
-    two polygons appears once, as ``(min, max)``, sorted.
-    """
-    pairs = []
-    for k, p in enumerate(polygons):
-        p = np.asarray(p)
-        if p.dtype.kind not in "iu" or p.ndim != 1:
-            raise TypeError(f"polygons[{k}] must be a sequence of integer vertex indices, got dtype {p.dtype} "
-                            f"and shape {p.shape}")
-        p = p.astype(np.int64)
-        pairs.append(np.stack([p, np.roll(p, -1)], axis=1))
-    if not pairs:
-        return np.zeros((0, 2), np.int64)
-    # Any integers: numbered 0..n-1 in order first, which keeps the edges' order.
-    values, compact = np.unique(np.concatenate(pairs), return_inverse=True)
-    return values[unique_edges(compact.reshape(-1, 2), len(values))]
+__all__ = ["Mesh", "as_mesh", "immutable", "mesh_bytes", "polygon_edges", "seal", "side_neighbours",
+           "unique_edges"]
 
 
-def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = None) -> np.ndarray:
-    """Sorted unique undirected edges (E, 2) int64, ``(lo, hi)`` with lo < hi.
-
-    Parameters
-    ----------
-    pairs : (K, 2) int
-        Vertex index pairs, either way round; a pair from a vertex to itself is left out.
-    n_vertices : int
-        N: every index is in 0..N-1.
-    keys : (J,) int64, optional
-        More edges, as keys ``lo * N + hi`` (lo < hi), as
-        :func:`rasterkit.obj.assemble.polygon_sides` makes them.
-    """
-    pairs = np.asarray(pairs)
-    if pairs.dtype.kind not in "iu" and pairs.size:
-        raise TypeError(f"pairs must hold integer vertex indices, got dtype {pairs.dtype}")
-    pairs = np.sort(pairs.astype(np.int64).reshape(-1, 2), axis=1)
-    pairs = pairs[pairs[:, 0] != pairs[:, 1]]
-    n = max(int(n_vertices), 1)
-    codes = pairs[:, 0] * n + pairs[:, 1]
-    if keys is not None:
-        codes = np.concatenate([keys, codes])
-    codes = np.sort(codes)
-    codes = codes[np.diff(codes, prepend=-1) != 0]
-    return np.stack([codes // n, codes % n], axis=1)
-
-
-def side_neighbours(faces: np.ndarray, n_vertices: int) -> np.ndarray:
-    """(M, 3) int32: for side ``c`` of each face (corners ``c`` and ``c + 1``), the other
-    face with the same two vertices when exactly two faces have that side, else -1 (an
-    open border, a side of three faces or more, or a side whose corners are one vertex)."""
-    m = len(faces)
-    a = faces.reshape(-1)
-    b = faces[:, [1, 2, 0]].reshape(-1)
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    keys = lo * max(int(n_vertices), 1) + hi
-    keys[lo == hi] = -1 - np.arange(np.count_nonzero(lo == hi))  # each its own: no neighbour
-    order = np.argsort(keys, kind="stable")
-    same = keys[order][1:] == keys[order][:-1]
-    pair = same.copy()  # a run of exactly two equal keys
-    pair[1:] &= ~same[:-1]
-    pair[:-1] &= ~same[1:]
-    i = np.flatnonzero(pair)
-    out = np.full(3 * m, -1, np.int32)
-    out[order[i]] = order[i + 1] // 3
-    out[order[i + 1]] = order[i] // 3
-    return out.reshape(m, 3)
-
-
-def _array(a, dtype, shape_tail, name, n_rows=None):
-    arr = np.ascontiguousarray(real_array(a, name, dtype))
-    if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
-        want = ", ".join(["N", *map(str, shape_tail)])
-        raise ValueError(f"{name} must have shape ({want}), got {arr.shape}")
-    if n_rows is not None and len(arr) != n_rows:
-        raise ValueError(f"{name} must have {n_rows} rows, got {len(arr)}")
-    return arr
-
-
-def _check_unit_colors(colors: np.ndarray, name: str) -> None:
-    """ValueError unless every value of ``colors`` (float32) is finite and in [0, 1]."""
-    if not colors.size:
-        return
-    finite = np.isfinite(colors)
-    if not finite.all():
-        row = int(np.argmin(finite.all(axis=1)))
-        raise ValueError(f"{name}[{row}] is {colors[row].tolist()}: colours must be finite numbers in [0, 1]")
-    low, high = float(colors.min()), float(colors.max())
-    if low < 0.0 or high > 1.0:
-        row = int(np.argmax(((colors < 0.0) | (colors > 1.0)).any(axis=1)))
-        hint = " (divide 0-255 colours by 255)" if high > 1.0 else ""
-        raise ValueError(f"{name}[{row}] is {colors[row].tolist()}: colours must lie in [0, 1]{hint}")
-
-
-def immutable(arr) -> bool:
-    """Whether ``arr`` is a read-only, C-contiguous, aligned view of a ``bytes`` object:
-    memory that NumPy offers no way to write to (its ``WRITEABLE`` flag cannot be set
-    again, on it or on any array made from it, and it cannot be resized)."""
-    if not isinstance(arr, np.ndarray) or arr.flags.writeable or not (arr.flags.c_contiguous and arr.flags.aligned):
-        return False
-    base = arr
-    while isinstance(base, np.ndarray):
-        base = base.base
-    return type(base) is bytes
-
-
-def seal(arr: np.ndarray) -> np.ndarray:
-    """``arr`` as an immutable array (:func:`immutable`): itself when it is one already,
-    else a copy over a new ``bytes`` object (``arr`` stays as it was)."""
-    if immutable(arr):
-        return arr
-    return np.frombuffer(np.ascontiguousarray(arr).tobytes(), dtype=arr.dtype).reshape(arr.shape)
-
-
-def _indices(a, n_vertices, width, name):
-    if a is None:
-        raise TypeError(f"{name} must be an array of integers, got None")
-    a = np.asarray(a)
-    if a.size == 0 and a.dtype.kind in "iufO":  # [] is float64 to NumPy
-        a = np.zeros((0, width), np.int64)
-    if a.dtype.kind not in "iu":
-        raise TypeError(f"{name} must hold integers, got dtype {a.dtype}")
-    arr = _array(a, np.int64, (width,), name)
-    if len(arr) and (arr.min() < 0 or arr.max() >= n_vertices):
-        raise ValueError(f"{name} index out of range [0, {n_vertices})")
-    return arr
-
-
-def mesh_bytes(n_vertices: int, n_faces: int, n_edges: int) -> int:
+def mesh_bytes(n_vertices: int, n_faces: int, n_edges: int, n_uv: int = 0, n_corner_normals: int = 0,
+               corner_indices: int = 0) -> int:
     """Bytes that making a Mesh needs, at most: per vertex its positions, colours, normals
-    and texture coordinates, checked and then copied; per face its indices, colour and
-    group, and the temporaries of working out the edges (6 arrays of 3 pairs per face);
-    per edge its pair, checked and copied. For :func:`rasterkit.limits.check_memory`."""
-    return n_vertices * 2 * (24 + 12 + 24 + 16) + n_faces * (2 * (24 + 12 + 4) + 3 * 16 * 6) + n_edges * 2 * 16
+    and texture coordinates, checked and then copied; per face its indices, colour, group
+    and material, and the temporaries of working out the edges (6 arrays of 3 pairs per
+    face); per edge its pair, checked and copied; the rows of the ``uv`` and
+    ``corner_normals`` tables (``n_uv``, ``n_corner_normals``), checked and copied; and per
+    face each of its ``corner_indices`` (M, 3) index arrays (``uv_index``, ``normal_index``:
+    0 to 2), checked (with the temporaries of the check) and copied. For
+    :func:`rasterkit.limits.check_memory`."""
+    return (n_vertices * 2 * (24 + 12 + 24 + 16) + n_faces * (2 * (24 + 12 + 4 + 4) + 3 * 16 * 6)
+            + n_edges * 2 * 16 + n_uv * 2 * 16 + n_corner_normals * 2 * 24 + corner_indices * n_faces * (2 * 24 + 32))
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,11 +76,41 @@ class Mesh:
         Index into ``group_names`` for each face.
     group_names : tuple of str
     material_names : tuple of str
+        The names of the materials (OBJ ``usemtl``), each once.
     warnings : tuple of str
         What the loader noticed but accepted.
+    uv : (U, 2) float64, or None
+        A table of texture coordinates (u, v), read through ``uv_index``; v = 0 is the
+        bottom row of a texture image, as in OBJ and OpenGL. Any float is kept, NaN and
+        infinities too: a texture lookup wraps or clamps every value into the image.
+    uv_index : (M, 3) int64, or None
+        For each face corner (``faces[f, c]``), its row of ``uv``; a face without texture
+        coordinates is ``-1, -1, -1`` (a face has them at all three corners or at none).
+        Corners of one vertex may have different rows: a UV seam keeps both sides. When
+        ``uv`` is given without ``uv_index`` it must have one row per vertex (N, as glTF and
+        trimesh give texture coordinates), and ``uv_index`` is ``faces`` (so
+        ``dataclasses.replace(mesh, faces=...)`` keeps the old corners' rows: pass
+        ``uv_index=None`` with new faces of per-vertex ``uv``).
+    corner_normals : (C, 3) float64, finite, or None
+        A table of normals (object space), read through ``normal_index``: where the corners
+        of a vertex have different normals (an authored hard edge) each face keeps its own.
+        Not necessarily of unit length (``load_obj`` gives unit vectors, and zero where the
+        file's normal is zero or not finite); shading normalises after interpolating.
+    normal_index : (M, 3) int64, or None
+        For each face corner its row of ``corner_normals``, as ``uv_index`` is for ``uv``
+        (``-1, -1, -1``: none; ``corner_normals`` without ``normal_index``: one per vertex).
+    face_materials : (M,) int32, or None
+        For each face, its index into ``material_names`` (and ``materials``), -1 for none.
+    materials : tuple
+        Empty, or one material object for each of ``material_names``, in that order (what
+        the readers know of each material; a trimesh mesh's is a
+        :class:`rasterkit.mesh.foreign.ImportedMaterial`).
 
-    The arrays are immutable (read-only views of ``bytes``); the Mesh shares them with no
-    array it was made from, except another Mesh's (immutable too).
+    ``normals`` and ``texcoords`` are one per vertex (an OBJ file's averaged over each
+    vertex's corners, and the first corner's); ``corner_normals`` and ``uv`` keep every
+    corner's own. The arrays are immutable (read-only views of ``bytes``); the Mesh shares
+    them with no array it was made from, except another Mesh's (immutable too), and
+    ``uv_index`` or ``normal_index`` may be the very array ``faces`` is.
     """
 
     vertices: np.ndarray
@@ -209,15 +125,23 @@ class Mesh:
     group_names: tuple = ()
     material_names: tuple = ()
     warnings: tuple = field(default=())
+    uv: np.ndarray | None = None
+    uv_index: np.ndarray | None = None
+    corner_normals: np.ndarray | None = None
+    normal_index: np.ndarray | None = None
+    face_materials: np.ndarray | None = None
+    materials: tuple = ()
 
     def __post_init__(self):
-        v = _array(self.vertices, np.float64, (3,), "vertices")
+        v = checked_array(self.vertices, np.float64, (3,), "vertices")
         n = len(v)
-        f = _indices(self.faces, n, 3, "faces")
-        lines = _indices(self.lines if self.lines is not None else (), n, 2, "lines")
-        edges = None if self.edges is None else _indices(self.edges, n, 2, "edges")
+        f = vertex_indices(self.faces, n, 3, "faces")
+        lines = vertex_indices(self.lines if self.lines is not None else (), n, 2, "lines")
+        edges = None if self.edges is None else vertex_indices(self.edges, n, 2, "edges")
         n_edges = 3 * len(f) + len(lines) if edges is None else len(edges)
-        check_memory(mesh_bytes(n, len(f), len(lines) + n_edges), f"a Mesh of {n} vertices and {len(f)} faces")
+        indexed = sum(i is not None for i in (self.uv_index, self.normal_index))
+        check_memory(mesh_bytes(n, len(f), len(lines) + n_edges, _rows(self.uv), _rows(self.corner_normals), indexed),
+                     f"a Mesh of {n} vertices and {len(f)} faces")
         if edges is None:
             edges = unique_edges(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]], lines]), n)
         arrays = {"vertices": v, "faces": f, "lines": lines, "edges": edges}
@@ -230,24 +154,48 @@ class Mesh:
         for name, (dtype, tail, rows) in optional.items():
             value = getattr(self, name)
             if value is not None:
-                arrays[name] = _array(value, dtype, tail, name, rows)
+                arrays[name] = checked_array(value, dtype, tail, name, rows)
         for name in ("vertex_colors", "face_colors"):
             if name in arrays:
-                _check_unit_colors(arrays[name], name)
+                check_unit_colors(arrays[name], name)
         if self.face_groups is not None:
-            g = _groups(self.face_groups, len(f), len(self.group_names))
-            arrays["face_groups"] = g
-        # Each array the Mesh's own and immutable; what check_intact compares them with.
+            arrays["face_groups"] = face_labels(self.face_groups, len(f), len(self.group_names), "face_groups",
+                                                "group_names", none=False)
+        arrays.update(corner_attributes(self.uv, self.uv_index, self.corner_normals, self.normal_index, f, n))
+        names = tuple(self.material_names)
+        if self.face_materials is not None:
+            arrays["face_materials"] = face_labels(self.face_materials, len(f), len(names), "face_materials",
+                                                   "material_names", none=True)
+        materials = () if self.materials is None else tuple(self.materials)
+        if materials and len(materials) != len(names):
+            raise ValueError(f"materials must be empty or one for each of material_names ({len(names)}), "
+                             f"got {len(materials)}")
+        self._seal(arrays)
         set_ = object.__setattr__
-        record = {}
+        set_(self, "group_names", tuple(self.group_names))
+        set_(self, "material_names", names)
+        set_(self, "warnings", tuple(self.warnings))
+        set_(self, "materials", materials)
+
+    def _seal(self, arrays: dict) -> None:
+        """Make each array the Mesh's own and immutable (an array under two names, such as
+        ``faces`` and a per-vertex ``uv_index``, stays one), and note what
+        :meth:`check_intact` compares them with."""
+        set_ = object.__setattr__
+        record, sealed = {}, {}
         for name, arr in arrays.items():
-            arr = seal(arr)
+            if id(arr) not in sealed:
+                sealed[id(arr)] = seal(arr)
+            arr = sealed[id(arr)]
             set_(self, name, arr)
             record[name] = (arr, arr.shape, arr.dtype)
         set_(self, "_arrays", record)
-        set_(self, "group_names", tuple(self.group_names))
-        set_(self, "material_names", tuple(self.material_names))
-        set_(self, "warnings", tuple(self.warnings))
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of the arrays the Mesh was made with (an array under two names counted
+        once), not of what it works out later (:attr:`face_normals`, ...)."""
+        return sum({id(arr): arr.nbytes for arr, _, _ in self._arrays.values()}.values())
 
     def check_intact(self) -> "Mesh":
         """Raise ``ValueError`` unless every array of the Mesh is still the one it was made
@@ -344,24 +292,29 @@ class Mesh:
                 f"{len(self.edges)} edges, {len(self.lines)} lines)")
 
 
-def _groups(value, n_faces, n_groups) -> np.ndarray:
-    g = np.asarray(value)
-    if g.dtype.kind not in "iu" and not (g.size == 0 and g.dtype.kind == "f"):
-        raise TypeError(f"face_groups must hold integers, got dtype {g.dtype}")
-    if g.shape != (n_faces,) or (len(g) and (g.min() < 0 or g.max() >= n_groups)):
-        raise ValueError("face_groups must be (M,) indices into group_names")
-    return np.ascontiguousarray(g, dtype=np.int32)
+def _rows(value) -> int:
+    """Rows of an array argument, for the memory estimate (0 for None or a scalar: its check
+    refuses it later)."""
+    try:
+        return 0 if value is None else len(value)
+    except TypeError:
+        return 0
 
 
 def as_mesh(mesh) -> Mesh:
     """A :class:`Mesh` from a Mesh, a ``(vertices, faces)`` pair or an object with
-    ``.vertices`` and ``.faces`` (a trimesh mesh, for example). A Mesh is checked with
-    :meth:`Mesh.check_intact`."""
+    ``.vertices`` and ``.faces``. A Mesh is checked with :meth:`Mesh.check_intact`.
+
+    A trimesh mesh brings what its ``visual`` holds (:func:`rasterkit.mesh.foreign.visual_fields`):
+    ``TextureVisuals`` their per-vertex ``uv`` (``uv_index`` is then ``faces``) and their
+    material, with its image, as ``materials[0]`` (an
+    :class:`~rasterkit.mesh.foreign.ImportedMaterial`) that every face uses;
+    ``ColorVisuals`` their vertex or face colours (RGB; alpha is dropped)."""
     if isinstance(mesh, Mesh):
         return mesh.check_intact()
     if isinstance(mesh, tuple) and len(mesh) == 2:
         return Mesh(*mesh)
     if hasattr(mesh, "vertices") and hasattr(mesh, "faces"):
-        return Mesh(mesh.vertices, mesh.faces)
+        return Mesh(mesh.vertices, mesh.faces, **visual_fields(mesh))
     raise TypeError("mesh must be a rasterkit.Mesh, a (vertices, faces) tuple, "
                     "or an object with .vertices and .faces")

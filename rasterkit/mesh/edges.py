@@ -1,0 +1,78 @@
+"""Edges of a mesh: the unique undirected edges of polygons or vertex pairs, and the face
+across each side of a triangle."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["polygon_edges", "side_neighbours", "unique_edges"]
+
+
+def polygon_edges(polygons) -> np.ndarray:
+    """Unique undirected edges (E, 2) int64 of a list of polygons (sequences of vertex indices).
+
+    Each polygon contributes its boundary ``p[0]-p[1], ..., p[-1]-p[0]``; an edge shared by
+    two polygons appears once, as ``(min, max)``, sorted.
+    """
+    pairs = []
+    for k, p in enumerate(polygons):
+        p = np.asarray(p)
+        if p.dtype.kind not in "iu" or p.ndim != 1:
+            raise TypeError(f"polygons[{k}] must be a sequence of integer vertex indices, got dtype {p.dtype} "
+                            f"and shape {p.shape}")
+        p = p.astype(np.int64)
+        pairs.append(np.stack([p, np.roll(p, -1)], axis=1))
+    if not pairs:
+        return np.zeros((0, 2), np.int64)
+    # Any integers: numbered 0..n-1 in order first, which keeps the edges' order.
+    values, compact = np.unique(np.concatenate(pairs), return_inverse=True)
+    return values[unique_edges(compact.reshape(-1, 2), len(values))]
+
+
+def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = None) -> np.ndarray:
+    """Sorted unique undirected edges (E, 2) int64, ``(lo, hi)`` with lo < hi.
+
+    Parameters
+    ----------
+    pairs : (K, 2) int
+        Vertex index pairs, either way round; a pair from a vertex to itself is left out.
+    n_vertices : int
+        N: every index is in 0..N-1.
+    keys : (J,) int64, optional
+        More edges, as keys ``lo * N + hi`` (lo < hi), as
+        :func:`rasterkit.obj.assemble.polygon_sides` makes them.
+    """
+    pairs = np.asarray(pairs)
+    if pairs.dtype.kind not in "iu" and pairs.size:
+        raise TypeError(f"pairs must hold integer vertex indices, got dtype {pairs.dtype}")
+    pairs = np.sort(pairs.astype(np.int64).reshape(-1, 2), axis=1)
+    pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+    n = max(int(n_vertices), 1)
+    codes = pairs[:, 0] * n + pairs[:, 1]
+    if keys is not None:
+        codes = np.concatenate([keys, codes])
+    codes = np.sort(codes)
+    codes = codes[np.diff(codes, prepend=-1) != 0]
+    return np.stack([codes // n, codes % n], axis=1)
+
+
+def side_neighbours(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """(M, 3) int32: for side ``c`` of each face (corners ``c`` and ``c + 1``), the other
+    face with the same two vertices when exactly two faces have that side, else -1 (an
+    open border, a side of three faces or more, or a side whose corners are one vertex)."""
+    m = len(faces)
+    a = faces.reshape(-1)
+    b = faces[:, [1, 2, 0]].reshape(-1)
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    keys = lo * max(int(n_vertices), 1) + hi
+    keys[lo == hi] = -1 - np.arange(np.count_nonzero(lo == hi))  # each its own: no neighbour
+    order = np.argsort(keys, kind="stable")
+    same = keys[order][1:] == keys[order][:-1]
+    pair = same.copy()  # a run of exactly two equal keys
+    pair[1:] &= ~same[:-1]
+    pair[:-1] &= ~same[1:]
+    i = np.flatnonzero(pair)
+    out = np.full(3 * m, -1, np.int32)
+    out[order[i]] = order[i + 1] // 3
+    out[order[i + 1]] = order[i] // 3
+    return out.reshape(m, 3)
