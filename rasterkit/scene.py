@@ -93,8 +93,9 @@ class Scene:
         vertex_colors = self._vertex_colors()
         face_colors = None if vertex_colors is not None else \
             self._face_colors(parse_color(default_color)[:3] / 255.0)
+        uv, uv_index = self._corner_uv()
         return Mesh(vertices, faces, edges=edges, normals=self._normals(), texcoords=self._texcoords(),
-                    vertex_colors=vertex_colors, face_colors=face_colors)
+                    vertex_colors=vertex_colors, face_colors=face_colors, uv=uv, uv_index=uv_index)
 
     def bounding_sphere(self) -> tuple[np.ndarray, float]:
         """Centre and radius of a sphere holding every object's world-space vertices."""
@@ -106,6 +107,21 @@ class Scene:
         if all(o.mesh.normals is not None and _invertible(o.matrix) for o in self.objects):
             return np.concatenate([apply_normals(o.matrix, o.mesh.normals) for o in self.objects])
         return None
+
+    def _corner_uv(self):
+        """``(uv, uv_index)`` of the objects' per-corner texture coordinates, one table (the
+        faces of an object without any: -1), or ``(None, None)`` when no object has them."""
+        if all(o.mesh.uv is None for o in self.objects):
+            return None, None
+        tables, indices, start = [], [], 0
+        for o in self.objects:
+            if o.mesh.uv is None:
+                indices.append(np.full((len(o.mesh.faces), 3), -1, np.int64))
+                continue
+            tables.append(o.mesh.uv)
+            indices.append(np.where(o.mesh.uv_index >= 0, o.mesh.uv_index + start, -1))
+            start += len(o.mesh.uv)
+        return np.concatenate(tables), np.concatenate(indices)
 
     def _texcoords(self):
         """The objects' texture coordinates, when every object has them."""

@@ -90,7 +90,7 @@ def _parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="rasterkit", description="Render OBJ models to images, no GPU needed.",
                      epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    info = commands.add_parser("info", help="print counts, bounds, groups, materials, warnings")
+    info = commands.add_parser("info", help="print counts, bounds, groups, materials, textures, warnings")
     info.add_argument("models", nargs="+", metavar="MODEL.obj")
     add_limits(info)
     r = commands.add_parser("render", help="render models to images", epilog=EXAMPLES,

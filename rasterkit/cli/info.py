@@ -24,7 +24,7 @@ def _models(models: list[str]) -> int:
     for name in models:
         with _report.model(name):
             try:
-                mesh = load_obj(name)
+                mesh = load_obj(name, textures=True)
             except Exception as e:
                 code, line = _report.error_line(e)
                 print(line, file=sys.stderr)
@@ -33,6 +33,27 @@ def _models(models: list[str]) -> int:
         print(_describe(name, mesh), flush=True)  # a closed stdout stops all (main)
         codes.append(0)
     return 1 if 1 in codes else max(codes)
+
+
+#: The optional arrays of a Mesh that ``info`` names when the model has them.
+ATTRIBUTES = ("vertex_colors", "normals", "texcoords", "uv", "corner_normals", "face_colors")
+
+#: A Material's textures, with the ``.mtl`` statement that names each.
+MAPS = (("diffuse_map", "map_Kd"), ("opacity_map", "map_d"), ("specular_map", "map_Ks"), ("normal_map", "bump"))
+
+
+def _textures(mesh) -> list[str]:
+    """One line per texture the materials use: the file, its size, and where it is used."""
+    import os
+
+    lines = []
+    for material in mesh.materials:
+        for field, statement in MAPS:
+            texture = getattr(material, field, None)
+            if texture is not None:
+                lines.append(f"{os.path.basename(str(texture.name))}: {texture.width}x{texture.height}, "
+                             f"{statement} of {material.name}")
+    return lines
 
 
 def _describe(name: str, mesh) -> str:
@@ -45,10 +66,13 @@ def _describe(name: str, mesh) -> str:
         f"  edges     {len(mesh.edges)}",
         f"  lines     {len(mesh.lines)}",
         f"  bounds    ({fmt(f'{v:.6g}' for v in lo)}) .. ({fmt(f'{v:.6g}' for v in hi)})",
-        f"  attributes {fmt(a for a in ('vertex_colors', 'normals', 'texcoords', 'face_colors') if getattr(mesh, a) is not None) or 'none'}",
+        f"  attributes {fmt(a for a in ATTRIBUTES if getattr(mesh, a) is not None) or 'none'}",
         f"  groups    {len(mesh.group_names)}: {fmt(mesh.group_names[:8])}{' ...' if len(mesh.group_names) > 8 else ''}",
         f"  materials {len(mesh.material_names)}: {fmt(mesh.material_names[:8])}{' ...' if len(mesh.material_names) > 8 else ''}",
-        f"  warnings  {len(mesh.warnings)}",
     ]
+    textures = _textures(mesh)
+    lines.append(f"  textures  {len(textures)}" + ("" if textures else " (a texture that cannot be read is a warning)"))
+    lines += [f"    {t}" for t in textures]
+    lines.append(f"  warnings  {len(mesh.warnings)}")
     lines += [f"    {w}" for w in mesh.warnings]
     return "\n".join(lines)

@@ -113,7 +113,8 @@ from rasterkit.obj.attributes import (
 )
 from rasterkit.obj.document import Document
 from rasterkit.obj.errors import ObjError, ObjLimitError, Report, count
-from rasterkit.obj.materials import DEFAULT_KD, face_colors, material_names
+from rasterkit.material.material import Material
+from rasterkit.obj.materials import DEFAULT_KD, face_colors, material_names, read_materials
 from rasterkit.obj.memory import check_statements
 from rasterkit.obj.statements import note_skipped, read_elements, read_numbers, read_vertices
 from rasterkit.obj.kernels.scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
@@ -122,13 +123,17 @@ from rasterkit.mesh import Mesh, unique_edges
 __all__ = ["DEFAULT_KD", "ObjError", "ObjLimitError", "load_obj"]
 
 
-def load_obj(path) -> Mesh:
+def load_obj(path, *, textures: bool = False) -> Mesh:
     """Load a Wavefront OBJ file as a triangle :class:`~rasterkit.mesh.Mesh`.
 
     Parameters
     ----------
     path : str or os.PathLike
         The ``.obj`` file. ``mtllib`` files are looked up next to it.
+    textures : bool
+        Also read each used material whole (``Mesh.materials``: :class:`rasterkit.Material`
+        with its textures, each file opened once; one that cannot be read is a warning).
+        Off by default while renders do not draw textures: the colours come from ``Kd``.
 
     Returns
     -------
@@ -183,16 +188,19 @@ def load_obj(path) -> Mesh:
     uv_index = corner_rows(faces, "texcoord", corners, triangle_polygon, doc, report)
     normal_index = corner_rows(faces, "normal", corners, triangle_polygon, doc, report)
     unit_normals = unit_rows(normals)
+    colours = face_colors(doc, faces, triangle_polygon, report)  # (and the libraries' own warnings)
+    defined = read_materials(doc, report) if materials and textures else {}
     return Mesh(
         vertices, faces.vertex[corners], edges=edges, lines=segments,
         vertex_colors=colors,
         normals=vertex_normals(faces, unit_normals, len(vertices)),
         texcoords=vertex_texcoords(faces, texcoords, len(vertices)),
-        face_colors=face_colors(doc, faces, triangle_polygon, report),
+        face_colors=colours,
         face_groups=groups, group_names=group_names,
         material_names=materials,
         warnings=report.warnings,
         uv=None if uv_index is None else uv_table(doc, texcoords), uv_index=uv_index,
         corner_normals=None if normal_index is None else normal_table(normals, unit_normals), normal_index=normal_index,
         face_materials=face_materials(doc, faces, triangle_polygon, materials),
+        materials=tuple(defined.get(name) or Material(name=name) for name in materials) if textures else (),
     )

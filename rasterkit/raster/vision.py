@@ -104,8 +104,8 @@ def corner_uv(mesh) -> np.ndarray:
     NaN for a face without: per corner where the mesh has them (``uv`` and ``uv_index``), else
     its per-vertex ``texcoords``, else NaN everywhere."""
     m = len(mesh.faces)
-    table, index = getattr(mesh, "uv", None), getattr(mesh, "uv_index", None)
-    if table is None or index is None:
+    table, index = mesh.uv, mesh.uv_index
+    if table is None:
         if mesh.texcoords is None:
             return np.full((m, 6), np.nan)
         table, index = mesh.texcoords[:, :2], mesh.faces

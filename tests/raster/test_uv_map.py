@@ -114,3 +114,17 @@ def test_llvmpipe_samples_the_texels_that_the_uv_map_names(monkeypatch):
     row = 63 - np.clip(np.floor(uv[:, 1] * 64), 0, 63).astype(int)  # v up, the image's row 0 at the top
     agree = (np.abs(image[row, column].astype(int) - drawn[ys, xs].astype(int)).max(axis=1) <= 1).mean()
     assert agree >= 0.995, agree
+
+
+def test_a_seam_keeps_each_faces_own_coordinates():
+    """Two faces sharing their corners, each with texture coordinates of its own (a UV seam
+    along their shared side): each face's pixels get its own, nothing averaged across."""
+    own = np.array([[0.1, 0.2], [0.7, 0.9]])
+    seam = Mesh(SQUARE, [[0, 1, 2], [0, 2, 3]], uv=own, uv_index=[[0, 0, 0], [1, 1, 1]])
+    for scene in (False, True):
+        fb = rasterkit.render(rasterkit.Scene(GRAZING).add(seam) if scene else seam, GRAZING if not scene else None,
+                              "solid", uv=True, ids=True, cull="none")
+        for face in (0, 1):
+            seen = fb.ids == face
+            assert seen.sum() > 500
+            np.testing.assert_allclose(fb.uv[seen], np.broadcast_to(own[face], (seen.sum(), 2)), atol=1e-6)
