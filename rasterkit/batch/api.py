@@ -124,12 +124,7 @@ def task_for(options=None, view=None, turntable=None, changes: dict | None = Non
     unknown = set(changes) - OPTION_FIELDS - VIEW_FIELDS
     if unknown:
         raise TypeError(f"unknown render option {sorted(unknown)[0]!r}")
-    options = RenderOptions() if options is None else options
-    view = View() if view is None else view
-    if not isinstance(options, RenderOptions):
-        raise TypeError(f"options must be a rasterkit.RenderOptions, got {type(options).__name__}")
-    if not isinstance(view, View):
-        raise TypeError(f"view must be a rasterkit.View, got {type(view).__name__}")
-    options = options.replace(**{k: v for k, v in changes.items() if k in OPTION_FIELDS})
-    view = view.replace(**{k: v for k, v in changes.items() if k in VIEW_FIELDS})
-    return Task(options, view, turntable=turntable)
+    task = Task(RenderOptions() if options is None else options, View() if view is None else view,
+                turntable=turntable)  # (checks the records' types)
+    return task.replace(options=task.options.replace(**{k: v for k, v in changes.items() if k in OPTION_FIELDS}),
+                        view=task.view.replace(**{k: v for k, v in changes.items() if k in VIEW_FIELDS}))

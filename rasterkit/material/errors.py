@@ -10,23 +10,16 @@ take), :class:`TextureLimitError`, also a :class:`~rasterkit.limits.LimitError`.
 from __future__ import annotations
 
 from rasterkit.limits import LimitError
-from rasterkit.runtime.files import readable
+from rasterkit.runtime.files import FileError
 
 __all__ = ["TextureError", "TextureLimitError"]
 
 
-class TextureError(ValueError):
-    """An image file that cannot be read as a texture."""
+class TextureError(FileError):
+    """An image file that cannot be read as a texture (a :class:`FileError`: ``path``,
+    ``reason``, the text ``NAME: reason``)."""
 
     __module__ = "rasterkit.material"
-
-    def __init__(self, path: str, reason: str):
-        self.path = path
-        self.reason = reason
-        super().__init__(f"{readable(path)}: {reason}")
-
-    def __reduce__(self):  # pickled with its parts (e.g. back from a worker process)
-        return type(self), (self.path, self.reason)
 
 
 class TextureLimitError(TextureError, LimitError):
