@@ -15,7 +15,7 @@ from rasterkit import values
 from rasterkit.raster.kernels.limits import MAX_IMAGE_SIZE
 
 __all__ = ["CULL", "EDGES", "FIELDS", "HIDDEN", "MAX_IMAGE_SIZE", "MAX_POINT_SIZE", "MAX_SAMPLES", "MODES", "PROJECTIONS",
-           "RenderOptions", "SHADING", "SVG_MODES", "check_choice"]
+           "RenderOptions", "SHADING", "SVG_MODES", "TEXTURE_FILTERS", "check_choice"]
 
 #: Samples per pixel of a render, at most.
 MAX_SAMPLES = 256
@@ -44,6 +44,10 @@ CULL = ("back", "front", "none")
 
 #: Lambert shading per face, or per vertex (Gouraud).
 SHADING = ("flat", "smooth")
+
+#: How textures are filtered: mipmaps blended between two levels (GL_LINEAR_MIPMAP_LINEAR),
+#: the 4 nearest texels of the image (GL_LINEAR), or the one texel under the point (GL_NEAREST).
+TEXTURE_FILTERS = ("trilinear", "bilinear", "nearest")
 
 PROJECTIONS = ("perspective", "orthographic", "isometric", "dimetric", "trimetric", "cavalier",
                "cabinet", "1-point", "2-point", "3-point")
@@ -112,6 +116,13 @@ class RenderOptions:
         Side in pixels (1 to 64) of the squares that ``points`` are drawn as.
     point_color : colour
         The points' colour (per-point colours go to :func:`rasterkit.render` as an array).
+    textures : bool
+        Draw the faces whose material has a ``diffuse_map`` textured (the map's colour times
+        the material's ``diffuse`` and the shading); False draws every face untextured.
+    texture_filter : {"trilinear", "bilinear", "nearest"} or None
+        How every texture is filtered (:data:`TEXTURE_FILTERS`): ``trilinear`` uses the
+        mipmaps with OpenGL's level of detail, ``bilinear`` the 4 texels around the point,
+        ``nearest`` the one under it; None: each texture's own ``filter``.
     """
 
     mode: str = "wire"
@@ -132,6 +143,8 @@ class RenderOptions:
     uv: bool = False
     point_size: int = 1
     point_color: object = "black"
+    textures: bool = True
+    texture_filter: str | None = "trilinear"
 
     def __post_init__(self):
         for name, check in _CHECKS.items():
@@ -201,5 +214,7 @@ _CHECKS = {
     "ids": values.flag, "normals": values.flag, "camera_depth": values.flag, "uv": values.flag,
     "point_size": lambda name, value: values.whole(name, value, 1, MAX_POINT_SIZE),
     "point_color": _colour,
+    "textures": values.flag,
+    "texture_filter": _optional(lambda name, value: values.choice(name, value, TEXTURE_FILTERS)),
 }
 assert set(_CHECKS) == FIELDS

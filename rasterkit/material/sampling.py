@@ -16,10 +16,10 @@ import numpy as np
 from rasterkit._arrays import real_array
 from rasterkit.material.colorspace import DECODE
 from rasterkit.material.kernels.sample import (
-    FILTER_BILINEAR, FILTER_NEAREST, FILTER_TRILINEAR, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT, sample_points,
+    FILTER, FILTER_BILINEAR, FILTER_NEAREST, FILTER_TRILINEAR, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT, sample_points,
 )
 
-__all__ = ["FILTER_CODES", "TextureArgs", "WRAP_CODES", "sample", "texture_args"]
+__all__ = ["FILTER_CODES", "TextureArgs", "WRAP_CODES", "sample", "texture_args", "with_filter"]
 
 #: The kernels' code of each filter and wrap name.
 FILTER_CODES = {"nearest": FILTER_NEAREST, "bilinear": FILTER_BILINEAR, "trilinear": FILTER_TRILINEAR}
@@ -63,6 +63,13 @@ def texture_args(textures) -> TextureArgs:
                          for t, c, first in zip(textures, chains, firsts)], np.int64)
     transforms = np.array([(*t.scale, *t.offset) for t in textures], np.float64)
     return TextureArgs(texels, levels, _readonly(samplers), _readonly(transforms), DECODE)
+
+
+def with_filter(args: TextureArgs, filter: str) -> TextureArgs:
+    """``args`` with every texture filtered by ``filter`` (a name of :data:`FILTER_CODES`)."""
+    samplers = np.array(args.samplers)
+    samplers[:, FILTER] = FILTER_CODES[filter]
+    return args._replace(samplers=_readonly(samplers))
 
 
 def sample(texture, uv, lod=0.0) -> np.ndarray:

@@ -18,6 +18,7 @@ from functools import cached_property
 import numpy as np
 
 from rasterkit import values
+from rasterkit.options import TEXTURE_FILTERS
 from rasterkit._arrays import describe
 from rasterkit.limits import check_memory
 from rasterkit.material.images import read_image
@@ -25,9 +26,8 @@ from rasterkit.material.mipmaps import Mipmaps, build_mipmaps, mipmaps_bytes
 
 __all__ = ["FILTERS", "SETTINGS", "Texture", "WRAPS"]
 
-#: How a texture is filtered: mipmaps blended between two levels (GL_LINEAR_MIPMAP_LINEAR),
-#: the 4 nearest texels of the image (GL_LINEAR), or the one texel under the point (GL_NEAREST).
-FILTERS = ("trilinear", "bilinear", "nearest")
+#: How a texture is filtered (:data:`rasterkit.options.TEXTURE_FILTERS`).
+FILTERS = TEXTURE_FILTERS
 
 #: What coordinates outside [0, 1] read: the texture repeated, its edge texels, or the texture
 #: repeated and mirrored every other time (GL_REPEAT, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT).
@@ -81,7 +81,8 @@ class Texture:
         Row 0 at the top. Given as uint8 codes or floats in [0, 1] (rounded to the nearest
         code); kept as a read-only copy.
     filter : {"trilinear", "bilinear", "nearest"}
-        :data:`FILTERS`; ``trilinear`` uses the mipmaps (:attr:`mipmaps`).
+        :data:`FILTERS`; ``trilinear`` uses the mipmaps (:attr:`mipmaps`). A render filters
+        with :attr:`rasterkit.RenderOptions.texture_filter` unless that is None.
     wrap : {"repeat", "clamp", "mirror"}
         :data:`WRAPS`: what coordinates outside [0, 1] read.
     scale, offset : (u, v) floats

@@ -254,6 +254,25 @@ class Mesh:
         self.check_intact()
         return seal(face_normals(self.vertices, self.faces))
 
+    @cached_property
+    def textured(self):
+        """Which faces are drawn textured, with which texture, tint and texture coordinates
+        (:func:`rasterkit.raster.texturing.mesh_textures`), or None when none is; worked out
+        on first use and kept: a turntable looks its textures up once."""
+        from rasterkit.raster.texturing import mesh_textures
+        self.check_intact()
+        return mesh_textures(self)
+
+    @cached_property
+    def smooth_corners(self) -> tuple:
+        """``(normals, corners)``: the unit normals smooth shading interpolates and each face
+        corner's row of them (:func:`rasterkit.raster.texturing.smooth_corners`: the corners'
+        own normals where the mesh has them, so that an authored hard edge stays hard);
+        worked out on first use and kept."""
+        from rasterkit.raster.texturing import smooth_corners
+        self.check_intact()
+        return smooth_corners(self)
+
     @property
     def bounds(self) -> np.ndarray:
         """(2, 3) float64: minimum and maximum corner of the finite vertices' bounding box."""

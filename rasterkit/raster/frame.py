@@ -18,7 +18,7 @@ from rasterkit.camera import Camera
 from rasterkit.mesh import Mesh
 from rasterkit.raster.framebuffer import Framebuffer
 from rasterkit.raster.plan import Style
-from rasterkit.raster.shading import shade
+from rasterkit.raster.shading import AMBIENT, shade
 from rasterkit.raster.triangles import rasterize_checked, rasterize_triangles
 from rasterkit.raster.vertex import transform_points
 
@@ -76,7 +76,8 @@ def shared_setup(mesh: Mesh, camera: Camera, style: Style):
     whole = not row.edges and style.points is None  # then averaged in one pass, exact on outlines
     setup = SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=row.shaded,
                             face_colors=face_colors, vertex_colors=vertex_colors, cull=style.cull,
-                            depth_offset=row.polygon_offset, neighbours=mesh.side_neighbours if whole else None)
+                            depth_offset=row.polygon_offset, neighbours=mesh.side_neighbours if whole else None,
+                            textures=_textures(mesh, style) if row.shaded else None)
     return setup, whole
 
 
@@ -96,6 +97,7 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
                           row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True)
         return
     face_colors, vertex_colors = shade(mesh, style)
+    textures = _textures(mesh, style)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
     if not row.depth_kept and not style.keep_depth:  # nothing drawn after: depth only if read
         depth = None
@@ -103,7 +105,18 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
     else:
         depth = fb.uncleared_depth()
     rasterize_checked(fb.color, depth, clip, mesh.faces, face_colors, vertex_colors, fb.ids, style.cull, background,
-                      row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True)
+                      row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True, textures=textures)
+
+
+def _textures(mesh: Mesh, style: Style):
+    """The frame's :class:`rasterkit.raster.kernels.records.Textured`, or None (textures off,
+    or no face of ``mesh`` textured)."""
+    if not style.textures or not mesh.materials or mesh.textured is None:  # no import for a plain mesh
+        return None
+    from rasterkit.raster.texturing import frame_textures
+
+    return frame_textures(mesh, style.light, AMBIENT, style.cull == "none", style.shading == "smooth",
+                          style.texture_filter)
 
 
 def _depth_pass(clip, faces, cull, depth):

@@ -36,6 +36,8 @@ class Style:
     keep_depth: bool = False  # solid: draw the depth buffer in the colour pass, not when read
     points: object = None  # rasterkit.raster.points.Points, drawn last as depth-tested splats
     maps: object = None  # a vision render's Maps (rasterkit.raster.vision.maps_record), made by the band worker
+    textures: bool = False  # faces with a diffuse map drawn textured (rasterkit.raster.texturing)
+    texture_filter: str | None = "trilinear"  # every texture's filter, or None: each one's own
 
 
 @dataclass(frozen=True)
@@ -81,7 +83,8 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
         mesh = _with_feature_edges(mesh, camera, options.crease_angle)
     background = "white" if background is None else background
     style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
-                  options.aa, light_direction(light, camera))
+                  options.aa, light_direction(light, camera), textures=options.textures and row.shaded,
+                  texture_filter=options.texture_filter)
     one_sample = options.samples == 1 and options.vignette == 0.0
     normals, wanted_ids = options.normals, options.ids or options.normals or options.uv
     # the maps made by the band worker: a one-sample render of faces, nothing drawn after

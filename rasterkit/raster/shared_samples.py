@@ -59,13 +59,16 @@ class SharedTriangles:
     neighbours : (M, 3) int32, optional
         :func:`rasterkit.mesh.side_neighbours` of ``faces`` (a Mesh keeps them), for
         :meth:`draw_average`; worked out there when not given.
+    textures : Textured, optional
+        A textured frame's (:func:`rasterkit.raster.texturing.frame_textures`, made for these
+        faces).
 
     The setup lives in this thread's scratch memory (:mod:`rasterkit.raster.triangle_pass`): it can
     be drawn until the next draw of triangles of this thread (:meth:`draw` raises after that).
     """
 
     def __init__(self, clip, faces, *, width, height, color, face_colors=None, vertex_colors=None, cull="back",
-                 depth_offset=(0.0, 0.0), threads=None, neighbours=None):
+                 depth_offset=(0.0, 0.0), threads=None, neighbours=None, textures=None):
         check_depth(np.empty((height, width), np.float32))  # the size
         check_geometry(clip, faces)
         if cull not in CULL:
@@ -82,7 +85,7 @@ class SharedTriangles:
         self._color = bool(color)
         self._prepared = prepare(clip, faces, face_colors, vertex_colors, cull, check_depth_offset(depth_offset),
                                  width=width, height=height, color=self._color, ids=False, threads=self._threads,
-                                 lighting=lighting, padded=True)
+                                 lighting=lighting, padded=True, textures=textures)
 
     def draw(self, color, depth, *, sample=(0, 0), clear=None) -> int:
         """Draw the triangles sampled at ``sample`` from each pixel centre, ``(x, y)``
@@ -192,4 +195,4 @@ def _average(prepared: Prepared, color, background, offsets, *, threads, exact=T
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     return int(sum(run_workers(draw_sample_bands, prepared.band_start, prepared.items, prepared.records,
                                shading, band_depth, color, clear_spec(background, color), samples,
-                               ws.visibility(threads, width), spans, threads=threads)))
+                               ws.visibility(threads, width), spans, prepared.textures, threads=threads)))

@@ -272,17 +272,21 @@ class Prepared(NamedTuple):
     generation: int  # the workspace's at prepare: checked by draw_prepared
     stats: dict  # the counts of rasterkit.raster.triangles.TriangleStats but fragments
     corners: np.ndarray  # the vertex pass's (rasterkit.raster.kernels.face_setup.setup_vertices)
+    textures: object = None  # a textured frame's rasterkit.raster.kernels.records.Textured
 
 
 def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, height, color, ids, threads,
-            lighting=None, padded=False, transform=None) -> Prepared:
+            lighting=None, padded=False, transform=None, textures=None) -> Prepared:
     """Vertex pass, face pass, fans, bins, polygon offset and the smooth colours' terms of
     a :func:`draw_triangles` (its arguments; ``color`` and ``ids``: whether colours and
     face ids will be drawn). ``padded``: boxes padded by a pixel, for drawing at sample
     points other than the pixel centres. ``transform``: None, or ``(points, matrix)``
     ((N, 3) and (4, 4) float64, C-contiguous) that the vertex pass turns into ``clip``
-    (N, 4), written here."""
+    (N, 4), written here. ``textures``: a textured frame's
+    :class:`rasterkit.raster.kernels.records.Textured` (checked against the faces by its maker)."""
     ws = WORKSPACE
+    if not color:
+        textures = None
     faces = readonly(faces)  # as a Mesh's: one compiled kernel for both
     m = faces.shape[0]
     if not color:
@@ -304,9 +308,9 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
                 threads=setup_threads)
     if offset != (0.0, 0.0):
         run_workers(offset_depths, *records, records.xy.shape[0], *offset, threads=setup_threads)
-    bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH else np.empty((0, 9))
-    # Flat colours without ids: the visibility buffer carries the colour itself.
-    resolve = SHADE_TAGGED if mode == SHADE_FLAT and not ids else mode
+    bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH or textures is not None else np.empty((0, 9))
+    # Flat colours without ids or textures: the visibility buffer carries the colour itself.
+    resolve = SHADE_TAGGED if mode == SHADE_FLAT and not ids and textures is None else mode
     colors = vertex_colors if vertex_colors is not None else np.zeros((0, 3), np.float32)
     shading = Shading(resolve, m, fan_face, packed, colors, faces, bary)
     stats = dict(
@@ -319,7 +323,8 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
         clipped=int(counts[N_STATUS]),
         triangles=int(drawn.sum()),
     )
-    return Prepared(records, band_start, items, shading, width, height, bool(padded), ws.generation, stats, corners)
+    return Prepared(records, band_start, items, shading, width, height, bool(padded), ws.generation, stats, corners,
+                    textures)
 
 
 def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads, sample=(0, 0), maps=None) -> int:
@@ -354,11 +359,11 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     return int(sum(run_workers(draw_bands, prepared.band_start, prepared.items, records, prepared.shading,
                                target, clear, sample, ws.visibility(threads, width), spans, maps,
-                               threads=threads)))
+                               prepared.textures, threads=threads)))
 
 
 def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,
-                   threads, lighting=None, maps=None, transform=None) -> dict:
+                   threads, lighting=None, maps=None, transform=None, textures=None) -> dict:
     """Draw the triangles ``faces`` (M, 3) int64 of the vertices ``clip`` (N, 4) float64
     (homogeneous raster space) as :func:`rasterkit.raster.triangles.rasterize_triangles` describes.
 
@@ -368,12 +373,12 @@ def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, c
     pass). ``cull`` is a name of :data:`CULL_CODES`, ``background`` (C,) uint8 or None,
     ``offset`` ``(factor, units)`` floats; ``threads`` draw the bands (the setup passes of
     a few faces run on one); ``maps``: as :func:`draw_prepared`; ``transform``: as
-    :func:`prepare`. Returns the counts of
+    :func:`prepare`; ``textures``: as :func:`prepare`. Returns the counts of
     :class:`rasterkit.raster.triangles.TriangleStats`, by field name.
     """
     height, width = (depth if depth is not None else color).shape[:2]
     prepared = prepare(clip, faces, face_colors, vertex_colors, cull, offset, width=width, height=height,
                        color=color is not None, ids=ids is not None, threads=threads, lighting=lighting,
-                       transform=transform)
+                       transform=transform, textures=textures)
     fragments = draw_prepared(prepared, color, depth, ids, background, threads=threads, maps=maps)
     return dict(prepared.stats, fragments=fragments)

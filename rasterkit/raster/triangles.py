@@ -317,14 +317,16 @@ def rasterize_triangles(
 
 
 def rasterize_checked(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, clear, depth_offset, threads,
-               maps=None, transform=None, trusted=False) -> dict:
+               maps=None, transform=None, trusted=False, textures=None) -> dict:
     """:func:`rasterize_triangles`'s checks and draw, returning its counts by name, for
     :func:`rasterkit.render`: ``maps``, a vision render's
     (:func:`rasterkit.raster.triangle_pass.draw_prepared`); ``transform``, ``(points, matrix)``
     that the vertex pass makes ``clip`` from (:func:`rasterkit.raster.triangle_pass.prepare`);
     ``trusted``: the buffers are render()'s own, the faces a Mesh's and the colours made by
     render() (checked where they were made): the checks are skipped. Each NumPy call of them
-    costs microseconds after a frame has gone through the caches, about 0.1 ms a frame."""
+    costs microseconds after a frame has gone through the caches, about 0.1 ms a frame.
+    ``textures``: a textured frame's (:func:`rasterkit.raster.texturing.frame_textures`, made
+    for these faces)."""
     if trusted:
         lighting = None
         if isinstance(face_colors, FlatLambert):  # its arrays' shapes still checked: a Mesh's
@@ -334,7 +336,8 @@ def rasterize_checked(color, depth, clip, faces, face_colors, vertex_colors, ids
         face_colors, vertex_colors, lighting = shading_mode(color, face_colors, vertex_colors, faces, clip)
         depth_offset = check_depth_offset(depth_offset)
     return draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background_bytes(clear, color),
-                          depth_offset, threads=thread_count(threads), lighting=lighting, maps=maps, transform=transform)
+                          depth_offset, threads=thread_count(threads), lighting=lighting, maps=maps, transform=transform,
+                          textures=textures)
 
 
 def _check_draw(color, depth, ids, clip, faces, cull):

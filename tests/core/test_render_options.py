@@ -19,17 +19,19 @@ from PIL import Image
 import rasterkit
 from rasterkit import Camera, Mesh, RenderOptions, View, shapes
 from rasterkit.options import FIELDS
-from support.frames import BALL, BOWL, IMAGE
+from support.frames import BALL, BOWL, IMAGE, TEXTURED_BOWL
 
 CAMERA = Camera.look_at(eye=(1.6, 2.2, 2.4), target=(0, 0, 0), width=96, height=72)
 #: The fields that decide the maps made with the frame, and those of drawn points.
 MAPS = dict(ids=True, normals=True, camera_depth=True, uv=True)
 POINTS = dict(point_size=3, point_color="red")
+#: The fields of textured frames, each away from its default (TEXTURED_BOWL shows them).
+TEXTURE = dict(textures=False, texture_filter="nearest")
 CLOUD = np.array([[0.8, 0.9, 0.9], [1.2, 0.3, 0.8], [0.4, 1.3, 0.5]])  # outside the ball, facing the camera
 
 
 def test_the_fields_under_test_are_all_the_fields():
-    assert set(IMAGE) | set(MAPS) | set(POINTS) == FIELDS
+    assert set(IMAGE) | set(MAPS) | set(POINTS) | set(TEXTURE) == FIELDS
 
 
 def test_render_keywords_are_changes_to_the_options_record():
@@ -112,6 +114,20 @@ def test_every_image_field_changes_the_frame(path):
         if np.array_equal(changed, reference):
             unseen.append(name)
     assert unseen == []
+
+
+@pytest.mark.parametrize("path", ["plain", "distorted", "samples"])
+def test_the_texture_fields_change_a_textured_frame(path):
+    """``textures`` and ``texture_filter`` are seen in each path: turning textures off, or
+    filtering another way, changes a textured frame drawn with the other image fields set."""
+    camera = _distorted(CAMERA) if path == "distorted" else CAMERA
+    full = RenderOptions(**IMAGE).replace(samples=4 if path == "samples" else 1)
+    reference = rasterkit.render(TEXTURED_BOWL, camera, options=full).color
+    for name, value in TEXTURE.items():
+        assert not np.array_equal(rasterkit.render(TEXTURED_BOWL, camera, options=full.replace(**{name: value})).color,
+                                  reference), name
+    off = rasterkit.render(TEXTURED_BOWL, camera, options=full.replace(textures=False)).color
+    assert np.array_equal(off, rasterkit.render(BOWL, camera, options=full).color)
 
 
 @pytest.mark.parametrize("path", ["plain", "distorted", "samples"])

@@ -267,7 +267,7 @@ def test_a_plain_render_loads_none_of_the_vision_passes_and_compiles_no_maps():
             "fb = rasterkit.render(shapes.cube(), Camera.look_at((0, 0, 5), (0, 0, 0), width=32, height=24), 'solid'); "
             "fb.depth; print(sorted(m for m in sys.modules if m.split('.')[-1] in "
             "('maps', 'vision', 'points', 'distortion'))); "
-            "print([str(s[-1]) for s in draw_bands.signatures])")
+            "print([str(s[-2]) + ' ' + str(s[-1]) for s in draw_bands.signatures])")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    # the band worker was compiled without the maps (its last argument None: pruned)
-    assert out.stdout.split("\n")[:2] == ["[]", "['none']"]
+    # the band worker was compiled without the maps and the textures (its last arguments None: pruned)
+    assert out.stdout.split("\n")[:2] == ["[]", "['none none']"]

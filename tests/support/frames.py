@@ -17,6 +17,14 @@ BALL = shapes.icosphere(2)
 #: An open bowl: where faces are missing its inside shows, so the culling is seen too.
 BOWL = Mesh(BALL.vertices, BALL.faces[BALL.vertices[BALL.faces].mean(axis=1)[:, 1] < 0.55])
 
+#: BOWL with a texture (noise, made here) over spherical texture coordinates.
+TEXTURED_BOWL = Mesh(BOWL.vertices, BOWL.faces,
+                     uv=np.stack([np.arctan2(BOWL.vertices[:, 1], BOWL.vertices[:, 0]) + np.pi,
+                                  np.arccos(np.clip(BOWL.vertices[:, 2], -1, 1))], 1),
+                     face_materials=np.zeros(len(BOWL.faces), np.int32), material_names=("noise",),
+                     materials=(rasterkit.Material(diffuse=(1, 1, 1), diffuse_map=rasterkit.Texture(
+                         np.random.default_rng(3).integers(0, 256, (16, 16, 3), dtype=np.uint8))),))
+
 #: Every field that decides the pixels of a frame, each away from its default: putting back
 #: any one default changes the frame of BOWL (tests/core/test_render_options.py).
 IMAGE = dict(mode="solid+wire", cull="none", shading="smooth", color="steelblue", line_color="orange",

@@ -34,6 +34,7 @@ from rasterkit.raster.kernels.clear import fill_bytes
 from rasterkit.runtime.intrinsics import fetch_add, prefetch_row
 from rasterkit.raster.kernels.map_rows import band_maps
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
+from rasterkit.raster.kernels.texture_shade import resolve_textured_row
 from rasterkit.raster.kernels.face_setup import N_CHUNKS, ONE, chunk_range
 from rasterkit.raster.kernels.triangle import raster_band
 
@@ -198,7 +199,7 @@ def prefetch_record(t, records, shading):
 
 
 @kernel(refcounts=False)
-def draw_bands(slot, counter, band_start, items, records, shading, target, clear, sample, lid, spans, maps):
+def draw_bands(slot, counter, band_start, items, records, shading, target, clear, sample, lid, spans, maps, textures):
     """Rasterize and resolve bands, each the next one no slot has claimed yet (through
     ``counter``), until none are left; returns the number of fragments this slot
     depth-tested. A worker of :func:`rasterkit.runtime.threads.run_parallel`: slot ``slot`` draws in
@@ -248,6 +249,10 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
         band is in this thread's cache (:func:`rasterkit.raster.kernels.map_rows.band_maps`). None
         for other renders, which compile without that call (Numba prunes the branches of
         an argument typed None).
+    textures : Textured or None
+        A textured frame's textures (:class:`rasterkit.raster.kernels.records.Textured`):
+        the resolve is :func:`rasterkit.raster.kernels.texture_shade.resolve_textured_row`.
+        None for other frames, which compile none of it.
 
     Compiled without reference counting (nothing is allocated here, and the counts cost
     atomic operations in the per-record loop).
@@ -276,14 +281,15 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
             if not keep_depth:
                 clear_depth(band_depth)
             fragments += _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, band_lid,
-                                    band_depth, row_lo, row_hi)
+                                    band_depth, row_lo, row_hi, textures)
         if maps is not None:
             band_maps(ids, y0, y1, maps, band_depth, drawn)
     return fragments
 
 
 @kernel(refcounts=False)
-def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, band_lid, band_depth, row_lo, row_hi):
+def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, band_lid, band_depth, row_lo, row_hi,
+               textures):
     """Rasterize the records of bin ``b`` into rows ``y0 .. y1 - 1`` (``band_lid``,
     ``band_depth``: the band's visibility and depth rows, the depth cleared) and resolve them
     (:func:`draw_bands`' arguments); returns the number of fragments depth-tested. Compiled
@@ -308,6 +314,10 @@ def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, b
         tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
         fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
     for r in range(y1 - y0):
-        resolve_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed, vertex_colors,
-                    faces, bary, color, write_ids, ids)
+        if textures is None:
+            resolve_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed, vertex_colors,
+                        faces, bary, color, write_ids, ids)
+        else:
+            resolve_textured_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed,
+                                 vertex_colors, faces, bary, color, write_ids, ids, textures)
     return fragments

@@ -73,3 +73,15 @@ Clear = namedtuple("Clear", "on color_bytes pattern")
 Maps = namedtuple("Maps", "want_normals normals smooth world_normals vertex_normals "
                           "bary faces rotation want_objects object_ids face_object object_first "
                           "want_depth metric near far perspective want_uv uv corner_uv")
+
+#: A textured frame's resolve (:mod:`rasterkit.raster.kernels.texture_shade`): the textures'
+#: arrays ``texels levels samplers transforms decode`` (:class:`rasterkit.material.sampling.TextureArgs`);
+#: per face ``face_texture`` (M,) int32, its diffuse texture's row of ``samplers`` (-1: none,
+#: coloured as untextured), ``corner_uv`` (M, 6) float64 its corners' (u, v) and ``tint``
+#: (M, 3) float32 the colour (0..255) its texture is multiplied by; ``smooth``: the Lambert
+#: factor per corner, ``intensity`` (K,) float32 read through ``corners`` (M, 3) int64, else
+#: per face from the unit ``normals`` (M, 3) float32 and ``light`` (3,) float64 with
+#: ``ambient`` and ``back`` (1.0: two-sided, ``|cos|``; 0.0: ``max(cos, 0)``); ``encode``
+#: the sRGB table of :func:`rasterkit.raster.kernels.texture_shade.encode_table`.
+Textured = namedtuple("Textured", "texels levels samplers transforms decode face_texture corner_uv tint smooth "
+                                  "intensity corners normals light ambient back encode")

@@ -262,7 +262,7 @@ def pack_colors(colors):
 
 
 @kernel(inline="always")
-def _put(color, j, i, rgba):
+def put_rgba(color, j, i, rgba):
     """Write a packed RGBA colour into pixel (j, i) of an (H, W, 3 or 4) uint8 image.
 
     Spelled out per channel (no loop) so that LLVM merges the four byte stores of RGBA
@@ -333,10 +333,10 @@ def resolve_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colo
             continue
         lid[ru, i] = -1
         if mode == SHADE_FLAT:
-            _put(color, ju, i, packed[f])
+            put_rgba(color, ju, i, packed[f])
         elif mode == SHADE_TAGGED:
-            _put(color, ju, i, np.int64(f) | 0xFF000000)
+            put_rgba(color, ju, i, np.int64(f) | 0xFF000000)
         elif mode == SHADE_SMOOTH:
-            _put(color, ju, i, smooth_rgba(f, px + k, py, vertex_colors, faces, bary))
+            put_rgba(color, ju, i, smooth_rgba(f, px + k, py, vertex_colors, faces, bary))
         if write_ids:
             ids[ju, i] = f
