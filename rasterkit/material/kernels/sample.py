@@ -70,12 +70,17 @@ def bounded_coordinate(u, wrap):
 
 @kernel(inline="always")
 def wrap_index(i, n, wrap):
-    """Texel index ``i`` wrapped into [0, n)."""
+    """Texel index ``i`` wrapped into [0, n), for the indices that bounded coordinates
+    (:func:`bounded_coordinate`) give on a level ``n`` texels wide: ``-1 .. n`` for repeat,
+    ``-1 .. 2n`` for mirror, any for clamp. With selects, not a division: a lookup takes up
+    to 8 of them."""
     if wrap == WRAP_REPEAT:
-        return i % n
+        i = i + n if i < 0 else i
+        return i - n if i >= n else i
     if wrap == WRAP_MIRROR:
-        m = i % (2 * n)
-        return 2 * n - 1 - m if m >= n else m
+        i = -1 - i if i < 0 else i
+        i = i - 2 * n if i >= 2 * n else i
+        return 2 * n - 1 - i if i >= n else i
     return min(max(i, 0), n - 1)
 
 
@@ -144,18 +149,31 @@ def texture_lod(levels, samplers, transforms, t, dudx, dvdx, dudy, dvdy):
     return lod_from_derivatives(dudx * su, dvdx * sv, dudy * su, dvdy * sv, levels[first, 1], levels[first, 2])
 
 
+@kernel(inline="always")
+def settings(levels, samplers, transforms, t):
+    """Texture ``t``'s row of ``samplers`` and ``transforms`` as locals, for a caller that
+    looks it up many times (:func:`lookup_with`): ``(first, count, channels, filter, wrap,
+    srgb, scale_u, scale_v, offset_u, offset_v)``."""
+    return (samplers[t, FIRST], samplers[t, COUNT], samplers[t, CHANNELS], samplers[t, FILTER], samplers[t, WRAP],
+            samplers[t, SRGB], transforms[t, SCALE_U], transforms[t, SCALE_V], transforms[t, OFFSET_U],
+            transforms[t, OFFSET_V])
+
+
 @kernel(refcounts=False)
 def sample(texels, levels, samplers, transforms, decode, t, u, v, lod):
     """Texture ``t`` at (u, v) float64 with level of detail ``lod``: (r, g, b, a) float32
-    (see the module documentation). Allocates nothing."""
-    first = samplers[t, FIRST]
-    count = samplers[t, COUNT]
-    channels = samplers[t, CHANNELS]
-    mode = samplers[t, FILTER]
-    wrap = samplers[t, WRAP]
-    srgb = samplers[t, SRGB]
-    u = bounded_coordinate(u * transforms[t, SCALE_U] + transforms[t, OFFSET_U], wrap)
-    v = bounded_coordinate(v * transforms[t, SCALE_V] + transforms[t, OFFSET_V], wrap)
+    (see the module documentation). Allocates nothing. A function of its own, for callers
+    outside a hot loop; the band worker inlines :func:`lookup_with`."""
+    return lookup_with(texels, levels, decode, settings(levels, samplers, transforms, t), u, v, lod)
+
+
+@kernel(inline="always")
+def lookup_with(texels, levels, decode, setting, u, v, lod):
+    """:func:`sample` of the texture whose :func:`settings` are ``setting``, inlined into
+    its caller."""
+    first, count, channels, mode, wrap, srgb, scale_u, scale_v, offset_u, offset_v = setting
+    u = bounded_coordinate(u * scale_u + offset_u, wrap)
+    v = bounded_coordinate(v * scale_v + offset_v, wrap)
     if mode == FILTER_NEAREST:
         r, g, b, a = nearest(texels, levels, first, decode, srgb, channels, wrap, u, v)
     elif mode == FILTER_BILINEAR:

@@ -28,7 +28,7 @@ from rasterkit.raster.kernels.records import Sample
 from rasterkit.raster.kernels.face_setup import ONE
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_SMOOTH, SHADE_TAGGED, smooth_rgba
 from rasterkit.raster.kernels.bands import BAND_HEIGHT, PREFETCH_AHEAD, clear_depth, prefetch_record
-from rasterkit.raster.kernels.texture_shade import pixel_rgba
+from rasterkit.raster.kernels.texture_shade import pixel_rgba, texture_fields
 from rasterkit.raster.kernels.triangle_samples import raster_band_at
 
 
@@ -92,6 +92,7 @@ def _add_textured_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, bac
     """:func:`_add_row` of a textured frame (``shading.mode`` SHADE_FLAT or SHADE_SMOOTH),
     each face's colour by :func:`rasterkit.raster.kernels.texture_shade.pixel_rgba`."""
     mode, _, _, packed, vertex_colors, faces, bary = shading
+    fields = texture_fields(textures)
     ru = np.uint64(r)
     px, py = lo + 0.5 + sample_x, y + 0.5 + sample_y
     for k in range(hi - lo + 1):
@@ -103,7 +104,7 @@ def _add_textured_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, bac
         depth[ru, iu] = np.inf
         if exact:
             _note_face(first, state, ru, iu, f, 1)
-        rgb = pixel_rgba(mode, f, px + k, py, packed, vertex_colors, faces, bary, textures)
+        rgb = pixel_rgba(mode, f, px + k, py, packed, vertex_colors, faces, bary, fields)
         sums[ru, iu, 0] = _channel(sums[ru, iu, 0], rgb, 0, background)
         sums[ru, iu, 1] = _channel(sums[ru, iu, 1], rgb, 8, background)
         sums[ru, iu, 2] = _channel(sums[ru, iu, 2], rgb, 16, background)
@@ -196,7 +197,8 @@ def _unseen_rgb(f, i, j, records, shading, textures):
         if (x >> 8) == i and (y >> 8) == j:
             cx, cy = x, y
     if textures is not None:
-        return pixel_rgba(mode, f, cx / 256.0, cy / 256.0, packed, vertex_colors, faces, bary, textures)
+        return pixel_rgba(mode, f, cx / 256.0, cy / 256.0, packed, vertex_colors, faces, bary,
+                          texture_fields(textures))
     return smooth_rgba(f, cx / 256.0, cy / 256.0, vertex_colors, faces, bary)
 
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit.material.kernels.sample import FILTER, FILTER_TRILINEAR, sample, texture_lod
+from rasterkit.material.kernels.sample import FILTER_TRILINEAR, lod_from_derivatives, lookup_with, settings
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_SMOOTH, put_rgba, smooth_rgba, to_u8
 from rasterkit.runtime.jit import kernel
 
@@ -58,62 +58,83 @@ def encode(table, x):
 
 
 @kernel(inline="always")
-def _flat_intensity(f, textures):
-    """The Lambert factor of face ``f`` (flat shading), as the face pass lights an
-    untextured face (:func:`rasterkit.raster.kernels.shade.flat_colors`)."""
-    normals, light = textures.normals, textures.light
-    cos = normals[f, 0] * light[0] + normals[f, 1] * light[1] + normals[f, 2] * light[2]
-    cos = max(cos, -textures.back * cos)
-    cos = cos if np.isfinite(cos) else 0.0
-    return textures.ambient + (1.0 - textures.ambient) * cos
+def texture_fields(textures):
+    """The record's fields as locals, unpacked once per row: an access through the record
+    inside the pixel loop, or a call that passes it, costs the copy of a large structure."""
+    return (textures.texels, textures.levels, textures.samplers, textures.transforms, textures.decode,
+            textures.face_texture, textures.corner_uv, textures.tint, textures.smooth, textures.intensity,
+            textures.corners, textures.normals, textures.light, textures.ambient, textures.back, textures.encode)
 
 
-@kernel(refcounts=False)
-def textured_rgba(f, t, px, py, bary, textures):
-    """The packed colour of face ``f`` with texture ``t`` at raster point (px, py) (see the
-    module documentation)."""
+@kernel(inline="always")
+def _plane(a0, b0, c0, a1, b1, c1, a2, b2, c2, q0, q1, q2):
+    """The affine function ``sum_k q_k (a_k x + b_k y + c_k)`` as (x, y, 1) coefficients."""
+    return a0 * q0 + a1 * q1 + a2 * q2, b0 * q0 + b1 * q1 + b2 * q2, c0 * q0 + c1 * q1 + c2 * q2
+
+
+@kernel(inline="always")
+def face_terms(f, t, bary, fields):
+    """What the pixels of face ``f`` (texture ``t``) share: the planes of ``s``, ``U``, ``V``
+    and (smooth) the Lambert factor times ``s`` (see the module documentation), the flat
+    Lambert factor, the tint, the texture's settings and its level 0's size times its scale."""
+    (_, levels, samplers, transforms, _, _, corner_uv, tint, smooth, intensity, corners, normals, light,
+     ambient, back, _) = fields
     a0, b0, c0 = bary[f, 0], bary[f, 1], bary[f, 2]
     a1, b1, c1 = bary[f, 3], bary[f, 4], bary[f, 5]
     a2, b2, c2 = bary[f, 6], bary[f, 7], bary[f, 8]
-    w0 = a0 * px + b0 * py + c0
-    w1 = a1 * px + b1 * py + c1
-    w2 = a2 * px + b2 * py + c2
-    inv = 1.0 / (w0 + w1 + w2)
-    uv = textures.corner_uv
-    u0, v0, u1, v1, u2, v2 = uv[f, 0], uv[f, 1], uv[f, 2], uv[f, 3], uv[f, 4], uv[f, 5]
-    u = (w0 * u0 + w1 * u1 + w2 * u2) * inv
-    v = (w0 * v0 + w1 * v1 + w2 * v2) * inv
-    samplers = textures.samplers
-    lod = 0.0
-    if samplers[t, FILTER] == FILTER_TRILINEAR:
-        sx, sy = a0 + a1 + a2, b0 + b1 + b2
-        dudx = (a0 * u0 + a1 * u1 + a2 * u2 - u * sx) * inv
-        dvdx = (a0 * v0 + a1 * v1 + a2 * v2 - v * sx) * inv
-        dudy = (b0 * u0 + b1 * u1 + b2 * u2 - u * sy) * inv
-        dvdy = (b0 * v0 + b1 * v1 + b2 * v2 - v * sy) * inv
-        lod = texture_lod(textures.levels, samplers, textures.transforms, t, dudx, dvdx, dudy, dvdy)
-    r, g, b, _ = sample(textures.texels, textures.levels, samplers, textures.transforms, textures.decode, t, u, v,
-                        lod)
-    if textures.smooth:
-        corners, intensity = textures.corners, textures.intensity
-        shade = (w0 * intensity[corners[f, 0]] + w1 * intensity[corners[f, 1]]
-                 + w2 * intensity[corners[f, 2]]) * inv
+    s_plane = (a0 + a1 + a2, b0 + b1 + b2, c0 + c1 + c2)
+    u_plane = _plane(a0, b0, c0, a1, b1, c1, a2, b2, c2, corner_uv[f, 0], corner_uv[f, 2], corner_uv[f, 4])
+    v_plane = _plane(a0, b0, c0, a1, b1, c1, a2, b2, c2, corner_uv[f, 1], corner_uv[f, 3], corner_uv[f, 5])
+    shade = 0.0
+    i_plane = (0.0, 0.0, 0.0)
+    if smooth:
+        i_plane = _plane(a0, b0, c0, a1, b1, c1, a2, b2, c2, np.float64(intensity[corners[f, 0]]),
+                         np.float64(intensity[corners[f, 1]]), np.float64(intensity[corners[f, 2]]))
     else:
-        shade = _flat_intensity(f, textures)
-    table, tint = textures.encode, textures.tint
-    red = to_u8(encode(table, r) * tint[f, 0] * shade)
-    green = to_u8(encode(table, g) * tint[f, 1] * shade)
-    blue = to_u8(encode(table, b) * tint[f, 2] * shade)
+        cos = normals[f, 0] * light[0] + normals[f, 1] * light[1] + normals[f, 2] * light[2]
+        cos = max(cos, -back * cos)
+        cos = cos if np.isfinite(cos) else 0.0
+        shade = ambient + (1.0 - ambient) * cos  # as the face pass lights an untextured face
+    setting = settings(levels, samplers, transforms, t)
+    first = setting[0]
+    size = (levels[first, 1] * setting[6], levels[first, 2] * setting[7])  # texels per unit of u, v
+    return (s_plane, u_plane, v_plane, i_plane, smooth, shade, (tint[f, 0], tint[f, 1], tint[f, 2]), setting,
+            size)
+
+
+@kernel(inline="always")
+def face_pixel(terms, x, y, texels, levels, decode, table):
+    """The packed colour at raster point (x, y) of the face whose :func:`face_terms` are
+    ``terms``."""
+    s_plane, u_plane, v_plane, i_plane, smooth, shade, tint, setting, size = terms
+    inv = 1.0 / (s_plane[0] * x + s_plane[1] * y + s_plane[2])
+    u = (u_plane[0] * x + u_plane[1] * y + u_plane[2]) * inv
+    v = (v_plane[0] * x + v_plane[1] * y + v_plane[2]) * inv
+    lod = 0.0
+    if setting[3] == FILTER_TRILINEAR:
+        # the quotient rule: du/dx = (U_x - u s_x) / s, and so on
+        dudx = (u_plane[0] - u * s_plane[0]) * inv
+        dvdx = (v_plane[0] - v * s_plane[0]) * inv
+        dudy = (u_plane[1] - u * s_plane[1]) * inv
+        dvdy = (v_plane[1] - v * s_plane[1]) * inv
+        lod = lod_from_derivatives(dudx, dvdx, dudy, dvdy, size[0], size[1])
+    r, g, b, _ = lookup_with(texels, levels, decode, setting, u, v, lod)
+    if smooth:
+        shade = (i_plane[0] * x + i_plane[1] * y + i_plane[2]) * inv
+    red = to_u8(encode(table, r) * tint[0] * shade)
+    green = to_u8(encode(table, g) * tint[1] * shade)
+    blue = to_u8(encode(table, b) * tint[2] * shade)
     return np.uint32(red | green << 8 | blue << 16 | 255 << 24)
 
 
 @kernel(inline="always")
-def pixel_rgba(mode, f, px, py, packed, vertex_colors, faces, bary, textures):
+def pixel_rgba(mode, f, px, py, packed, vertex_colors, faces, bary, fields):
     """The colour of face ``f`` at raster point (px, py): textured where it has a texture,
-    else flat (``packed``) or smooth (``vertex_colors`` through ``faces``)."""
-    t = textures.face_texture[f]
+    else flat (``packed``) or smooth (``vertex_colors`` through ``faces``); ``fields``:
+    :func:`texture_fields`."""
+    t = fields[5][f]
     if t >= 0:
-        return textured_rgba(f, t, px, py, bary, textures)
+        return face_pixel(face_terms(f, t, bary, fields), px, py, fields[0], fields[1], fields[4], fields[15])
     if mode == SHADE_SMOOTH:
         return smooth_rgba(f, px, py, vertex_colors, faces, bary)
     return packed[f]
@@ -124,16 +145,36 @@ def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, ve
                          write_ids, ids, textures):
     """:func:`rasterkit.raster.kernels.shade.resolve_row` of a textured frame (``mode``
     SHADE_FLAT or SHADE_SMOOTH: the visibility rows hold faces); ``textures`` a
-    :class:`rasterkit.raster.kernels.records.Textured`."""
+    :class:`rasterkit.raster.kernels.records.Textured`. A run of pixels of one face shares
+    its :func:`face_terms`."""
+    fields = texture_fields(textures)
+    texels, levels, decode, face_texture, table = fields[0], fields[1], fields[4], fields[5], fields[15]
     ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
     px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
-    for k in range(hi - lo + 1):
-        i = base + np.uint64(k)
-        f = lid[ru, i]
+    n = hi - lo + 1
+    k = 0
+    while k < n:
+        f = lid[ru, base + np.uint64(k)]
         if f < 0:
+            k += 1
             continue
-        lid[ru, i] = -1
-        if mode == SHADE_FLAT or mode == SHADE_SMOOTH:
-            put_rgba(color, ju, i, pixel_rgba(mode, f, px + k, py, packed, vertex_colors, faces, bary, textures))
-        if write_ids:
-            ids[ju, i] = f
+        end = k + 1
+        while end < n and lid[ru, base + np.uint64(end)] == f:
+            end += 1
+        t = face_texture[f]
+        if t >= 0:
+            terms = face_terms(f, t, bary, fields)
+            for q in range(k, end):
+                put_rgba(color, ju, base + np.uint64(q), face_pixel(terms, px + q, py, texels, levels, decode, table))
+        elif mode == SHADE_SMOOTH:
+            for q in range(k, end):
+                put_rgba(color, ju, base + np.uint64(q), smooth_rgba(f, px + q, py, vertex_colors, faces, bary))
+        elif mode == SHADE_FLAT:
+            for q in range(k, end):
+                put_rgba(color, ju, base + np.uint64(q), packed[f])
+        for q in range(k, end):
+            i = base + np.uint64(q)
+            lid[ru, i] = -1
+            if write_ids:
+                ids[ju, i] = f
+        k = end
