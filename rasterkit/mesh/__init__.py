@@ -265,11 +265,12 @@ class Mesh:
 
     @cached_property
     def smooth_corners(self) -> tuple:
-        """``(normals, corners)``: the unit normals smooth shading interpolates and each face
-        corner's row of them (:func:`rasterkit.raster.texturing.smooth_corners`: the corners'
-        own normals where the mesh has them, so that an authored hard edge stays hard);
-        worked out on first use and kept."""
-        from rasterkit.raster.texturing import smooth_corners
+        """``(normals, corners, split)``: the unit normals smooth shading interpolates, each
+        face corner's row of them and whether a vertex has corners with different normals
+        (:func:`rasterkit.raster.normals.smooth_corners`: the corners' own normals where
+        the mesh has them, so that an authored hard edge stays hard); worked out on first
+        use and kept."""
+        from rasterkit.raster.normals import smooth_corners
         self.check_intact()
         return smooth_corners(self)
 

@@ -72,12 +72,12 @@ def shared_setup(mesh: Mesh, camera: Camera, style: Style):
     from rasterkit.raster.shared_samples import SharedTriangles
 
     clip = transform_points(mesh.vertices, camera.world_to_raster())
-    face_colors, vertex_colors = shade(mesh, style) if row.shaded else (None, None)
+    face_colors, vertex_colors, corners = shade(mesh, style) if row.shaded else (None, None, None)
     whole = not row.edges and style.points is None  # then averaged in one pass, exact on outlines
     setup = SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=row.shaded,
                             face_colors=face_colors, vertex_colors=vertex_colors, cull=style.cull,
                             depth_offset=row.polygon_offset, neighbours=mesh.side_neighbours if whole else None,
-                            textures=_textures(mesh, style) if row.shaded else None)
+                            textures=_textures(mesh, style) if row.shaded else None, corners=corners)
     return setup, whole
 
 
@@ -96,7 +96,7 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
         rasterize_checked(None, fb.uncleared_depth(), clip, mesh.faces, None, None, fb.ids, style.cull, (),
                           row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True)
         return
-    face_colors, vertex_colors = shade(mesh, style)
+    face_colors, vertex_colors, corners = shade(mesh, style)
     textures = _textures(mesh, style)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
     if not row.depth_kept and not style.keep_depth:  # nothing drawn after: depth only if read
@@ -105,7 +105,8 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
     else:
         depth = fb.uncleared_depth()
     rasterize_checked(fb.color, depth, clip, mesh.faces, face_colors, vertex_colors, fb.ids, style.cull, background,
-                      row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True, textures=textures)
+                      row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True, textures=textures,
+                      corners=corners)
 
 
 def _textures(mesh: Mesh, style: Style):

@@ -20,8 +20,11 @@ AMBIENT = 0.25
 
 
 def shade(mesh: Mesh, options):
-    """Lambert colours lit by a distant light: per face (a :class:`FlatLambert` that the
-    rasterizer evaluates) or per vertex ((N, 3) float32 0..255).
+    """Lambert colours lit by a distant light: ``(face_colors, vertex_colors, corners)``, per
+    face (a :class:`FlatLambert` that the rasterizer evaluates; the others None) or, smooth,
+    per vertex ((N, 3) float32 0..255; ``corners`` None: the faces index them) or, where the
+    corners of a vertex have different normals (an authored hard edge, which stays hard), per
+    distinct corner ((K, 3) float32, and each face corner's row (M, 3) int64).
 
     The light has one direction for every face, so the triangles of one flat polygon get one
     colour.
@@ -34,7 +37,16 @@ def shade(mesh: Mesh, options):
         else:
             base, scale = _base_colors(mesh, options, per_face=True), np.float32(1)
         # Computed by the face setup, for the faces that are drawn only.
-        return FlatLambert(mesh.face_normals, base, towards_light, AMBIENT, two_sided, scale), None
+        return FlatLambert(mesh.face_normals, base, towards_light, AMBIENT, two_sided, scale), None, None
+    normals, corners, split = mesh.smooth_corners
+    if split:
+        if mesh.vertex_colors is None:
+            return None, _lambert(normals, options.color[None, :3].astype(np.float32), towards_light, two_sided), corners
+        # a colour per vertex and a normal per corner: a row per distinct (vertex, normal)
+        pairs, rows = np.unique(np.stack([mesh.faces.ravel(), corners.ravel()], axis=1), axis=0, return_inverse=True)
+        base = np.ascontiguousarray(mesh.vertex_colors[pairs[:, 0]] * np.float32(255))
+        return (None, _lambert(normals[pairs[:, 1]], base, towards_light, two_sided),
+                np.ascontiguousarray(rows.reshape(-1, 3), np.int64))
     # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
     # normals too, so they cannot spoil their neighbours' vertex normals. (A Mesh's faces
     # index its vertices: checked when it was made, and its arrays are immutable.)
@@ -43,7 +55,7 @@ def shade(mesh: Mesh, options):
         faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
     normals = mesh.normals if mesh.normals is not None else vertex_normals(mesh.vertices, faces)
     base = _base_colors(mesh, options, per_face=False)
-    return None, _lambert(normals, base, towards_light, two_sided)
+    return None, _lambert(normals, base, towards_light, two_sided), None
 
 
 def light_direction(light, camera: Camera) -> np.ndarray:

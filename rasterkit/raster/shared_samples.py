@@ -37,8 +37,8 @@ from rasterkit.raster.kernels.records import Samples
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_TAGGED
 from rasterkit.raster.kernels.bands import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
 from rasterkit.mesh import side_neighbours
-from rasterkit.raster.triangles import (background_bytes, check_buffer, check_depth, check_depth_offset, check_geometry,
-                                       shading_mode, thread_count)
+from rasterkit.raster.triangles import (background_bytes, check_buffer, check_corners, check_depth, check_depth_offset,
+                                       check_geometry, shading_mode, thread_count)
 from rasterkit.options import CULL
 
 __all__ = ["SharedTriangles"]
@@ -62,19 +62,24 @@ class SharedTriangles:
     textures : Textured, optional
         A textured frame's (:func:`rasterkit.raster.texturing.frame_textures`, made for these
         faces).
+    corners : (M, 3) int64, optional
+        Each face corner's row of ``vertex_colors`` (K, 3), for colours per distinct corner
+        (:func:`rasterkit.raster.shading.shade`); None: one per vertex.
 
     The setup lives in this thread's scratch memory (:mod:`rasterkit.raster.triangle_pass`): it can
     be drawn until the next draw of triangles of this thread (:meth:`draw` raises after that).
     """
 
     def __init__(self, clip, faces, *, width, height, color, face_colors=None, vertex_colors=None, cull="back",
-                 depth_offset=(0.0, 0.0), threads=None, neighbours=None, textures=None):
+                 depth_offset=(0.0, 0.0), threads=None, neighbours=None, textures=None, corners=None):
         check_depth(np.empty((height, width), np.float32))  # the size
         check_geometry(clip, faces)
         if cull not in CULL:
             raise ValueError(f"cull must be one of {sorted(CULL)}, got {cull!r}")
         face_colors, vertex_colors, lighting = shading_mode(True if color else None, face_colors, vertex_colors, faces,
-                                                        clip)
+                                                        clip if corners is None else vertex_colors)
+        if corners is not None:
+            corners = check_corners(corners, faces, vertex_colors)
         self._threads = thread_count(threads)
         self._faces = faces
         if neighbours is not None and (not isinstance(neighbours, np.ndarray) or neighbours.dtype != np.int32
@@ -85,7 +90,8 @@ class SharedTriangles:
         self._color = bool(color)
         self._prepared = prepare(clip, faces, face_colors, vertex_colors, cull, check_depth_offset(depth_offset),
                                  width=width, height=height, color=self._color, ids=False, threads=self._threads,
-                                 lighting=lighting, padded=True, textures=textures)
+                                 lighting=lighting, padded=True, textures=textures,
+                                 color_index=corners)
 
     def draw(self, color, depth, *, sample=(0, 0), clear=None) -> int:
         """Draw the triangles sampled at ``sample`` from each pixel centre, ``(x, y)``

@@ -20,10 +20,9 @@ from rasterkit.material import Material
 from rasterkit.material.sampling import TextureArgs, texture_args, with_filter
 from rasterkit.raster.kernels.records import Textured
 from rasterkit.raster.kernels.texture_shade import encode_table
-from rasterkit.raster.normals import vertex_normals
 from rasterkit.raster.vision import corner_uv
 
-__all__ = ["MeshTextures", "frame_textures", "mesh_textures", "smooth_corners"]
+__all__ = ["MeshTextures", "frame_textures", "mesh_textures"]
 
 _ENCODE = encode_table()
 
@@ -64,26 +63,6 @@ def mesh_textures(mesh) -> MeshTextures | None:
     return MeshTextures(textures, _sealed(face_texture), _sealed(tints[mesh.face_materials]), _sealed(uv))
 
 
-def smooth_corners(mesh) -> tuple[np.ndarray, np.ndarray]:
-    """``(normals, corners)``: a table of unit normals (K, 3) float64 and, per face corner,
-    its row (M, 3) int64: the mesh's own normals of each corner (``corner_normals`` through
-    ``normal_index``) where it has them, the vertex normals elsewhere (``Mesh.normals``, else
-    the area-weighted normals of the faces around each vertex)."""
-    faces = mesh.faces
-    if mesh.normals is not None:
-        per_vertex = np.asarray(mesh.normals, np.float64)
-    else:
-        finite = np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))
-        per_vertex = vertex_normals(mesh.vertices, np.ascontiguousarray(faces[finite]))
-    if mesh.corner_normals is None:
-        return _unit(per_vertex), faces
-    own = np.asarray(mesh.corner_normals, np.float64)
-    index = faces if mesh.normal_index is None else mesh.normal_index
-    table = np.concatenate([own, per_vertex])
-    corners = np.where(index >= 0, index, len(own) + faces)
-    return _unit(table), _sealed(np.ascontiguousarray(corners, np.int64))
-
-
 def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided: bool, smooth: bool,
                    texture_filter: str | None) -> Textured | None:
     """The band worker's :class:`~rasterkit.raster.kernels.records.Textured` for a frame of
@@ -97,7 +76,7 @@ def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided: bool, smo
     args = _arguments(layout.textures, texture_filter)
     light = np.ascontiguousarray(light, np.float64)
     if smooth:
-        normals, corners = mesh.smooth_corners
+        normals, corners, _ = mesh.smooth_corners
         cos = normals @ light
         cos = np.abs(cos) if two_sided else np.maximum(cos, 0.0)
         intensity = (ambient + (1.0 - ambient) * np.nan_to_num(cos, nan=0.0)).astype(np.float32)
@@ -115,15 +94,6 @@ def _arguments(textures: tuple, texture_filter: str | None) -> TextureArgs:
     ``texture_filter`` unless it is None. Textures are hashed by identity."""
     args = texture_args(textures)
     return args if texture_filter is None else with_filter(args, texture_filter)
-
-
-def _unit(normals: np.ndarray) -> np.ndarray:
-    """Rows scaled to unit length (zero and non-finite rows: zero), C-contiguous, read-only."""
-    normals = np.nan_to_num(np.asarray(normals, np.float64), nan=0.0, posinf=0.0, neginf=0.0)
-    length = np.linalg.norm(normals, axis=1, keepdims=True)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        unit = np.where(length > 0.0, normals / length, 0.0)
-    return _sealed(np.ascontiguousarray(unit))
 
 
 def _sealed(a: np.ndarray) -> np.ndarray:

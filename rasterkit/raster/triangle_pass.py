@@ -276,14 +276,16 @@ class Prepared(NamedTuple):
 
 
 def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, height, color, ids, threads,
-            lighting=None, padded=False, transform=None, textures=None) -> Prepared:
+            lighting=None, padded=False, transform=None, textures=None, color_index=None) -> Prepared:
     """Vertex pass, face pass, fans, bins, polygon offset and the smooth colours' terms of
     a :func:`draw_triangles` (its arguments; ``color`` and ``ids``: whether colours and
     face ids will be drawn). ``padded``: boxes padded by a pixel, for drawing at sample
     points other than the pixel centres. ``transform``: None, or ``(points, matrix)``
     ((N, 3) and (4, 4) float64, C-contiguous) that the vertex pass turns into ``clip``
     (N, 4), written here. ``textures``: a textured frame's
-    :class:`rasterkit.raster.kernels.records.Textured` (checked against the faces by its maker)."""
+    :class:`rasterkit.raster.kernels.records.Textured` (checked against the faces by its maker).
+    ``color_index``: with ``vertex_colors`` (K, 3), each face corner's row of them (M, 3) int64
+    (checked by the caller); None: ``faces`` (a colour per vertex)."""
     ws = WORKSPACE
     if not color:
         textures = None
@@ -312,7 +314,7 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
     # Flat colours without ids or textures: the visibility buffer carries the colour itself.
     resolve = SHADE_TAGGED if mode == SHADE_FLAT and not ids and textures is None else mode
     colors = vertex_colors if vertex_colors is not None else np.zeros((0, 3), np.float32)
-    shading = Shading(resolve, m, fan_face, packed, colors, faces, bary)
+    shading = Shading(resolve, m, fan_face, packed, colors, faces, bary, faces if color_index is None else color_index)
     stats = dict(
         faces=m,
         drawn=int(counts[STATUS_DRAWN]),
@@ -363,7 +365,7 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
 
 
 def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,
-                   threads, lighting=None, maps=None, transform=None, textures=None) -> dict:
+                   threads, lighting=None, maps=None, transform=None, textures=None, color_index=None) -> dict:
     """Draw the triangles ``faces`` (M, 3) int64 of the vertices ``clip`` (N, 4) float64
     (homogeneous raster space) as :func:`rasterkit.raster.triangles.rasterize_triangles` describes.
 
@@ -373,12 +375,12 @@ def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, c
     pass). ``cull`` is a name of :data:`CULL_CODES`, ``background`` (C,) uint8 or None,
     ``offset`` ``(factor, units)`` floats; ``threads`` draw the bands (the setup passes of
     a few faces run on one); ``maps``: as :func:`draw_prepared`; ``transform``: as
-    :func:`prepare`; ``textures``: as :func:`prepare`. Returns the counts of
+    :func:`prepare`; ``textures``, ``color_index``: as :func:`prepare`. Returns the counts of
     :class:`rasterkit.raster.triangles.TriangleStats`, by field name.
     """
     height, width = (depth if depth is not None else color).shape[:2]
     prepared = prepare(clip, faces, face_colors, vertex_colors, cull, offset, width=width, height=height,
                        color=color is not None, ids=ids is not None, threads=threads, lighting=lighting,
-                       transform=transform, textures=textures)
+                       transform=transform, textures=textures, color_index=color_index)
     fragments = draw_prepared(prepared, color, depth, ids, background, threads=threads, maps=maps)
     return dict(prepared.stats, fragments=fragments)

@@ -200,6 +200,18 @@ def shading_mode(color, face_colors, vertex_colors, faces, clip):
     return face_colors, None, None
 
 
+def check_corners(corners, faces, vertex_colors):
+    """``corners`` as (M, 3) int64 rows of ``vertex_colors`` (K, 3), one per face corner."""
+    _check_array("corners", corners, np.int64, 2)
+    if corners.shape != faces.shape:
+        raise ValueError(f"corners must have the faces' shape {faces.shape}, got {corners.shape}")
+    if vertex_colors is None:
+        raise ValueError("corners index vertex_colors: give both")
+    if corners.size and not 0 <= corners.min() <= corners.max() < len(vertex_colors):
+        raise ValueError(f"corners must be rows 0..{len(vertex_colors) - 1} of vertex_colors")
+    return corners
+
+
 def background_bytes(clear, color):
     """The clear colour as a (C,) uint8 array (empty without a colour buffer), or None."""
     if clear is None:
@@ -317,7 +329,7 @@ def rasterize_triangles(
 
 
 def rasterize_checked(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, clear, depth_offset, threads,
-               maps=None, transform=None, trusted=False, textures=None) -> dict:
+               maps=None, transform=None, trusted=False, textures=None, corners=None) -> dict:
     """:func:`rasterize_triangles`'s checks and draw, returning its counts by name, for
     :func:`rasterkit.render`: ``maps``, a vision render's
     (:func:`rasterkit.raster.triangle_pass.draw_prepared`); ``transform``, ``(points, matrix)``
@@ -326,7 +338,8 @@ def rasterize_checked(color, depth, clip, faces, face_colors, vertex_colors, ids
     render() (checked where they were made): the checks are skipped. Each NumPy call of them
     costs microseconds after a frame has gone through the caches, about 0.1 ms a frame.
     ``textures``: a textured frame's (:func:`rasterkit.raster.texturing.frame_textures`, made
-    for these faces)."""
+    for these faces); ``corners``: each face corner's row of ``vertex_colors`` (M, 3) int64,
+    render()'s own (``trusted``), for a mesh whose corners have their own normals."""
     if trusted:
         lighting = None
         if isinstance(face_colors, FlatLambert):  # its arrays' shapes still checked: a Mesh's
@@ -337,7 +350,7 @@ def rasterize_checked(color, depth, clip, faces, face_colors, vertex_colors, ids
         depth_offset = check_depth_offset(depth_offset)
     return draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background_bytes(clear, color),
                           depth_offset, threads=thread_count(threads), lighting=lighting, maps=maps, transform=transform,
-                          textures=textures)
+                          textures=textures, color_index=corners if trusted else None)
 
 
 def _check_draw(color, depth, ids, clip, faces, cull):

@@ -72,7 +72,7 @@ def test_a_textured_model_as_llvmpipe_draws_it(model, shading, filter, gl):
     (texture,) = mesh.textured.textures
     camera = View(size=(480, 360), azimuth=30, elevation=20).camera_for(mesh)
     fb = rasterkit.render(mesh, camera, "solid", shading=shading, texture_filter=filter, ids=True)
-    normals, corners = mesh.smooth_corners
+    normals, corners, _ = mesh.smooth_corners
     uploaded = gl.upload(mesh.vertices, mesh.faces, mesh.textured.corner_uv.reshape(-1, 3, 2), texture.image, camera,
                          filter=filter, shading=shading, corner_normals=normals[corners],
                          levels=_gl_levels(texture) if filter == "trilinear" else None)

@@ -190,7 +190,7 @@ def _clear_band(y0, y1, target, clear):
 def prefetch_record(t, records, shading):
     """Ask for record ``t``'s rows and (flat shading, an uncut face) its face colour."""
     tri_xy, tri_z, tri_box = records
-    mode, n_faces, _, packed, _, _, _ = shading
+    mode, n_faces, _, packed, _, _, _, _ = shading
     prefetch_row(tri_box, t)
     prefetch_row(tri_xy, t)
     prefetch_row(tri_z, t)
@@ -296,7 +296,7 @@ def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, b
     on its own: :func:`draw_bands` with and without a vision render's maps is two small
     loops around this one function, so the maps do not compile the band's drawing again."""
     tri_xy, tri_z, tri_box = records
-    mode, n_faces, fan_face, packed, vertex_colors, faces, bary = shading
+    mode, n_faces, fan_face, packed, vertex_colors, _, bary, corners = shading
     _, _, _, color, write_ids, ids = target
     sample_x, sample_y = sample.x / ONE, sample.y / ONE  # pixels, for the smooth colours
     width = band_lid.shape[1]
@@ -316,8 +316,8 @@ def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, b
     for r in range(y1 - y0):
         if textures is None:
             resolve_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed, vertex_colors,
-                        faces, bary, color, write_ids, ids)
+                        corners, bary, color, write_ids, ids)
         else:
             resolve_textured_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed,
-                                 vertex_colors, faces, bary, color, write_ids, ids, textures)
+                                 vertex_colors, corners, bary, color, write_ids, ids, textures)
     return fragments

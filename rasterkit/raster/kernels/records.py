@@ -28,9 +28,10 @@ Lit = namedtuple("Lit", "on normals base scale light ambient two_sided packed")
 #: How :func:`rasterkit.raster.kernels.bands.draw_bands` colours a visible pixel
 #: (:func:`rasterkit.raster.kernels.shade.resolve_row`): the resolve ``mode`` (SHADE_*), ``n_faces``
 #: M (record ``t`` is face ``t`` below M, else face ``fan_face[t - M]``), ``packed`` (M,)
-#: uint32 face colours, ``vertex_colors`` (N, 3) float32, ``faces`` (M, 3) int64 and
-#: ``bary`` (M, 9) float64 perspective-correct barycentric rows (smooth shading).
-Shading = namedtuple("Shading", "mode n_faces fan_face packed vertex_colors faces bary")
+#: uint32 face colours, ``faces`` (M, 3) int64, ``bary`` (M, 9) float64 perspective-correct
+#: barycentric rows, and for smooth shading ``vertex_colors`` (K, 3) float32 read through
+#: ``corners`` (M, 3) int64, each face corner's row (``faces`` itself for a colour per vertex).
+Shading = namedtuple("Shading", "mode n_faces fan_face packed vertex_colors faces bary corners")
 
 #: Where :func:`rasterkit.raster.kernels.bands.draw_bands` draws: ``depth`` (H, W) float32 when
 #: ``keep_depth``, else a band-sized scratch per slot; the image ``height``; ``color`` (H, W,

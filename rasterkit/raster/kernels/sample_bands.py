@@ -62,7 +62,7 @@ def _add_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, background, 
     The sums start at ``n`` backgrounds (:func:`_fill_sums`): a pixel no face covers adds
     nothing, and the loop visits only the columns the sample may have written. Flat colours
     without branches (LLVM vectorises the tagged loop)."""
-    mode, _, _, packed, vertex_colors, faces, bary = shading
+    mode, _, _, packed, vertex_colors, _, bary, corners = shading
     ru = np.uint64(r)
     px, py = lo + 0.5 + sample_x, y + 0.5 + sample_y
     for k in range(hi - lo + 1):
@@ -77,7 +77,7 @@ def _add_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, background, 
         elif mode == SHADE_FLAT:
             rgb = packed[np.uint64(max(f, 0))]  # packed has a row: a band with records has faces
         elif f >= 0:
-            rgb = smooth_rgba(f, px + k, py, vertex_colors, faces, bary)
+            rgb = smooth_rgba(f, px + k, py, vertex_colors, corners, bary)
         else:
             rgb = background
         rgb = rgb if f >= 0 else background
@@ -91,7 +91,7 @@ def _add_textured_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, bac
                       textures):
     """:func:`_add_row` of a textured frame (``shading.mode`` SHADE_FLAT or SHADE_SMOOTH),
     each face's colour by :func:`rasterkit.raster.kernels.texture_shade.pixel_rgba`."""
-    mode, _, _, packed, vertex_colors, faces, bary = shading
+    mode, _, _, packed, vertex_colors, _, bary, corners = shading
     fields = texture_fields(textures)
     ru = np.uint64(r)
     px, py = lo + 0.5 + sample_x, y + 0.5 + sample_y
@@ -104,7 +104,7 @@ def _add_textured_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, bac
         depth[ru, iu] = np.inf
         if exact:
             _note_face(first, state, ru, iu, f, 1)
-        rgb = pixel_rgba(mode, f, px + k, py, packed, vertex_colors, faces, bary, fields)
+        rgb = pixel_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields)
         sums[ru, iu, 0] = _channel(sums[ru, iu, 0], rgb, 0, background)
         sums[ru, iu, 1] = _channel(sums[ru, iu, 1], rgb, 8, background)
         sums[ru, iu, 2] = _channel(sums[ru, iu, 2], rgb, 16, background)
@@ -187,7 +187,7 @@ def _unseen_rgb(f, i, j, records, shading, textures):
     """Face ``f``'s packed colour in pixel ``(i, j)`` that no sample saw (a corner or a sliver
     between the sample points): its flat colour, or its smooth or textured colour at its
     corner in the pixel (else at the pixel's centre)."""
-    mode, _, _, packed, vertex_colors, faces, bary = shading
+    mode, _, _, packed, vertex_colors, _, bary, corners = shading
     if mode != SHADE_SMOOTH and (textures is None or textures.face_texture[f] < 0):
         return packed[np.uint64(f)]
     tri_xy = records[0]
@@ -197,9 +197,9 @@ def _unseen_rgb(f, i, j, records, shading, textures):
         if (x >> 8) == i and (y >> 8) == j:
             cx, cy = x, y
     if textures is not None:
-        return pixel_rgba(mode, f, cx / 256.0, cy / 256.0, packed, vertex_colors, faces, bary,
+        return pixel_rgba(mode, f, cx / 256.0, cy / 256.0, packed, vertex_colors, corners, bary,
                           texture_fields(textures))
-    return smooth_rgba(f, cx / 256.0, cy / 256.0, vertex_colors, faces, bary)
+    return smooth_rgba(f, cx / 256.0, cy / 256.0, vertex_colors, corners, bary)
 
 
 @kernel
@@ -306,7 +306,7 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
     """
     offsets, background, scale, bias, sums, exact, first, state, corners, neighbours = samples
     tri_xy, tri_z, _ = records
-    mode, n_faces, fan_face, packed, _, _, _ = shading
+    mode, n_faces, fan_face, packed, _, _, _, _ = shading
     width = lid.shape[2]
     guard = lid.shape[1] - BAND_HEIGHT
     band_lid = lid[slot, guard:]

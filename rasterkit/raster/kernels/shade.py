@@ -276,8 +276,9 @@ def put_rgba(color, j, i, rgba):
 
 
 @kernel(inline="always")
-def smooth_rgba(f, px, py, vertex_colors, faces, bary):
-    """Perspective-correct vertex colour of face ``f`` at raster point (px, py), packed."""
+def smooth_rgba(f, px, py, vertex_colors, corners, bary):
+    """Perspective-correct colour of face ``f`` at raster point (px, py), packed: its corners'
+    rows ``corners[f]`` of ``vertex_colors`` interpolated."""
     b0 = bary[f, 0] * px + bary[f, 1] * py + bary[f, 2]
     b1 = bary[f, 3] * px + bary[f, 4] * py + bary[f, 5]
     b2 = bary[f, 6] * px + bary[f, 7] * py + bary[f, 8]
@@ -286,7 +287,7 @@ def smooth_rgba(f, px, py, vertex_colors, faces, bary):
         b0, b1, b2 = b0 / total, b1 / total, b2 / total
     else:
         b0 = b1 = b2 = 1.0 / 3.0
-    v0, v1, v2 = faces[f, 0], faces[f, 1], faces[f, 2]
+    v0, v1, v2 = corners[f, 0], corners[f, 1], corners[f, 2]
     rgba = 255 << 24
     for c in range(3):
         value = b0 * vertex_colors[v0, c] + b1 * vertex_colors[v1, c] + b2 * vertex_colors[v2, c]
@@ -295,7 +296,8 @@ def smooth_rgba(f, px, py, vertex_colors, faces, bary):
 
 
 @kernel(refcounts=False)
-def resolve_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, faces, bary, color, write_ids, ids):
+def resolve_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, corners, bary, color, write_ids,
+                ids):
     """Colour (and id) the pixels ``lo..hi`` of image row ``j`` that a triangle won.
 
     Reads the band's visibility buffer row ``lid[r]`` (the visible face, -1 for none; in
@@ -317,8 +319,9 @@ def resolve_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colo
         interpolates the colour at that point, ``(i + 0.5 + sample_x, j + 0.5 + sample_y)``.
     packed : (M,) uint32
         SHADE_FLAT: each face's colour (:func:`pack_colors`).
-    vertex_colors : (N, 3) float32
-        SHADE_SMOOTH: 0..255 per vertex, with ``faces`` and ``bary`` (:func:`bary_matrices`).
+    vertex_colors : (K, 3) float32
+        SHADE_SMOOTH: 0..255 per row, each face corner's row in ``corners`` (M, 3) int64
+        (the faces, for a colour per vertex), interpolated with ``bary`` (:func:`bary_matrices`).
     color : (H, W, C) uint8
         The image, C = 3 (RGB) or 4 (RGBA, alpha 255); untouched in SHADE_NONE.
     write_ids : bool
@@ -337,6 +340,6 @@ def resolve_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colo
         elif mode == SHADE_TAGGED:
             put_rgba(color, ju, i, np.int64(f) | 0xFF000000)
         elif mode == SHADE_SMOOTH:
-            put_rgba(color, ju, i, smooth_rgba(f, px + k, py, vertex_colors, faces, bary))
+            put_rgba(color, ju, i, smooth_rgba(f, px + k, py, vertex_colors, corners, bary))
         if write_ids:
             ids[ju, i] = f

@@ -128,20 +128,20 @@ def face_pixel(terms, x, y, texels, levels, decode, table):
 
 
 @kernel(inline="always")
-def pixel_rgba(mode, f, px, py, packed, vertex_colors, faces, bary, fields):
+def pixel_rgba(mode, f, px, py, packed, vertex_colors, corners, bary, fields):
     """The colour of face ``f`` at raster point (px, py): textured where it has a texture,
-    else flat (``packed``) or smooth (``vertex_colors`` through ``faces``); ``fields``:
+    else flat (``packed``) or smooth (``vertex_colors`` through ``corners``); ``fields``:
     :func:`texture_fields`."""
     t = fields[5][f]
     if t >= 0:
         return face_pixel(face_terms(f, t, bary, fields), px, py, fields[0], fields[1], fields[4], fields[15])
     if mode == SHADE_SMOOTH:
-        return smooth_rgba(f, px, py, vertex_colors, faces, bary)
+        return smooth_rgba(f, px, py, vertex_colors, corners, bary)
     return packed[f]
 
 
 @kernel(refcounts=False)
-def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, faces, bary, color,
+def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, corners, bary, color,
                          write_ids, ids, textures):
     """:func:`rasterkit.raster.kernels.shade.resolve_row` of a textured frame (``mode``
     SHADE_FLAT or SHADE_SMOOTH: the visibility rows hold faces); ``textures`` a
@@ -168,7 +168,7 @@ def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, ve
                 put_rgba(color, ju, base + np.uint64(q), face_pixel(terms, px + q, py, texels, levels, decode, table))
         elif mode == SHADE_SMOOTH:
             for q in range(k, end):
-                put_rgba(color, ju, base + np.uint64(q), smooth_rgba(f, px + q, py, vertex_colors, faces, bary))
+                put_rgba(color, ju, base + np.uint64(q), smooth_rgba(f, px + q, py, vertex_colors, corners, bary))
         elif mode == SHADE_FLAT:
             for q in range(k, end):
                 put_rgba(color, ju, base + np.uint64(q), packed[f])
