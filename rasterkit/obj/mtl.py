@@ -5,11 +5,14 @@ Read, for the materials the model uses (``newmtl NAME``; a later definition of a
 replaces an earlier one):
 
 - ``Kd``, ``Ks``, ``Ke`` ``r [g b]`` (one number is grey; ``Kd`` and ``Ks`` clipped to [0, 1],
-  ``Ke`` to [0, inf)); ``Ns`` exponent (>= 0); ``d`` opacity (``d -halo x`` too) and ``Tr``
-  transparency, clipped to [0, 1]. ``d`` wins over ``Tr`` when a material has both. A
-  ``Tr`` alone gives the opacity ``1 - Tr``, except ``Tr 1`` (nothing visible), which is
-  read as opaque: MeshLab and some 3ds Max exporters write ``Tr`` as the opacity, and a
-  material that draws nothing is not what such a file means (``fuze.obj.mtl`` has it).
+  ``Ke`` to [0, inf)). A material without ``Kd`` gets :class:`~rasterkit.Material`'s default
+  diffuse: (1, 1, 1) when its ``map_Kd`` could be read (the texture as it is), else (0.8,
+  0.8, 0.8); its face colour (``Mesh.face_colors``) is (0.8, 0.8, 0.8) either way.
+- ``Ns`` exponent (>= 0); ``d`` opacity (``d -halo x`` too) and ``Tr`` transparency,
+  clipped to [0, 1]. ``d`` wins over ``Tr`` when a material has both. A ``Tr`` alone gives
+  the opacity ``1 - Tr``, except ``Tr 1`` (nothing visible), which is read as opaque:
+  MeshLab and some 3ds Max exporters write ``Tr`` as the opacity, and a material that draws
+  nothing is not what such a file means (``fuze.obj.mtl`` has it).
 - ``map_Kd``, ``map_d``, ``map_Ks`` and ``map_Bump`` / ``bump`` / ``norm`` (these keywords in
   any case: files write ``map_bump`` and ``map_kd`` too) with the options ``-s u [v [w]]``
   (scale, default 1), ``-o u [v [w]]`` (offset, default 0), ``-clamp on|off`` and ``-bm x``

@@ -71,6 +71,23 @@ def test_opacity_from_d_and_tr(tmp_path, lines, opacity):
     assert materials["m"].opacity == pytest.approx(opacity) and warnings == ()
 
 
+def test_a_diffuse_map_without_kd_is_drawn_white(tmp_path):
+    """map_Kd without Kd: diffuse (1, 1, 1), the texture as it is; an explicit Kd is kept as
+    written; a map that cannot be read leaves the default grey. The face colours (what an
+    untextured render draws) keep the grey of a material without Kd."""
+    png(tmp_path / "t.png")
+    mtl = ("newmtl bare\nmap_Kd t.png\nnewmtl grey\nKd 0.8 0.8 0.8\nmap_Kd t.png\n"
+           "newmtl dark\nmap_Kd t.png\nKd 0.25 0.5 0.75\nnewmtl lost\nmap_Kd gone.png\n")
+    materials, warnings = read(tmp_path, mtl, uses=("bare", "grey", "dark", "lost"))
+    assert [materials[n].diffuse for n in ("bare", "grey", "dark", "lost")] == \
+        [(1.0, 1.0, 1.0), (0.8, 0.8, 0.8), (0.25, 0.5, 0.75), (0.8, 0.8, 0.8)]
+    assert materials["bare"].diffuse_map is materials["grey"].diffuse_map and materials["lost"].diffuse_map is None
+    assert len(warnings) == 1 and "'gone.png' cannot be read" in warnings[0]
+    mesh = rasterkit.load_obj(tmp_path / "model.obj", textures=True)
+    assert [m.diffuse for m in mesh.materials] == [materials[n].diffuse for n in mesh.material_names]
+    np.testing.assert_array_equal(mesh.face_colors, np.float32([[0.8] * 3, [0.8] * 3, [0.25, 0.5, 0.75], [0.8] * 3]))
+
+
 def test_values_are_clipped_as_kd_is(tmp_path):
     materials, _ = read(tmp_path, "newmtl m\nKd 2 -1 0.5\nKs 3\nNs -4\nKe 5 5 5\n")
     m = materials["m"]
