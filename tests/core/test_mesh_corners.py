@@ -278,6 +278,22 @@ def test_a_trimesh_with_colours_brings_them_and_one_without_brings_none():
     assert np.allclose(mesh.face_colors, colours[:, :3] / 255.0) and mesh.vertex_colors is None
 
 
+@pytest.mark.parametrize("kind", ["vertex", "face"])
+def test_colours_of_a_ply_file_read_by_trimesh(tmp_path, kind):
+    trimesh = pytest.importorskip("trimesh")
+    box = trimesh.creation.box()
+    rows = len(box.vertices) if kind == "vertex" else len(box.faces)
+    colours = np.random.default_rng(7).integers(0, 256, (rows, 4), dtype=np.uint8)
+    colours[:, 3] = 255
+    setattr(box.visual, f"{kind}_colors", colours)
+    box.export(tmp_path / "box.ply")
+    loaded = trimesh.load(tmp_path / "box.ply", process=False)
+    assert loaded.visual.kind == kind
+    mesh = as_mesh(loaded)
+    assert np.array_equal(getattr(mesh, f"{kind}_colors"), (colours[:, :3] / 255.0).astype(np.float32))
+    assert mesh.uv is None and mesh.materials == ()
+
+
 def test_trimesh_reads_of_the_fuze_bottle_keep_its_texture(models_dir):
     """trimesh and load_obj read fuze.obj (v/vt/vn, map_Kd "fuze uv.jpg", Kd 1 1 1) alike: the
     same texture coordinates at every face corner (trimesh gives v up, as rasterkit does),
