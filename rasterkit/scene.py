@@ -15,6 +15,7 @@ from rasterkit.camera import Camera
 from rasterkit.colors import ColorLike, parse_color
 from rasterkit._arrays import real_array
 from rasterkit.limits import check_memory
+from rasterkit.material import Material
 from rasterkit.mesh import Mesh, as_mesh, mesh_bytes
 from rasterkit.transform import apply_normals, apply_points
 
@@ -72,6 +73,18 @@ class Scene:
         Faces carry colours when any object has a colour of its own (``color``, face colours,
         or vertex colours averaged over each face); faces without one get ``default_color``.
         Vertex colours survive only when every object has them and none has a ``color``.
+
+        The per-corner tables are joined, each object's indices offset into them: ``uv``
+        as they are, ``corner_normals`` in world space (the inverse transpose of the linear
+        part of the object's model matrix, normalised; zero rows stay zero). The faces of
+        an object without a table, or whose matrix cannot carry normals (a singular linear
+        part), get ``-1, -1, -1``; a table is None when no object has one. The materials
+        are one table too (``material_names``, ``materials``), each object's
+        ``face_materials`` offset into it (-1 stays -1; an object without them: -1). A name
+        may appear more than once (objects whose materials share a name stay apart).
+        ``materials`` is empty when no object has any; otherwise an object that names
+        materials without having them gets a default :class:`~rasterkit.Material` of each
+        name (as ``load_obj`` gives a material no library defines).
         """
         if not self.objects:
             raise ValueError("the scene is empty: add a mesh first")
@@ -83,8 +96,13 @@ class Scene:
         n = sum(len(o.mesh.vertices) for o in self.objects)
         m = sum(len(o.mesh.faces) for o in self.objects)
         e = sum(len(o.mesh.edges) for o in self.objects)
-        # world-space copies (and their homogeneous temporaries), then the Mesh made of them
-        check_memory(n * (24 * 4 + 32 + 12 + 16) + m * (24 + 12) + e * 16 + mesh_bytes(n, m, e),
+        n_uv = sum(_rows(o.mesh.uv) for o in self.objects)
+        n_normals = sum(_rows(o.mesh.corner_normals) for o in self.objects)
+        indexed = (n_uv > 0) + (n_normals > 0)
+        # world-space copies (and their homogeneous temporaries), the joined corner tables (the
+        # normals' scaled and transformed temporaries), then the Mesh made of them
+        check_memory(n * (24 * 4 + 32 + 12 + 16) + m * (24 + 12 + 8) + e * 16 + n_uv * 16 + n_normals * 24 * 5
+                     + indexed * m * 48 + mesh_bytes(n, m, e, n_uv, n_normals, indexed),
                      f"the world mesh of a scene of {len(self.objects)} objects ({n} vertices, {m} faces)")
         offsets = np.cumsum([0] + [len(o.mesh.vertices) for o in self.objects])
         vertices = np.concatenate([apply_points(o.matrix, o.mesh.vertices) for o in self.objects])
@@ -93,9 +111,14 @@ class Scene:
         vertex_colors = self._vertex_colors()
         face_colors = None if vertex_colors is not None else \
             self._face_colors(parse_color(default_color)[:3] / 255.0)
-        uv, uv_index = self._corner_uv()
+        uv, uv_index = self._join_corners([None if o.mesh.uv is None else (o.mesh.uv, o.mesh.uv_index)
+                                           for o in self.objects])
+        corner_normals, normal_index = self._join_corners([_world_corner_normals(o) for o in self.objects])
+        names, face_materials, materials = self._materials()
         return Mesh(vertices, faces, edges=edges, normals=self._normals(), texcoords=self._texcoords(),
-                    vertex_colors=vertex_colors, face_colors=face_colors, uv=uv, uv_index=uv_index)
+                    vertex_colors=vertex_colors, face_colors=face_colors, uv=uv, uv_index=uv_index,
+                    corner_normals=corner_normals, normal_index=normal_index, material_names=names,
+                    face_materials=face_materials, materials=materials)
 
     def bounding_sphere(self) -> tuple[np.ndarray, float]:
         """Centre and radius of a sphere holding every object's world-space vertices."""
@@ -108,20 +131,38 @@ class Scene:
             return np.concatenate([apply_normals(o.matrix, o.mesh.normals) for o in self.objects])
         return None
 
-    def _corner_uv(self):
-        """``(uv, uv_index)`` of the objects' per-corner texture coordinates, one table (the
-        faces of an object without any: -1), or ``(None, None)`` when no object has them."""
-        if all(o.mesh.uv is None for o in self.objects):
+    def _join_corners(self, tables: list):
+        """``(table, index)`` of one table of per-corner rows from each object's
+        ``(table, index)`` (None: its faces get -1), or ``(None, None)`` when no object has
+        one."""
+        if all(t is None for t in tables):
             return None, None
-        tables, indices, start = [], [], 0
-        for o in self.objects:
-            if o.mesh.uv is None:
+        rows, indices, start = [], [], 0
+        for o, t in zip(self.objects, tables):
+            if t is None:
                 indices.append(np.full((len(o.mesh.faces), 3), -1, np.int64))
                 continue
-            tables.append(o.mesh.uv)
-            indices.append(np.where(o.mesh.uv_index >= 0, o.mesh.uv_index + start, -1))
-            start += len(o.mesh.uv)
-        return np.concatenate(tables), np.concatenate(indices)
+            rows.append(t[0])
+            indices.append(np.where(t[1] >= 0, t[1] + start, -1))
+            start += len(t[0])
+        return np.concatenate(rows), np.concatenate(indices)
+
+    def _materials(self):
+        """``(material_names, face_materials, materials)`` of the objects in one table (see
+        :meth:`world_mesh`)."""
+        names, labels, materials = [], [], []
+        whole = any(o.mesh.materials for o in self.objects)
+        for o in self.objects:
+            mesh = o.mesh
+            if mesh.face_materials is None:
+                labels.append(np.full(len(mesh.faces), -1, np.int32))
+            else:
+                labels.append(np.where(mesh.face_materials >= 0, mesh.face_materials + len(names), -1).astype(np.int32))
+            if whole:
+                materials.extend(mesh.materials or [Material(name) for name in mesh.material_names])
+            names.extend(mesh.material_names)
+        labelled = any(o.mesh.face_materials is not None for o in self.objects)
+        return tuple(names), np.concatenate(labels) if labelled else None, tuple(materials)
 
     def _texcoords(self):
         """The objects' texture coordinates, when every object has them."""
@@ -161,6 +202,23 @@ def _invertible(matrix: np.ndarray) -> bool:
             return bool(np.all(np.isfinite(np.linalg.inv(matrix[:3, :3]))))
         except np.linalg.LinAlgError:
             return False
+
+
+def _world_corner_normals(obj: SceneObject):
+    """``(corner_normals, normal_index)`` of an object in world space, or None when it has
+    none or its model matrix cannot carry normals (a singular linear part, or rows beyond
+    float64 on the way)."""
+    mesh = obj.mesh
+    if mesh.corner_normals is None or not _invertible(obj.matrix):
+        return None
+    # each row scaled by a power of two (exact) to at most 1 first: only its direction counts
+    _, exponent = np.frexp(np.abs(mesh.corner_normals).max(axis=1, keepdims=True))
+    world = apply_normals(obj.matrix, np.ldexp(mesh.corner_normals, -exponent))
+    return (world, mesh.normal_index) if np.isfinite(world).all() else None
+
+
+def _rows(table) -> int:
+    return 0 if table is None else len(table)
 
 
 def _own_face_colors(obj: SceneObject) -> np.ndarray | None:

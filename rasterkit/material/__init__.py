@@ -14,7 +14,7 @@ light, looked up as linear light (the renderer encodes the shaded colour back to
 """
 
 from rasterkit.material.errors import TextureError, TextureLimitError
-from rasterkit.material.material import DEFAULT_DIFFUSE, Material
+from rasterkit.material.material import DEFAULT_DIFFUSE, MAPPED_DIFFUSE, Material
 from rasterkit.material.texture import FILTERS, WRAPS, Texture
 
-__all__ = ["DEFAULT_DIFFUSE", "FILTERS", "Material", "Texture", "TextureError", "TextureLimitError", "WRAPS"]
+__all__ = ["DEFAULT_DIFFUSE", "FILTERS", "MAPPED_DIFFUSE", "Material", "Texture", "TextureError", "TextureLimitError", "WRAPS"]

@@ -11,10 +11,15 @@ from rasterkit import values
 from rasterkit._arrays import describe
 from rasterkit.material.texture import Texture
 
-__all__ = ["DEFAULT_DIFFUSE", "Material"]
+__all__ = ["DEFAULT_DIFFUSE", "MAPPED_DIFFUSE", "Material"]
 
 DEFAULT_DIFFUSE = (0.8, 0.8, 0.8)
-"""Diffuse colour (``Kd``) of a material that gives none, and of faces without a material."""
+"""Diffuse colour (``Kd``) of a material that gives neither a colour nor a ``diffuse_map``,
+and of faces without a material."""
+
+MAPPED_DIFFUSE = (1.0, 1.0, 1.0)
+"""Diffuse colour of a material that gives a ``diffuse_map`` but no colour: the texture as it
+is (the renderer multiplies the texture by ``diffuse``)."""
 
 
 def _rgb(high: float):
@@ -60,9 +65,13 @@ class Material:
     ------
     name : str
         The ``newmtl`` name.
-    diffuse : (r, g, b) floats in [0, 1]
-        ``Kd``, the Lambert colour, multiplied by ``diffuse_map`` where it has one. Default
-        :data:`DEFAULT_DIFFUSE` (0.8, 0.8, 0.8), the colour of faces without a material.
+    diffuse : (r, g, b) floats in [0, 1], or None
+        ``Kd``, the Lambert colour, multiplied by ``diffuse_map`` where it has one. None (the
+        default) is :data:`MAPPED_DIFFUSE` (1, 1, 1) when a ``diffuse_map`` is given, so that
+        the texture is drawn as it is, and :data:`DEFAULT_DIFFUSE` (0.8, 0.8, 0.8), the colour
+        of faces without a material, otherwise. Resolved when the Material is made: it is
+        always a colour afterwards, and ``dataclasses.replace`` keeps it (pass
+        ``diffuse=None`` with a new ``diffuse_map`` to have it chosen again).
     specular : (r, g, b) floats in [0, 1]
         ``Ks``, the Phong highlight's colour, multiplied by ``specular_map``. Default
         (0, 0, 0): no highlight unless the file asks for one.
@@ -90,7 +99,7 @@ class Material:
     """
 
     name: str = "default"
-    diffuse: tuple = DEFAULT_DIFFUSE
+    diffuse: tuple | None = None
     specular: tuple = (0.0, 0.0, 0.0)
     shininess: float = 32.0
     opacity: float = 1.0
@@ -102,6 +111,8 @@ class Material:
     bump_scale: float = 1.0
 
     def __post_init__(self):
+        if self.diffuse is None:
+            object.__setattr__(self, "diffuse", DEFAULT_DIFFUSE if self.diffuse_map is None else MAPPED_DIFFUSE)
         for name, check in _CHECKS.items():
             object.__setattr__(self, name, check(name, getattr(self, name)))
 

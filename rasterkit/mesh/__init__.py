@@ -13,7 +13,7 @@ renderer calls before any kernel runs. To move a mesh, make a new one
 
 The package: the Mesh (here), the checks of its arrays (``checks``), edges of polygons and
 the faces across each side (``edges``), and the attributes of meshes from other libraries
-(``foreign``: trimesh's texture coordinates, images and colours).
+(``foreign``: trimesh's texture coordinates, materials and colours).
 """
 
 from __future__ import annotations
@@ -102,9 +102,9 @@ class Mesh:
     face_materials : (M,) int32, or None
         For each face, its index into ``material_names`` (and ``materials``), -1 for none.
     materials : tuple
-        Empty, or one material object for each of ``material_names``, in that order (what
-        the readers know of each material; a trimesh mesh's is a
-        :class:`rasterkit.mesh.foreign.ImportedMaterial`).
+        Empty, or one material for each of ``material_names``, in that order: the readers
+        and :func:`as_mesh` give :class:`rasterkit.Material` records (``load_obj`` with
+        ``textures=True``, trimesh meshes with ``TextureVisuals``).
 
     ``normals`` and ``texcoords`` are one per vertex (an OBJ file's averaged over each
     vertex's corners, and the first corner's); ``corner_normals`` and ``uv`` keep every
@@ -326,9 +326,9 @@ def as_mesh(mesh) -> Mesh:
     ``.vertices`` and ``.faces``. A Mesh is checked with :meth:`Mesh.check_intact`.
 
     A trimesh mesh brings what its ``visual`` holds (:func:`rasterkit.mesh.foreign.visual_fields`):
-    ``TextureVisuals`` their per-vertex ``uv`` (``uv_index`` is then ``faces``) and their
-    material, with its image, as ``materials[0]`` (an
-    :class:`~rasterkit.mesh.foreign.ImportedMaterial`) that every face uses;
+    ``TextureVisuals`` their per-vertex ``uv`` (``uv_index`` is then ``faces``; v up, as
+    rasterkit's) and their material as a :class:`rasterkit.Material` that every face uses
+    (``materials[0]``; the image, or ``baseColorTexture``, as its ``diffuse_map``);
     ``ColorVisuals`` their vertex or face colours (RGB; alpha is dropped)."""
     if isinstance(mesh, Mesh):
         return mesh.check_intact()

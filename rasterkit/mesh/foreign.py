@@ -1,50 +1,36 @@
 """What meshes of other libraries bring besides their geometry, as keyword arguments of a
-:class:`rasterkit.mesh.Mesh`: trimesh's texture coordinates and material image
+:class:`rasterkit.mesh.Mesh`: trimesh's texture coordinates and materials
 (``TextureVisuals``) and its vertex or face colours (``ColorVisuals``).
 
 Nothing here imports trimesh or Pillow: the objects are read through the attributes they
 have (``visual.kind``, ``visual.uv``, ``visual.material``, a Pillow image's ``convert``).
+trimesh's texture coordinates are OpenGL's (``v`` up, ``v = 0`` the bottom row of the image),
+as rasterkit's are: they are taken as they are.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 
 from rasterkit._arrays import real_array
 from rasterkit.limits import check_memory
-from rasterkit.mesh.checks import seal
+from rasterkit.material import Material, Texture
 
-__all__ = ["ImportedMaterial", "visual_fields"]
+__all__ = ["TRIMESH_UNSET_DIFFUSE", "visual_fields"]
 
-
-@dataclass(frozen=True, eq=False)
-class ImportedMaterial:
-    """A material as another library gives it, kept in ``Mesh.materials`` until rasterkit's
-    own material record takes its place.
-
-    Attributes
-    ----------
-    name : str
-    diffuse : tuple of 4 floats in [0, 1]
-        The base colour, RGBA (trimesh's ``diffuse`` or ``baseColorFactor``).
-    diffuse_map : (H, W, 3) or (H, W, 4) uint8, or None
-        The texture image, immutable, row 0 at the top of the image as image files store
-        it (so ``uv`` v = 1 is row 0 and v = 0 the bottom row); RGBA when the image has
-        transparency.
-    """
-
-    name: str
-    diffuse: tuple = (1.0, 1.0, 1.0, 1.0)
-    diffuse_map: np.ndarray | None = None
+TRIMESH_UNSET_DIFFUSE = (102, 102, 102, 255)
+"""What trimesh's ``SimpleMaterial`` stores as ``diffuse`` when it is given none
+(``trimesh.visual.color.DEFAULT_COLOR``): read as no colour, so that a material with an image
+gets :class:`~rasterkit.Material`'s default under a map, white, and its image is drawn as it
+is (as trimesh's own viewer draws it), not at 40 % brightness."""
 
 
 def visual_fields(obj) -> dict:
     """Keyword arguments of a Mesh for what ``obj.visual`` holds (nothing for an object
-    without one, or with trimesh's default colours): ``uv`` per vertex and one material
-    that every face uses for ``TextureVisuals``; ``vertex_colors`` or ``face_colors`` (RGB
-    in [0, 1]) for ``ColorVisuals`` whose colours were set."""
+    without one, or with trimesh's default colours): ``uv`` per vertex and its material
+    (:func:`_material`) for every face for ``TextureVisuals`` (a ``MultiMaterial``'s
+    materials, by ``visual.face_materials``); ``vertex_colors`` or ``face_colors`` (RGB in
+    [0, 1]) for ``ColorVisuals`` whose colours were set."""
     visual = getattr(obj, "visual", None)
     kind = getattr(visual, "kind", None)
     if kind == "texture":
@@ -61,46 +47,59 @@ def _texture_fields(visual, obj) -> dict:
     if getattr(visual, "uv", None) is not None:
         fields["uv"] = real_array(visual.uv, "visual.uv")[:, :2]
     material = getattr(visual, "material", None)
-    if material is not None:
-        fields["materials"] = (_imported(material),)
-        fields["material_names"] = (fields["materials"][0].name,)
-        fields["face_materials"] = np.zeros(len(obj.faces), np.int32)
+    if material is None:
+        return fields
+    parts = getattr(material, "materials", None)  # a MultiMaterial
+    if parts is None:
+        materials = (_material(material, "material"),)
+        face_materials = np.zeros(len(obj.faces), np.int32)
+    else:
+        materials = tuple(_material(m, f"material_{k}") for k, m in enumerate(parts))
+        chosen = getattr(visual, "face_materials", None)
+        face_materials = np.zeros(len(obj.faces), np.int32) if chosen is None else chosen
+    fields.update(materials=materials, material_names=tuple(m.name for m in materials), face_materials=face_materials)
     return fields
 
 
-def _imported(material) -> ImportedMaterial:
-    """trimesh's ``SimpleMaterial`` (``image``, ``diffuse``) or ``PBRMaterial``
-    (``baseColorTexture``, ``baseColorFactor``) as an :class:`ImportedMaterial`."""
+def _material(material, default_name: str = "material") -> Material:
+    """A :class:`rasterkit.Material` of trimesh's ``SimpleMaterial`` (``image``,
+    ``diffuse``) or ``PBRMaterial`` (``baseColorTexture``, ``baseColorFactor``): the image as
+    its ``diffuse_map`` (an sRGB :class:`~rasterkit.Texture`, RGBA when the image has
+    transparency), the colour's RGB as ``diffuse`` and its alpha as ``opacity``. A colour
+    that is absent or not finite, and a ``SimpleMaterial``'s :data:`TRIMESH_UNSET_DIFFUSE`
+    under an image, leave Material's defaults: white under a map, else (0.8, 0.8, 0.8)."""
     image = getattr(material, "image", None)
     if image is None:
         image = getattr(material, "baseColorTexture", None)
     colour = getattr(material, "diffuse", None)
     if colour is None:
         colour = getattr(material, "baseColorFactor", None)
-    diffuse = (1.0, 1.0, 1.0, 1.0)
+    elif image is not None and np.array_equal(colour, TRIMESH_UNSET_DIFFUSE):
+        colour = None
+    values = {}
     if colour is not None:
         rgba = np.asarray(colour)
         rgba = rgba / 255.0 if rgba.dtype.kind in "iu" else rgba.astype(np.float64)
         if rgba.shape in ((3,), (4,)) and np.isfinite(rgba).all():
-            diffuse = tuple(np.clip(np.append(rgba, 1.0)[:4], 0.0, 1.0).tolist())
+            rgba = np.clip(np.append(rgba, 1.0)[:4], 0.0, 1.0).tolist()
+            values.update(diffuse=tuple(rgba[:3]), opacity=rgba[3])
     name = getattr(material, "name", None)
-    return ImportedMaterial(str(name) if name is not None else "material", diffuse, _pixels(image))
+    return Material(str(name) if name is not None else default_name, diffuse_map=_texture(image), **values)
 
 
-def _pixels(image) -> np.ndarray | None:
-    """A Pillow image (or an array) as an immutable (H, W, 3 | 4) uint8 array, or None."""
+def _texture(image) -> Texture | None:
+    """A Pillow image (or an array) as a :class:`~rasterkit.Texture`, or None."""
     if image is None:
         return None
+    name = None
     if hasattr(image, "convert") and hasattr(image, "getbands"):
-        alpha = "A" in image.getbands() or "transparency" in getattr(image, "info", {})
+        info = getattr(image, "info", {})
+        alpha = "A" in image.getbands() or "transparency" in info
         width, height = image.size
         check_memory(2 * 4 * width * height, f"a {width}x{height} texture image")
+        name = info.get("file_path") or getattr(image, "filename", None) or None
         image = image.convert("RGBA" if alpha else "RGB")
-    pixels = np.asarray(image)
-    if pixels.dtype != np.uint8 or pixels.ndim != 3 or pixels.shape[2] not in (3, 4):
-        raise ValueError(f"a texture image must be (H, W, 3 or 4) uint8, got shape {pixels.shape} and dtype "
-                         f"{pixels.dtype}")
-    return seal(pixels)
+    return Texture(np.asarray(image), name=None if name is None else str(name))
 
 
 def _unit_rgb(colors, name: str) -> np.ndarray:

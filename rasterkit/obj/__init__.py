@@ -114,7 +114,7 @@ from rasterkit.obj.attributes import (
 from rasterkit.obj.document import Document
 from rasterkit.obj.errors import ObjError, ObjLimitError, Report, count
 from rasterkit.material.material import Material
-from rasterkit.obj.materials import DEFAULT_KD, face_colors, material_names, read_materials
+from rasterkit.obj.materials import DEFAULT_KD, face_colors, make_materials, material_names, read_libraries
 from rasterkit.obj.memory import check_statements
 from rasterkit.obj.statements import note_skipped, read_elements, read_numbers, read_vertices
 from rasterkit.obj.kernels.scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
@@ -188,8 +188,9 @@ def load_obj(path, *, textures: bool = False) -> Mesh:
     uv_index = corner_rows(faces, "texcoord", corners, triangle_polygon, doc, report)
     normal_index = corner_rows(faces, "normal", corners, triangle_polygon, doc, report)
     unit_normals = unit_rows(normals)
-    colours = face_colors(doc, faces, triangle_polygon, report)  # (and the libraries' own warnings)
-    defined = read_materials(doc, report) if materials and textures else {}
+    libraries = read_libraries(doc, report, whole=textures)
+    colours = face_colors(doc, faces, triangle_polygon, libraries, report)
+    defined = make_materials(libraries, report) if textures else {}
     return Mesh(
         vertices, faces.vertex[corners], edges=edges, lines=segments,
         vertex_colors=colors,

@@ -1,7 +1,7 @@
-"""Materials of an OBJ file: the ``usemtl`` names, the ``Kd`` colours read from its ``mtllib``
-(``.mtl``) files and the colour of each triangle's material (:func:`face_colors`), and the
-whole :class:`~rasterkit.Material` of each used material, textures and all
-(:func:`read_materials`).
+"""Materials of an OBJ file: the ``usemtl`` names, its ``mtllib`` (``.mtl``) libraries, each
+read once (:func:`read_libraries`), the ``Kd`` colour of each triangle's material
+(:func:`face_colors`) and the whole :class:`~rasterkit.Material` of each used material,
+textures and all (:func:`make_materials`).
 
 Libraries are looked up next to the ``.obj`` file and read by
 :func:`rasterkit.obj.files.read_file` (regular files within the file size limit only); each is
@@ -9,29 +9,34 @@ read once however often it is named. One that cannot be read (missing, not a reg
 large) is a warning that names it and says why, as is a used material that no library defines.
 An ``.mtl`` file is read as the OBJ file is (tokens separated by the blanks of
 :data:`rasterkit.obj.kernels.scan.BLANKS`, ``#`` at the start of a token begins a comment), and
-for the face colours only the ``newmtl`` and ``Kd`` lines of materials the model uses are
-kept, so a library costs memory only for those. :func:`read_materials` reads the other
-statements of those materials (:mod:`rasterkit.obj.mtl`) and opens their textures
-(:mod:`rasterkit.obj.textures`).
+only the statements of materials the model uses are kept (:mod:`rasterkit.obj.mtl`): for the
+face colours alone their ``newmtl`` and ``Kd`` lines, so a library costs memory only for
+those. :func:`make_materials` opens the textures (:mod:`rasterkit.obj.textures`).
+
+Warnings come in this order: the unreadable ``Kd`` lines of each library, the libraries that
+cannot be read (:func:`read_libraries`), the used materials no library defines
+(:func:`face_colors`), the other unreadable statements of each library and the textures that
+cannot be read (:func:`make_materials`).
 """
 
 from __future__ import annotations
 
 import os
-import re
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from rasterkit.material import DEFAULT_DIFFUSE, Material
-from rasterkit.obj.document import Document, decode
+from rasterkit.obj.document import Document
 from rasterkit.obj.errors import ObjError, Report, count
 from rasterkit.obj.files import read_file
 from rasterkit.obj.mtl import MaterialSpec, parse_library
 from rasterkit.obj.statements import Elements, latest_above
 from rasterkit.obj.textures import TextureFiles
-from rasterkit.obj.kernels.scan import BLANKS, KIND_MTLLIB, KIND_USEMTL, split_tokens
+from rasterkit.obj.kernels.scan import KIND_MTLLIB, KIND_USEMTL
 
-__all__ = ["DEFAULT_KD", "face_colors", "library_files", "material_names", "read_materials"]
+__all__ = ["DEFAULT_KD", "Libraries", "face_colors", "library_files", "make_materials", "material_names",
+           "read_libraries"]
 
 DEFAULT_KD = DEFAULT_DIFFUSE
 """Diffuse colour of faces whose material is unknown or has no ``Kd``
@@ -40,8 +45,27 @@ DEFAULT_KD = DEFAULT_DIFFUSE
 #: Libraries that cannot be read are named one warning each up to this many, then counted.
 LIBRARY_WARNINGS = 5
 
-_BLANK = re.escape(BLANKS).decode()
-_STATEMENT = re.compile(f"^[{_BLANK}]*(?:newmtl|Kd)(?![^{_BLANK}\n])[^\n]*".encode(), re.M)
+
+@dataclass
+class Libraries:
+    """What the libraries of one OBJ file say of the materials it uses.
+
+    Attributes
+    ----------
+    specs : dict
+        ``{name: MaterialSpec}`` of the used materials the libraries define, in the order
+        they are first defined (a later definition replaces an earlier one): their ``Kd``,
+        and every statement of those in ``whole``.
+    whole : set
+        The names read whole (none when only the face colours are wanted).
+    read : list
+        The :class:`rasterkit.obj.mtl.Library` of each library that could be read, in file
+        order (their other unreadable statements are warned about by :func:`make_materials`).
+    """
+
+    specs: dict = field(default_factory=dict)
+    whole: set = field(default_factory=set)
+    read: list = field(default_factory=list)
 
 
 def material_names(doc: Document) -> tuple:
@@ -49,36 +73,41 @@ def material_names(doc: Document) -> tuple:
     return tuple(dict.fromkeys(n for n in names if n))
 
 
-def face_colors(doc: Document, faces: Elements, triangle_polygon, report: Report):
-    """(M, 3) float32 Kd colour of each triangle's material, or None without materials."""
+def face_colors(doc: Document, faces: Elements, triangle_polygon, libraries: Libraries, report: Report):
+    """(M, 3) float32 Kd colour of each triangle's material, or None without materials (or
+    without a library that could be read)."""
     names, latest = latest_above(doc, (KIND_USEMTL,), faces)
-    libraries, any_read = _load_libraries(doc, set(names), report)
-    if not any_read or not names:
+    if not libraries.read or not names:
         return None
     missing: dict = {}  # name: its first usemtl statement
     for s, name in zip(doc.of_kind(KIND_USEMTL), names):
-        if name and name not in libraries:
+        if name and name not in libraries.specs:
             missing.setdefault(name, s)
     if missing:
         shown = ", ".join(map(repr, list(missing)[:5])) + (", ..." if len(missing) > 5 else "")
         report.warn(doc.line(next(iter(missing.values()))),
                     f"{count(len(missing), 'material')} not in the material libraries: {shown}")
+    kd = {name: spec.values.get("diffuse", DEFAULT_KD) for name, spec in libraries.specs.items()}
     # The extra last row is what latest == -1 (no usemtl above) picks.
-    table = np.array([libraries.get(n, DEFAULT_KD) for n in names] + [DEFAULT_KD], np.float32)
+    table = np.array([kd.get(n, DEFAULT_KD) for n in names] + [DEFAULT_KD], np.float32)
     return table[latest[triangle_polygon]]
 
 
-def _load_libraries(doc: Document, wanted: set, report: Report):
-    """Kd (r, g, b) of the wanted materials in the file's mtllib files that can be read, and
-    whether any library could be read."""
-    materials: dict = {}
+def read_libraries(doc: Document, report: Report, whole: bool = False) -> Libraries:
+    """Read each ``mtllib`` library of the file once: the ``Kd`` of every used material (a
+    ``usemtl`` without a name uses a ``newmtl`` without one, for its colour), and, with
+    ``whole``, every statement of the named ones. Warns about unreadable ``Kd`` lines and
+    libraries that cannot be read."""
+    wanted = set(doc.arguments(doc.of_kind(KIND_USEMTL)))
+    libraries = Libraries(whole=wanted - {""} if whole else set())
     failed: list = []  # (statement, file, reason)
-    read = 0
     for path, data in library_files(doc, failed):
-        read += 1
-        materials.update(_parse_mtl(data, path, wanted, report))
+        library = parse_library(data, path, wanted, libraries.whole)
+        library.warn(report, kd=True)
+        libraries.specs.update(library.specs)
+        libraries.read.append(library)
     _warn_unreadable(doc, failed, report)
-    return materials, read > 0
+    return libraries
 
 
 def library_files(doc: Document, failed: list):
@@ -113,24 +142,17 @@ def _warn_unreadable(doc: Document, failed: list, report: Report) -> None:
         report.warn(doc.line(failed[LIBRARY_WARNINGS][0]), f"{more} cannot be read")
 
 
-def read_materials(doc: Document, report: Report) -> dict:
-    """``{name: Material}`` of the materials the file uses (``usemtl``) that its libraries
-    define, in the order they are first defined, with their textures
-    (:mod:`rasterkit.obj.mtl` says what is read, :mod:`rasterkit.obj.textures` how the
-    texture files are found and opened).
-
-    The warnings about the libraries themselves (one that cannot be read, a used material
-    that none defines, a bad ``Kd``) are left to :func:`face_colors`, which reads the same
-    libraries, so that a loader calling both says each once; this adds those of the other
-    statements and of the textures.
-    """
-    wanted = set(material_names(doc))
-    specs: dict = {}
-    if wanted:
-        for path, data in library_files(doc, []):
-            specs.update(parse_library(data, path, wanted, report))
+def make_materials(libraries: Libraries, report: Report) -> dict:
+    """``{name: Material}`` of the materials :func:`read_libraries` read whole, in the order
+    they are first defined, with their textures (:mod:`rasterkit.obj.mtl` says what is read,
+    :mod:`rasterkit.obj.textures` how the texture files are found and opened); warns about
+    the libraries' unreadable statements other than ``Kd`` and the textures that cannot be
+    read."""
+    for library in libraries.read:
+        library.warn(report, kd=False)
     files = TextureFiles(report)
-    materials = {name: _material(name, spec, files) for name, spec in specs.items()}
+    materials = {name: _material(name, spec, files) for name, spec in libraries.specs.items()
+                 if name in libraries.whole}
     files.finish()
     return materials
 
@@ -139,45 +161,6 @@ def _material(name: str, spec: MaterialSpec, files: TextureFiles) -> Material:
     values = dict(spec.values)
     if "opacity" not in values and spec.transparency is not None and spec.transparency < 1.0:
         values["opacity"] = 1.0 - spec.transparency  # Tr 1 is opaque: see rasterkit.obj.mtl
-    for field, statement in spec.maps.items():
-        values[field] = files.texture(spec.library, statement, srgb=field == "diffuse_map")
+    for slot, statement in spec.maps.items():
+        values[slot] = files.texture(spec.library, statement, srgb=slot == "diffuse_map")
     return Material(name, **values)
-
-
-def _words(line: bytes) -> list:
-    """The tokens of an .mtl line before its comment."""
-    words = split_tokens(line)
-    for k, word in enumerate(words):
-        if word.startswith(b"#"):
-            return words[:k]
-    return words
-
-
-def _parse_mtl(data: bytes, name: str, wanted: set, report: Report) -> dict:
-    """Kd of each wanted newmtl in an .mtl file's bytes (DEFAULT_KD when it has none)."""
-    if b"\n" not in data:  # old Mac files break lines with CR alone
-        data = data.replace(b"\r", b"\n")
-    materials: dict = {}
-    current = None
-    bad = []  # offsets of unreadable Kd lines of wanted materials
-    for match in _STATEMENT.finditer(data):
-        words = _words(match.group())
-        if words[0] == b"newmtl":
-            current = " ".join(decode(w) for w in words[1:])
-            if current in wanted:
-                materials[current] = DEFAULT_KD
-        elif current in materials:
-            try:
-                rgb = [float(w) for w in words[1:4]]
-            except ValueError:
-                rgb = []
-            if len(rgb) not in (1, 3) or not np.isfinite(rgb).all():
-                bad.append(match.start())
-                continue
-            materials[current] = tuple(np.clip(rgb * (3 // len(rgb)), 0.0, 1.0).tolist())
-    if bad:
-        end = data.find(b"\n", bad[0])
-        line = decode(data[bad[0]:end if end >= 0 else len(data)]).strip()
-        more = f" (and {count(len(bad) - 1, 'more such line')})" if len(bad) > 1 else ""
-        report.warn(data.count(b"\n", 0, bad[0]) + 1, f"cannot read Kd {line!r}{more}", name)
-    return materials

@@ -5,11 +5,14 @@ Read, for the materials the model uses (``newmtl NAME``; a later definition of a
 replaces an earlier one):
 
 - ``Kd``, ``Ks``, ``Ke`` ``r [g b]`` (one number is grey; ``Kd`` and ``Ks`` clipped to [0, 1],
-  ``Ke`` to [0, inf)); ``Ns`` exponent (>= 0); ``d`` opacity (``d -halo x`` too) and ``Tr``
-  transparency, clipped to [0, 1]. ``d`` wins over ``Tr`` when a material has both. A
-  ``Tr`` alone gives the opacity ``1 - Tr``, except ``Tr 1`` (nothing visible), which is
-  read as opaque: MeshLab and some 3ds Max exporters write ``Tr`` as the opacity, and a
-  material that draws nothing is not what such a file means (``fuze.obj.mtl`` has it).
+  ``Ke`` to [0, inf)). A material without ``Kd`` gets :class:`~rasterkit.Material`'s default
+  diffuse: (1, 1, 1) when its ``map_Kd`` could be read (the texture as it is), else (0.8,
+  0.8, 0.8); its face colour (``Mesh.face_colors``) is (0.8, 0.8, 0.8) either way.
+- ``Ns`` exponent (>= 0); ``d`` opacity (``d -halo x`` too) and ``Tr`` transparency,
+  clipped to [0, 1]. ``d`` wins over ``Tr`` when a material has both. A ``Tr`` alone gives
+  the opacity ``1 - Tr``, except ``Tr 1`` (nothing visible), which is read as opaque:
+  MeshLab and some 3ds Max exporters write ``Tr`` as the opacity, and a material that draws
+  nothing is not what such a file means (``fuze.obj.mtl`` has it).
 - ``map_Kd``, ``map_d``, ``map_Ks`` and ``map_Bump`` / ``bump`` / ``norm`` (these keywords in
   any case: files write ``map_bump`` and ``map_kd`` too) with the options ``-s u [v [w]]``
   (scale, default 1), ``-o u [v [w]]`` (offset, default 0), ``-clamp on|off`` and ``-bm x``
@@ -18,10 +21,12 @@ replaces an earlier one):
   name is the rest of the line, as written (spaces included: ``map_Kd fuze uv.jpg``; a name
   in double quotes loses them).
 
-Keywords other than the maps are matched exactly, as :mod:`rasterkit.obj.materials` reads
-``Kd`` for face colours. A statement that cannot be read (a bad number, a bad option value,
-a map without a file name) is left out; the lines of a library left out so are one warning
-(the first, and how many more), except ``Kd``, which the face colours' reader reports.
+Keywords other than the maps are matched exactly. A library is parsed once per load: for the
+face colours only its ``newmtl`` and ``Kd`` lines are looked at (``load_obj`` without
+textures), for whole materials every statement above. A statement that cannot be read (a
+bad number, a bad option value, a map without a file name) is left out; the ``Kd`` lines of
+a library left out so are one warning (the first, and how many more), its other statements
+another (:meth:`Library.warn`).
 """
 
 from __future__ import annotations
@@ -34,7 +39,7 @@ from rasterkit.obj.document import decode
 from rasterkit.obj.errors import Report, count
 from rasterkit.obj.kernels.scan import BLANKS
 
-__all__ = ["MAP_FIELDS", "MapStatement", "MaterialSpec", "parse_library"]
+__all__ = ["MAP_FIELDS", "Library", "MapStatement", "MaterialSpec", "parse_library"]
 
 #: The Material field of each map keyword (lower case).
 MAP_FIELDS = {"map_kd": "diffuse_map", "map_d": "opacity_map", "map_ks": "specular_map",
@@ -48,6 +53,7 @@ _VECTORS = {"-s": 1.0, "-o": 0.0, "-t": 0.0}
 _BLANK = re.escape(BLANKS).decode()
 _KEYWORDS = "newmtl|Kd|Ks|Ke|Ns|d|Tr|(?i:map_kd|map_d|map_ks|map_bump|bump|norm)"
 _STATEMENT = re.compile(f"^[{_BLANK}]*({_KEYWORDS})(?![^{_BLANK}\n])[^\n]*".encode(), re.M)
+_KD_STATEMENT = re.compile(f"^[{_BLANK}]*(newmtl|Kd)(?![^{_BLANK}\n])[^\n]*".encode(), re.M)
 _TOKEN = re.compile(f"[^{_BLANK}\n]+".encode())
 
 
@@ -171,16 +177,39 @@ def _apply(spec: MaterialSpec, keyword: str, text: bytes, line: int) -> None:
             spec.values["bump_scale"] = statement.bump_scale
 
 
-def parse_library(data: bytes, name: str, wanted: set, report: Report) -> dict:
-    """``{material name: MaterialSpec}`` of the wanted materials of an ``.mtl`` file's bytes
-    (``name``: the file, for warnings)."""
+@dataclass
+class Library:
+    """What one ``.mtl`` file says of the wanted materials: a :class:`MaterialSpec` of each
+    (``specs``, by name; a later definition replaces an earlier) and the statements of those
+    materials that could not be read, ``(line, text)``, ``Kd`` (``bad_kd``) apart from the
+    others (``bad``): each list is one warning (:meth:`warn`)."""
+
+    name: str
+    specs: dict = field(default_factory=dict)
+    bad_kd: list = field(default_factory=list)
+    bad: list = field(default_factory=list)
+
+    def warn(self, report: Report, kd: bool) -> None:
+        """Warn about the first unreadable ``Kd`` line (``kd``) or other statement, and count
+        the rest."""
+        lines, what = (self.bad_kd, "Kd ") if kd else (self.bad, "")
+        if lines:
+            more = f" (and {count(len(lines) - 1, 'more such line')})" if len(lines) > 1 else ""
+            report.warn(lines[0][0], f"cannot read {what}{lines[0][1]!r}{more}", self.name)
+
+
+def parse_library(data: bytes, name: str, wanted: set, whole: set) -> Library:
+    """The :class:`Library` of an ``.mtl`` file's bytes (``name``: the file, for warnings):
+    the ``Kd`` of each ``wanted`` material (what the face colours need), and every statement
+    of those also in ``whole``. Without ``whole`` only the ``newmtl`` and ``Kd`` lines are
+    looked at."""
     if b"\n" not in data:  # old Mac files break lines with CR alone
         data = data.replace(b"\r", b"\n")
-    specs: dict = {}
+    library = Library(name)
+    specs = library.specs
     current = None
-    bad = []  # (line, text) of statements left out
     line, counted = 1, 0
-    for match in _STATEMENT.finditer(data):
+    for match in (_STATEMENT if whole else _KD_STATEMENT).finditer(data):
         line += data.count(b"\n", counted, match.start())
         counted = match.start()
         keyword = match.group(1).decode("ascii")
@@ -190,17 +219,13 @@ def parse_library(data: bytes, name: str, wanted: set, report: Report) -> dict:
             if current in wanted:
                 specs[current] = MaterialSpec(name)
             continue
-        if current not in specs:
+        if current not in specs or (keyword != "Kd" and current not in whole):
             continue
         try:
             _apply(specs[current], keyword, text, line)
         except _Unreadable:
-            if keyword != "Kd":
-                bad.append((line, decode(text).strip()))
-    if bad:
-        more = f" (and {count(len(bad) - 1, 'more such line')})" if len(bad) > 1 else ""
-        report.warn(bad[0][0], f"cannot read {bad[0][1]!r}{more}", name)
-    return specs
+            (library.bad_kd if keyword == "Kd" else library.bad).append((line, decode(text).strip()))
+    return library
 
 
 def _words(text: bytes) -> list:

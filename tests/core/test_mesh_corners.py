@@ -13,8 +13,9 @@ import pytest
 
 from rasterkit import limits, shapes
 from rasterkit.limits import LimitError
+from rasterkit.material import DEFAULT_DIFFUSE, Material, Texture
 from rasterkit.mesh import Mesh, as_mesh, immutable, mesh_bytes
-from rasterkit.mesh.foreign import ImportedMaterial
+from rasterkit.mesh.foreign import TRIMESH_UNSET_DIFFUSE
 
 #: A unit square of two triangles whose vertex 0 has two texture coordinates (a seam).
 SQUARE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
@@ -165,7 +166,7 @@ def test_a_jobs_memory_counts_the_corner_arrays(tmp_path):
 
 # --- trimesh -------------------------------------------------------------------------------
 
-def test_a_trimesh_with_a_texture_brings_its_uv_and_image():
+def test_a_trimesh_with_a_texture_brings_its_uv_and_a_material():
     trimesh = pytest.importorskip("trimesh")
     from PIL import Image
 
@@ -177,23 +178,89 @@ def test_a_trimesh_with_a_texture_brings_its_uv_and_image():
     assert np.array_equal(mesh.uv, uv) and mesh.uv_index is mesh.faces
     assert np.array_equal(mesh.faces, box.faces)
     (material,) = mesh.materials
-    assert isinstance(material, ImportedMaterial) and mesh.material_names == (material.name,)
-    assert np.array_equal(material.diffuse_map, pixels) and immutable(material.diffuse_map)
+    assert isinstance(material, Material) and mesh.material_names == (material.name,)
+    texture = material.diffuse_map
+    assert isinstance(texture, Texture) and np.array_equal(texture.image, pixels) and immutable(texture.image)
+    assert texture.srgb and material.textures == (texture,)
+    # trimesh gave no colour (it stores its grey default): the image is drawn as it is
+    assert box.visual.material.diffuse.tolist() == list(TRIMESH_UNSET_DIFFUSE)
+    assert (material.diffuse, material.opacity) == ((1.0, 1.0, 1.0), 1.0)
     assert mesh.face_materials.tolist() == [0] * len(box.faces)
 
 
-def test_a_trimesh_pbr_material_brings_its_base_colour_texture_with_alpha():
+def test_trimesh_leaves_that_grey_when_it_gives_no_diffuse():
+    trimesh = pytest.importorskip("trimesh")
+    assert tuple(trimesh.visual.color.DEFAULT_COLOR.tolist()) == TRIMESH_UNSET_DIFFUSE
+    assert tuple(trimesh.visual.material.SimpleMaterial().diffuse.tolist()) == TRIMESH_UNSET_DIFFUSE
+
+
+def test_a_trimesh_simple_material_brings_its_diffuse_colour_and_alpha():
     trimesh = pytest.importorskip("trimesh")
     from PIL import Image
 
     box = trimesh.creation.box()
+    uv = np.zeros((len(box.vertices), 2))
+    image = Image.fromarray(np.full((2, 2, 3), 200, np.uint8))
+    for diffuse, image, expected in [([255, 51, 0, 102], image, ((1.0, 0.2, 0.0), 0.4)),
+                                     # trimesh keeps colours as uint8 codes
+                                     ([0.5, 0.25, 1.0], image, ((128 / 255, 64 / 255, 1.0), 1.0)),
+                                     # the grey trimesh stores when given none is a colour without an image
+                                     (None, None, ((0.4, 0.4, 0.4), 1.0))]:
+        material = trimesh.visual.material.SimpleMaterial(image=image, diffuse=diffuse, name="m")
+        box.visual = trimesh.visual.TextureVisuals(uv=uv, material=material)
+        (got,) = as_mesh(box).materials
+        assert got.name == "m" and got.diffuse == pytest.approx(expected[0]) and got.opacity == pytest.approx(expected[1])
+        assert (got.diffuse_map is None) == (image is None)
+
+
+def test_a_trimesh_pbr_material_brings_its_base_colour_texture_and_factor():
+    trimesh = pytest.importorskip("trimesh")
+    from PIL import Image
+
+    box = trimesh.creation.box()
+    uv = np.zeros((len(box.vertices), 2))
     pixels = np.random.default_rng(4).integers(0, 256, (3, 5, 4), dtype=np.uint8)
-    material = trimesh.visual.material.PBRMaterial(name="paint", baseColorTexture=Image.fromarray(pixels, "RGBA"),
-                                                   baseColorFactor=[255, 0, 0, 255])
-    box.visual = trimesh.visual.TextureVisuals(uv=np.zeros((len(box.vertices), 2)), material=material)
-    (imported,) = as_mesh(box).materials
-    assert imported.name == "paint" and imported.diffuse == (1.0, 0.0, 0.0, 1.0)
-    assert np.array_equal(imported.diffuse_map, pixels)
+    texture = Image.fromarray(pixels, "RGBA")
+    cases = [(texture, [255, 0, 0, 153], (1.0, 0.0, 0.0), 0.6), (texture, None, (1.0, 1.0, 1.0), 1.0),
+             (None, [0, 0, 255, 255], (0.0, 0.0, 1.0), 1.0), (None, None, DEFAULT_DIFFUSE, 1.0)]
+    for image, factor, diffuse, opacity in cases:
+        material = trimesh.visual.material.PBRMaterial(name="paint", baseColorTexture=image, baseColorFactor=factor)
+        box.visual = trimesh.visual.TextureVisuals(uv=uv, material=material)
+        (got,) = as_mesh(box).materials
+        assert got.name == "paint" and got.diffuse == pytest.approx(diffuse) and got.opacity == pytest.approx(opacity)
+        if image is None:
+            assert got.diffuse_map is None
+        else:
+            assert got.diffuse_map.channels == 4 and np.array_equal(got.diffuse_map.image, pixels)
+
+
+def test_a_palette_image_with_transparency_becomes_rgba():
+    trimesh = pytest.importorskip("trimesh")
+    from PIL import Image
+
+    image = Image.new("P", (2, 1))
+    image.putpalette([255, 0, 0, 0, 0, 255])
+    image.putpixel((1, 0), 1)
+    image.info["transparency"] = 1
+    box = trimesh.creation.box()
+    box.visual = trimesh.visual.TextureVisuals(uv=np.zeros((len(box.vertices), 2)), image=image)
+    (material,) = as_mesh(box).materials
+    assert material.diffuse_map.image.tolist() == [[[255, 0, 0, 255], [0, 0, 255, 0]]]
+
+
+def test_a_trimesh_multi_material_gives_each_face_its_own():
+    trimesh = pytest.importorskip("trimesh")
+    box = trimesh.creation.box()
+    parts = [trimesh.visual.material.PBRMaterial(name="red", baseColorFactor=[255, 0, 0, 255]),
+             trimesh.visual.material.PBRMaterial(baseColorFactor=[0, 255, 0, 255])]
+    chosen = np.arange(len(box.faces)) % 2
+    box.visual = trimesh.visual.TextureVisuals(uv=np.zeros((len(box.vertices), 2)),
+                                               material=trimesh.visual.material.MultiMaterial(parts),
+                                               face_materials=chosen)
+    mesh = as_mesh(box)
+    assert mesh.material_names == ("red", "material_1")
+    assert [m.diffuse for m in mesh.materials] == [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0)]
+    assert mesh.face_materials.tolist() == chosen.tolist()
 
 
 def test_a_trimesh_with_colours_brings_them_and_one_without_brings_none():
@@ -211,15 +278,56 @@ def test_a_trimesh_with_colours_brings_them_and_one_without_brings_none():
     assert np.allclose(mesh.face_colors, colours[:, :3] / 255.0) and mesh.vertex_colors is None
 
 
-def test_trimesh_reads_of_the_fuze_bottle_keep_its_texture(models_dir):
+@pytest.mark.parametrize("kind", ["vertex", "face"])
+def test_colours_of_a_ply_file_read_by_trimesh(tmp_path, kind):
     trimesh = pytest.importorskip("trimesh")
+    box = trimesh.creation.box()
+    rows = len(box.vertices) if kind == "vertex" else len(box.faces)
+    colours = np.random.default_rng(7).integers(0, 256, (rows, 4), dtype=np.uint8)
+    colours[:, 3] = 255
+    setattr(box.visual, f"{kind}_colors", colours)
+    box.export(tmp_path / "box.ply")
+    loaded = trimesh.load(tmp_path / "box.ply", process=False)
+    assert loaded.visual.kind == kind
+    mesh = as_mesh(loaded)
+    assert np.array_equal(getattr(mesh, f"{kind}_colors"), (colours[:, :3] / 255.0).astype(np.float32))
+    assert mesh.uv is None and mesh.materials == ()
+
+
+def test_trimesh_reads_of_the_fuze_bottle_keep_its_texture(models_dir):
+    """trimesh and load_obj read fuze.obj (v/vt/vn, map_Kd "fuze uv.jpg", Kd 1 1 1) alike: the
+    same texture coordinates at every face corner (trimesh gives v up, as rasterkit does),
+    the same texture pixels and diffuse colour."""
+    trimesh = pytest.importorskip("trimesh")
+    import rasterkit
+
     folder = models_dir / "formats" / "obj" / "fuze"
     if not folder.is_dir():
         pytest.skip(f"{folder} is absent")
     loaded = trimesh.load(folder / "fuze.obj", force="mesh", process=False)
     mesh = as_mesh(loaded)
     assert mesh.uv.shape == (len(mesh.vertices), 2) and np.array_equal(mesh.uv, loaded.visual.uv)
-    (material,) = mesh.materials
-    assert material.diffuse_map.shape == (1024, 1024, 3)
+    obj = rasterkit.load_obj(folder / "fuze.obj", textures=True)
+    assert np.array_equal(mesh.vertices[mesh.faces], obj.vertices[obj.faces])
+    assert np.array_equal(mesh.uv[mesh.uv_index], obj.uv[obj.uv_index])
+    ((material,), (expected,)) = mesh.materials, obj.materials
+    assert material.diffuse_map.image.shape == (1024, 1024, 3) and material.diffuse == expected.diffuse == (1.0, 1.0, 1.0)
+    assert np.array_equal(material.diffuse_map.image, expected.diffuse_map.image)
     with __import__("PIL.Image").Image.open(folder / "fuze uv.jpg") as image:
-        assert np.array_equal(material.diffuse_map, np.asarray(image.convert("RGB")))
+        assert np.array_equal(material.diffuse_map.image, np.asarray(image.convert("RGB")))
+
+
+@pytest.mark.parametrize("path", ["spot.obj", "formats/obj/african_head/african_head.obj"])
+def test_trimesh_and_load_obj_agree_on_the_uv_of_every_corner(models_dir, path):
+    """Models without a library: trimesh splits their vertices at UV seams, rasterkit keeps a
+    table of rows; at every face corner the two give the same position and (u, v)."""
+    trimesh = pytest.importorskip("trimesh")
+    import rasterkit
+
+    if not (models_dir / path).is_file():
+        pytest.skip(f"{models_dir / path} is absent")
+    mesh = as_mesh(trimesh.load(models_dir / path, force="mesh", process=False))
+    obj = rasterkit.load_obj(models_dir / path)
+    assert len(mesh.vertices) > len(obj.vertices)  # trimesh split the seams
+    assert np.array_equal(mesh.vertices[mesh.faces], obj.vertices[obj.faces])
+    assert np.array_equal(mesh.uv[mesh.uv_index], obj.uv[obj.uv_index])

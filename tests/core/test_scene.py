@@ -80,3 +80,71 @@ def test_an_empty_scene_or_a_scene_without_camera_is_an_error():
         Scene(camera=_camera()).world_mesh()
     with pytest.raises(TypeError):
         rasterkit.render(Scene().add(shapes.cube()))
+
+
+# --- per-corner tables and materials ----------------------------------------------------------
+
+SQUARE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+TRIANGLE = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+
+
+def _tables_scene():
+    """Three objects: a square with uv, corner normals and two materials, scaled along x and
+    turned a quarter about x; a moved triangle with corner normals and a material name but no
+    Material; a triangle with per-vertex uv only."""
+    texture = rasterkit.Texture(np.zeros((2, 2, 3), np.uint8))
+    a0, a1 = rasterkit.Material("a0"), rasterkit.Material("a1", diffuse_map=texture)
+    square = rasterkit.Mesh(SQUARE, [[0, 1, 2], [0, 2, 3]], uv=[[0, 0], [1, 0], [1, 1], [0, 1]],
+                            uv_index=[[0, 1, 2], [0, 2, 3]], corner_normals=[[0, 0, 2], [1, 1, 0]],
+                            normal_index=[[0, 0, 1], [-1, -1, -1]], face_materials=[1, -1],
+                            material_names=("a0", "a1"), materials=(a0, a1))
+    moved = rasterkit.Mesh(TRIANGLE, [[0, 1, 2]], corner_normals=[[3, 0, 0]], normal_index=[[0, 0, 0]],
+                           face_materials=[0], material_names=("b0",))
+    plain = rasterkit.Mesh(TRIANGLE, [[0, 2, 1]], uv=[[0.5, 0.5], [0.25, 0.5], [0.5, 0.25]])
+    turned = transform.compose(transform.scale(2, 1, 1), transform.rotate_x(np.pi / 2))
+    scene = Scene().add(square, turned).add(moved, transform.translate(5, 6, 7)).add(plain)
+    return scene, (a0, a1)
+
+
+def test_world_mesh_joins_the_corner_tables():
+    world = _tables_scene()[0].world_mesh()
+    # uv: the square's 4 rows, then the per-vertex rows of the last triangle (its uv_index is its faces)
+    assert world.uv.tolist() == [[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5], [0.25, 0.5], [0.5, 0.25]]
+    assert world.uv_index.tolist() == [[0, 1, 2], [0, 2, 3], [-1, -1, -1], [4, 6, 5]]
+    # normals: scale (2, 1, 1) takes n to (nx / 2, ny, nz), the quarter turn about x (x, y, z) to (x, -z, y)
+    expected = [[0, -1, 0], np.array([1, 0, 2]) / np.sqrt(5), [1, 0, 0]]  # (0, 0, 2); (1, 1, 0) -> (1, 2, 0); (3, 0, 0)
+    np.testing.assert_allclose(world.corner_normals, expected, atol=1e-15)
+    assert world.normal_index.tolist() == [[0, 0, 1], [-1, -1, -1], [2, 2, 2], [-1, -1, -1]]
+
+
+def test_world_mesh_joins_the_materials():
+    scene, (a0, a1) = _tables_scene()
+    world = scene.world_mesh()
+    assert world.material_names == ("a0", "a1", "b0")
+    assert world.face_materials.tolist() == [1, -1, 2, -1] and world.face_materials.dtype == np.int32
+    assert world.materials[:2] == (a0, a1) and world.materials[1].diffuse_map is a1.diffuse_map
+    assert world.materials[2] == rasterkit.Material("b0")  # named without a Material: the default
+    # the same mesh twice: the second's indices offset past the first's names
+    square = scene.objects[0].mesh
+    twice = Scene().add(square).add(square).world_mesh()
+    assert twice.material_names == ("a0", "a1") * 2 and twice.face_materials.tolist() == [1, -1, 3, -1]
+    assert twice.materials == (a0, a1, a0, a1)
+
+
+def test_world_mesh_without_tables_or_materials():
+    world = Scene().add(shapes.cube()).add(shapes.cube(), transform.translate(3, 0, 0)).world_mesh()
+    assert world.uv is None and world.corner_normals is None and world.normal_index is None
+    assert world.face_materials is None and world.material_names == () and world.materials == ()
+    named = rasterkit.Mesh(TRIANGLE, [[0, 1, 2]], face_materials=[0], material_names=("red",))
+    world = Scene().add(named).add(shapes.cube()).add(named).world_mesh()
+    assert world.material_names == ("red", "red") and world.materials == ()
+    assert world.face_materials.tolist() == [0] + [-1] * 12 + [1]
+
+
+def test_corner_normals_under_a_singular_matrix_or_huge_rows():
+    flat = rasterkit.Mesh(TRIANGLE, [[0, 1, 2]], corner_normals=[[0, 0, 1]], normal_index=[[0, 0, 0]])
+    huge = rasterkit.Mesh(TRIANGLE, [[0, 1, 2]], corner_normals=[[1e308, 1e308, 0], [0, 0, 0]],
+                          normal_index=[[0, 1, 0]])
+    world = Scene().add(flat, transform.scale(1, 1, 0)).add(huge, transform.scale(0.5)).world_mesh()
+    assert world.normal_index.tolist() == [[-1, -1, -1], [0, 1, 0]]  # the flattened one has none
+    np.testing.assert_allclose(world.corner_normals, [[np.sqrt(0.5), np.sqrt(0.5), 0], [0, 0, 0]])

@@ -20,6 +20,22 @@ def test_defaults():
     assert m.textures == ()
 
 
+def test_the_default_diffuse_is_white_under_a_diffuse_map():
+    """A texture given without a colour is drawn as it is (the renderer multiplies it by
+    diffuse); a colour given is kept; without a map the default stays the grey of faces
+    without a material."""
+    tex = Texture(np.zeros((2, 2, 3), np.uint8))
+    assert Material(diffuse_map=tex).diffuse == (1.0, 1.0, 1.0) == rasterkit.material.MAPPED_DIFFUSE
+    assert Material(diffuse_map=tex, diffuse=(0.8, 0.8, 0.8)).diffuse == (0.8, 0.8, 0.8)
+    assert Material(diffuse=(0.25, 0.5, 1)).diffuse == (0.25, 0.5, 1.0)
+    assert Material(normal_map=tex, specular_map=tex, opacity_map=tex).diffuse == DEFAULT_DIFFUSE
+    assert Material(diffuse=None) == Material() and Material(diffuse=None, diffuse_map=tex) == Material(diffuse_map=tex)
+    # resolved once: replace keeps the colour unless asked to choose it again
+    assert dataclasses.replace(Material(), diffuse_map=tex).diffuse == DEFAULT_DIFFUSE
+    assert dataclasses.replace(Material(), diffuse_map=tex, diffuse=None).diffuse == (1.0, 1.0, 1.0)
+    assert dataclasses.replace(Material(diffuse_map=tex), diffuse_map=None).diffuse == (1.0, 1.0, 1.0)
+
+
 def test_values_are_stored_as_floats_and_tuples():
     m = Material("brick", diffuse=np.array([1, 0.5, 0]), specular=[1, 1, 1], shininess=np.int64(8), opacity=1,
                  emission=(2, 0, 0.5), bump_scale=-2)

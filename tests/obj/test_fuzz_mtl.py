@@ -32,12 +32,12 @@ def test_the_oracle_judges_errors(tmp_path, monkeypatch):
     fuzz_mtl.write_case(tmp_path / "case", random.Random(0))
     assert set(fuzz_mtl.check(tmp_path / "case")) >= {"materials", "opened"}
 
-    def two_lines(doc, report):
+    def two_lines(libraries, report):
         report.warnings.append("m.mtl:1: a\nb")
         return {}
 
-    for replacement, verdict in [(lambda doc, report: {}[0], "KeyError"), (two_lines, "several lines")]:
-        monkeypatch.setattr(materials, "read_materials", replacement)
+    for replacement, verdict in [(lambda libraries, report: {}[0], "KeyError"), (two_lines, "several lines")]:
+        monkeypatch.setattr(materials, "make_materials", replacement)
         with pytest.raises(fuzz_mtl.Failure, match=verdict):
             fuzz_mtl.check(tmp_path / "case")
     monkeypatch.undo()

@@ -1,5 +1,5 @@
-"""Reading whole materials from .mtl files (rasterkit.obj.materials.read_materials, with
-rasterkit.obj.mtl and rasterkit.obj.textures): every statement and map option, texture paths,
+"""Reading whole materials from .mtl files (rasterkit.obj.materials.read_libraries and
+make_materials, with rasterkit.obj.mtl and rasterkit.obj.textures): every statement and map option, texture paths,
 shared textures, and each way a texture can fail (one warning naming the .mtl line and the
 file). The face colours that load_obj makes are not changed by any of it."""
 
@@ -20,7 +20,7 @@ from rasterkit.material.images import decoding_bytes
 from rasterkit.material.mipmaps import mipmaps_bytes
 from rasterkit.obj.document import Document
 from rasterkit.obj.errors import Report
-from rasterkit.obj.materials import read_materials
+from rasterkit.obj.materials import make_materials, read_libraries
 from rasterkit.obj.textures import TEXTURE_WARNINGS
 
 TRIANGLE = "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
@@ -34,7 +34,7 @@ def read(folder, mtl, uses=("m",)):
     (folder / "model.obj").write_text(text)
     doc = Document.read(str(folder / "model.obj"))
     report = Report(doc.name)
-    return read_materials(doc, report), tuple(report.warnings)
+    return make_materials(read_libraries(doc, report, whole=True), report), tuple(report.warnings)
 
 
 def png(path, colour=(10, 20, 30), size=(4, 2), mode="RGB"):
@@ -71,6 +71,23 @@ def test_opacity_from_d_and_tr(tmp_path, lines, opacity):
     assert materials["m"].opacity == pytest.approx(opacity) and warnings == ()
 
 
+def test_a_diffuse_map_without_kd_is_drawn_white(tmp_path):
+    """map_Kd without Kd: diffuse (1, 1, 1), the texture as it is; an explicit Kd is kept as
+    written; a map that cannot be read leaves the default grey. The face colours (what an
+    untextured render draws) keep the grey of a material without Kd."""
+    png(tmp_path / "t.png")
+    mtl = ("newmtl bare\nmap_Kd t.png\nnewmtl grey\nKd 0.8 0.8 0.8\nmap_Kd t.png\n"
+           "newmtl dark\nmap_Kd t.png\nKd 0.25 0.5 0.75\nnewmtl lost\nmap_Kd gone.png\n")
+    materials, warnings = read(tmp_path, mtl, uses=("bare", "grey", "dark", "lost"))
+    assert [materials[n].diffuse for n in ("bare", "grey", "dark", "lost")] == \
+        [(1.0, 1.0, 1.0), (0.8, 0.8, 0.8), (0.25, 0.5, 0.75), (0.8, 0.8, 0.8)]
+    assert materials["bare"].diffuse_map is materials["grey"].diffuse_map and materials["lost"].diffuse_map is None
+    assert len(warnings) == 1 and "'gone.png' cannot be read" in warnings[0]
+    mesh = rasterkit.load_obj(tmp_path / "model.obj", textures=True)
+    assert [m.diffuse for m in mesh.materials] == [materials[n].diffuse for n in mesh.material_names]
+    np.testing.assert_array_equal(mesh.face_colors, np.float32([[0.8] * 3, [0.8] * 3, [0.25, 0.5, 0.75], [0.8] * 3]))
+
+
 def test_values_are_clipped_as_kd_is(tmp_path):
     materials, _ = read(tmp_path, "newmtl m\nKd 2 -1 0.5\nKs 3\nNs -4\nKe 5 5 5\n")
     m = materials["m"]
@@ -95,8 +112,9 @@ def test_unreadable_statements_are_one_warning_per_library(tmp_path):
     mtl = ("newmtl m\nKs a b c\nNs\nd nan\nKe 1 2\nmap_Kd -s x t.png\nmap_Kd -clamp maybe t.png\nmap_Ks -bm\n"
            "map_d -s 1 2\nnorm\nKd bad\nTr inf\n")
     materials, warnings = read(tmp_path, mtl)
-    assert warnings == (f"{tmp_path / 'm.mtl'}:2: cannot read 'Ks a b c' (and 9 more such lines)",)
-    assert materials["m"] == rasterkit.Material("m")  # Kd's warning is face_colors' (load_obj)
+    assert warnings == (f"{tmp_path / 'm.mtl'}:11: cannot read Kd 'Kd bad'",
+                        f"{tmp_path / 'm.mtl'}:2: cannot read 'Ks a b c' (and 9 more such lines)")
+    assert materials["m"] == rasterkit.Material("m")
 
 
 # --- maps and their options -------------------------------------------------------------------
@@ -244,6 +262,42 @@ def test_load_obj_face_colours_agree_and_no_texture_is_opened(tmp_path):
     np.testing.assert_array_equal(mesh.face_colors, np.float32([materials[n].diffuse for n in ("red", "grey", "plain")]))
 
 
+@pytest.mark.parametrize("textures", [False, True])
+def test_each_library_is_read_once_per_load(tmp_path, monkeypatch, textures):
+    from rasterkit.obj import materials as reader
+
+    png(tmp_path / "t.png")
+    (tmp_path / "b.mtl").write_text("newmtl b\nKd 0 0 1\n")
+    (tmp_path / "m.mtl").write_text("newmtl m\nKd 1 0 0\nmap_Kd t.png\n")
+    (tmp_path / "model.obj").write_text("mtllib m.mtl b.mtl\nmtllib m.mtl\n" + TRIANGLE +
+                                        "usemtl m\nf 1 2 3\nusemtl b\nf 1 2 3\n")
+    read_paths = []
+    original = reader.read_file
+    monkeypatch.setattr(reader, "read_file", lambda path: read_paths.append(os.path.basename(path)) or original(path))
+    mesh = rasterkit.load_obj(tmp_path / "model.obj", textures=textures)
+    assert sorted(read_paths) == ["b.mtl", "m.mtl"]
+    np.testing.assert_array_equal(mesh.face_colors, np.float32([[1, 0, 0], [0, 0, 1]]))
+    assert [m.diffuse_map is not None for m in mesh.materials] == ([True, False] if textures else [])
+
+
+def test_load_obj_warns_in_one_order(tmp_path):
+    """Each kind of warning about materials once, in the documented order: unreadable Kd
+    lines, unreadable libraries, materials no library defines, other unreadable statements,
+    textures that cannot be read."""
+    (tmp_path / "m.mtl").write_text("newmtl m\nKs x\nKd y\nmap_Kd gone.png\n")
+    (tmp_path / "model.obj").write_text("mtllib m.mtl lost.mtl\n" + TRIANGLE + "usemtl m\nf 1 2 3\nusemtl q\nf 1 2 3\n")
+    mtl, obj = tmp_path / "m.mtl", tmp_path / "model.obj"
+    plain = rasterkit.load_obj(obj)
+    whole = rasterkit.load_obj(obj, textures=True)
+    assert plain.warnings == (f"{mtl}:3: cannot read Kd 'Kd y'",
+                              f"{obj}:1: material library 'lost.mtl' cannot be read: No such file or directory",
+                              f"{obj}:7: 1 material not in the material libraries: 'q'")
+    assert whole.warnings[:3] == plain.warnings and len(whole.warnings) == 5
+    assert whole.warnings[3] == f"{mtl}:2: cannot read 'Ks x'"
+    assert whole.warnings[4].startswith(f"{mtl}:4: map_Kd texture 'gone.png' cannot be read: ")
+    np.testing.assert_array_equal(whole.face_colors, plain.face_colors)
+
+
 # --- the public models ------------------------------------------------------------------------
 
 def test_fuze_names_a_texture_with_a_space(models_dir):
@@ -252,7 +306,7 @@ def test_fuze_names_a_texture_with_a_space(models_dir):
         pytest.skip(f"{path} is absent")
     doc = Document.read(str(path))
     report = Report(doc.name)
-    (m,) = read_materials(doc, report).values()
+    (m,) = make_materials(read_libraries(doc, report, whole=True), report).values()
     assert report.warnings == []
     assert m.name == "a-super-duper-material" and m.diffuse == (1.0, 1.0, 1.0) and m.specular == (1.0, 1.0, 1.0)
     assert m.opacity == 1.0 and m.shininess == 0.0  # "Tr 1": MeshLab's opaque

@@ -6,7 +6,7 @@ few or bad arguments, odd file names, comments, random bytes spliced in) naming 
 that are real PNG, JPEG, TGA and BMP files with random mutations (bits flipped, bytes
 deleted, inserted or overwritten with large numbers, truncated), plus intact ones.
 
-The oracle: :func:`rasterkit.obj.materials.read_materials` never raises (a texture or
+The oracle: :func:`rasterkit.obj.materials.read_libraries` and ``make_materials`` never raise (a texture or
 statement it cannot read is a warning) and every warning is one line; no Python warning
 escapes; each texture it opens samples finite values in [0, 1] at hostile coordinates;
 :meth:`rasterkit.Texture.open` of each mutated file gives a texture or raises
@@ -138,7 +138,7 @@ def check(folder: Path) -> dict:
     from rasterkit.material.sampling import sample
     from rasterkit.obj.document import Document
     from rasterkit.obj.errors import Report
-    from rasterkit.obj.materials import read_materials
+    from rasterkit.obj import materials as reader
 
     counts = {"materials": 0, "textures": 0, "warnings": 0, "opened": 0, "refused": 0}
     hostile = np.array([[0.3, 0.7], [1e300, -1e300], [np.nan, np.inf], [-np.inf, 5e-324], [2.0**62, -0.5]])
@@ -147,9 +147,9 @@ def check(folder: Path) -> dict:
         try:
             doc = Document.read(str(folder / "model.obj"))
             report = Report(doc.name)
-            materials = read_materials(doc, report)
+            materials = reader.make_materials(reader.read_libraries(doc, report, whole=True), report)
         except Exception as e:  # noqa: BLE001 - the oracle judges every exception
-            raise Failure(f"read_materials: {type(e).__name__}: {e}") from e
+            raise Failure(f"reading the materials: {type(e).__name__}: {e}") from e
         for text in report.warnings:
             if "\n" in text or "\r" in text:
                 raise Failure(f"warning of several lines: {text!r}")
