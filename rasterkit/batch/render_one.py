@@ -42,6 +42,7 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
     from rasterkit.image.atomic import all_or_none
     from rasterkit.image.files import save_animation
     from rasterkit.obj import load_obj
+    from rasterkit.raster.modes import mode
     from rasterkit.raster.render import render
     from rasterkit.shapes import demo
 
@@ -56,7 +57,9 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
         _warm.start(options, depth=False, loading=source is not None)
     elif options.mode == "hidden":  # the SVG's depth pass: the triangles' band worker, with face ids
         _warm.start(RenderOptions(mode="hidden", ids=True), depth=False, loading=source is not None)
-    mesh = demo() if source is None else load_obj(source)
+    # textures are read only where they are drawn (shaded faces, into an image)
+    textures = options.textures and not svg and mode(options.mode).shaded
+    mesh = demo() if source is None else load_obj(source, textures=textures)
     if len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:  # all dropped (NaN vertices)
         raise UsageError(f"{'; '.join(map(_report.one_line, mesh.warnings)) or source}: nothing left to draw")
     if say is not None:

@@ -35,7 +35,7 @@ from rasterkit.runtime import stop as _stop
 from rasterkit.batch.report import UsageError
 from rasterkit.cli.args import (add_limits, add_view_arguments, attach_number_lists, finite, integers, point,
                                 positive_int, samples, task_from_args, unit_interval, view_from_args, whole_number)
-from rasterkit.options import CULL, EDGES, HIDDEN, MODES, SHADING
+from rasterkit.options import CULL, EDGES, HIDDEN, MODES, SHADING, TEXTURE_FILTERS
 
 __all__ = ["main", "Terminated"]
 
@@ -123,6 +123,10 @@ def _parser() -> argparse.ArgumentParser:
                            "with --aperture (1 to 256, default 1)")
     look.add_argument("--vignette", type=unit_interval, default=0.0, metavar="V",
                       help="natural cos^4 falloff towards the corners, 0 (none, default) to 1 (full)")
+    look.add_argument("--no-textures", dest="textures", action="store_false",
+                      help="draw textured materials in their plain colour (and read no texture file)")
+    look.add_argument("--texture-filter", choices=TEXTURE_FILTERS, default="trilinear",
+                      help="mipmaps (trilinear, default), the 4 nearest texels (bilinear) or the nearest (nearest)")
     out = r.add_argument_group("output")
     out.add_argument("--threads", type=positive_int, metavar="N",
                      help="threads for the kernels (default: all cores)")
@@ -253,7 +257,7 @@ def _explained_mesh(args):
     from rasterkit.obj import load_obj
 
     with _report.model(args.model), compile_notice():
-        mesh = load_obj(args.model)
+        mesh = load_obj(args.model, textures=False)  # the camera needs the geometry only
     for warning in mesh.warnings:
         print(f"rasterkit: warning: {args.model}: {_report.one_line(warning)}", file=sys.stderr)
     return mesh

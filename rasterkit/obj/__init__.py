@@ -123,7 +123,7 @@ from rasterkit.mesh import Mesh, unique_edges
 __all__ = ["DEFAULT_KD", "ObjError", "ObjLimitError", "load_obj"]
 
 
-def load_obj(path, *, textures: bool = False) -> Mesh:
+def load_obj(path, *, textures: bool = True) -> Mesh:
     """Load a Wavefront OBJ file as a triangle :class:`~rasterkit.mesh.Mesh`.
 
     Parameters
@@ -131,9 +131,10 @@ def load_obj(path, *, textures: bool = False) -> Mesh:
     path : str or os.PathLike
         The ``.obj`` file. ``mtllib`` files are looked up next to it.
     textures : bool
-        Also read each used material whole (``Mesh.materials``: :class:`rasterkit.Material`
-        with its textures, each file opened once; one that cannot be read is a warning).
-        Off by default while renders do not draw textures: the colours come from ``Kd``.
+        Read each used material whole (``Mesh.materials``: :class:`rasterkit.Material` with
+        its textures, each file opened once; one that cannot be read is a warning), so that
+        renders draw the textures. False reads only each material's ``Kd`` (the faces' colours)
+        and opens no texture file.
 
     Returns
     -------

@@ -370,7 +370,7 @@ def _read_sample_obj() -> None:
         path = os.path.join(folder, "sample.obj")
         with open(path, "w") as f:
             f.write(SAMPLE_OBJ)
-        load_obj(path)
+        load_obj(path, textures=False)
 
 
 if __name__ == "__main__":
