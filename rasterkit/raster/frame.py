@@ -94,14 +94,15 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
         return
     if not row.shaded:  # the colour buffer is cleared by the edge pass
         rasterize_checked(None, fb.uncleared_depth(), clip, mesh.faces, None, None, fb.ids, style.cull, (),
-                          row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True)
+                          row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True,
+                          textures=_cutouts(mesh, style))
         return
     face_colors, vertex_colors, corners = shade(mesh, style)
     textures = _textures(mesh, style)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
     if not row.depth_kept and not style.keep_depth:  # nothing drawn after: depth only if read
         depth = None
-        fb.defer_depth(partial(_depth_pass, clip, mesh.faces, style.cull))
+        fb.defer_depth(partial(_depth_pass, clip, mesh.faces, style.cull, _cutouts(mesh, style)))
     else:
         depth = fb.uncleared_depth()
     rasterize_checked(fb.color, depth, clip, mesh.faces, face_colors, vertex_colors, fb.ids, style.cull, background,
@@ -120,10 +121,21 @@ def _textures(mesh: Mesh, style: Style):
                           style.texture_filter)
 
 
-def _depth_pass(clip, faces, cull, depth):
+def _cutouts(mesh: Mesh, style: Style):
+    """:func:`_textures` when some face is cut out (a depth pass needs its alpha), else None."""
+    textures = _textures(mesh, style)
+    return textures if textures is not None and mesh.textured.cutout else None
+
+
+def _depth_pass(clip, faces, cull, textures, depth):
     """The depth buffer of a solid render, made when it is first read: the same triangles,
-    depth only (the depths are those the colour pass tested, to the bit)."""
-    rasterize_triangles(None, depth, clip, faces, cull=cull, clear=())
+    depth only (the depths are those the colour pass tested, to the bit; cut-out faces
+    ``textures`` cut out)."""
+    if textures is None:
+        rasterize_triangles(None, depth, clip, faces, cull=cull, clear=())
+    else:
+        rasterize_checked(None, depth, clip, faces, None, None, None, cull, (), (0.0, 0.0), None, trusted=True,
+                          textures=textures)
 
 
 def _draw_edges(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style: Style, transform=None) -> None:

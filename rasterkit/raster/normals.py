@@ -38,10 +38,10 @@ def smooth_corners(mesh) -> tuple[np.ndarray, np.ndarray, bool]:
         finite = np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))
         per_vertex = vertex_normals(mesh.vertices, np.ascontiguousarray(faces[finite]))
     if mesh.corner_normals is None:
-        return _unit(per_vertex), faces, False
+        return unit(per_vertex), faces, False
     own = np.asarray(mesh.corner_normals, np.float64)
     index = faces if mesh.normal_index is None else mesh.normal_index
-    table = _unit(np.concatenate([own, per_vertex]))
+    table = unit(np.concatenate([own, per_vertex]))
     corners = _sealed(np.ascontiguousarray(np.where(index >= 0, index, len(own) + faces), np.int64))
     return table, corners, _split(faces, corners, table)
 
@@ -55,7 +55,7 @@ def _split(faces: np.ndarray, corners: np.ndarray, normals: np.ndarray) -> bool:
     return bool(np.any(same_vertex & np.any(vectors[1:] != vectors[:-1], axis=1)))
 
 
-def _unit(normals: np.ndarray) -> np.ndarray:
+def unit(normals: np.ndarray) -> np.ndarray:
     """Rows scaled to unit length (zero and non-finite rows: zero), C-contiguous, read-only."""
     normals = np.nan_to_num(np.asarray(normals, np.float64), nan=0.0, posinf=0.0, neginf=0.0)
     length = np.linalg.norm(normals, axis=1, keepdims=True)

@@ -36,7 +36,7 @@ class Style:
     keep_depth: bool = False  # solid: draw the depth buffer in the colour pass, not when read
     points: object = None  # rasterkit.raster.points.Points, drawn last as depth-tested splats
     maps: object = None  # a vision render's Maps (rasterkit.raster.vision.maps_record), made by the band worker
-    textures: bool = False  # faces with a diffuse map drawn textured (rasterkit.raster.texturing)
+    textures: bool = False  # textured faces drawn textured, cut-out faces cut out (rasterkit.raster.texturing)
     texture_filter: str | None = "trilinear"  # every texture's filter, or None: each one's own
 
 
@@ -83,7 +83,7 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
         mesh = _with_feature_edges(mesh, camera, options.crease_angle)
     background = "white" if background is None else background
     style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
-                  options.aa, light_direction(light, camera), textures=options.textures and row.shaded,
+                  options.aa, light_direction(light, camera), textures=options.textures,
                   texture_filter=options.texture_filter)
     one_sample = options.samples == 1 and options.vignette == 0.0
     normals, wanted_ids = options.normals, options.ids or options.normals or options.uv

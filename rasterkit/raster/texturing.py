@@ -16,51 +16,111 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rasterkit.material import Material
+from rasterkit.material import Material, Texture
 from rasterkit.material.sampling import TextureArgs, texture_args, with_filter
 from rasterkit.raster.kernels.records import Textured
 from rasterkit.raster.kernels.texture_shade import encode_table
+from rasterkit.raster.normals import unit
 from rasterkit.raster.vision import corner_uv
 
-__all__ = ["MeshTextures", "frame_textures", "mesh_textures"]
+__all__ = ["MeshTextures", "face_tangents", "frame_textures", "mesh_textures"]
 
 _ENCODE = encode_table()
 
 
+#: The diffuse map of a material that has other maps but none for its colour: white, so that
+#: its faces take the textured path (its ``diffuse`` times the shading).
+_WHITE = Texture(np.full((1, 1, 3), 255, np.uint8), filter="nearest")
+
+
 @dataclass(frozen=True, eq=False)
 class MeshTextures:
-    """The textured faces of a mesh (:func:`mesh_textures`)."""
+    """The textured faces of a mesh (:func:`mesh_textures`); per face, -1 for none."""
 
-    textures: tuple  # the diffuse maps used, each once (rasterkit.Texture)
-    face_texture: np.ndarray  # (M,) int32: row of textures, -1 for an untextured face
+    textures: tuple  # the maps used, each once (rasterkit.Texture)
+    face_texture: np.ndarray  # (M,) int32: the diffuse map's row of textures
     tint: np.ndarray  # (M, 3) float32: the material's diffuse colour times 255
     corner_uv: np.ndarray  # (M, 6) float64: (u, v) of each face's corners
+    face_alpha: np.ndarray  # (M,) int32: the texture whose alpha cuts the face out
+    face_opacity: np.ndarray  # (M,) float32: the material's opacity, times that alpha
+    face_normal_map: np.ndarray  # (M,) int32: the tangent-space normal map
+    face_bump: np.ndarray  # (M,) float32: how strongly the normal map bends the normal
+    tangents: np.ndarray  # (M, 6) float32: each face's tangent and bitangent (normal-mapped faces)
 
     @property
-    def nbytes(self) -> int:
-        return self.face_texture.nbytes + self.tint.nbytes + self.corner_uv.nbytes
+    def cutout(self) -> bool:
+        """Whether some face is cut out where its alpha is below one half."""
+        return bool((self.face_alpha >= 0).any())
 
 
 def mesh_textures(mesh) -> MeshTextures | None:
     """The textured faces of ``mesh`` (a checked :class:`rasterkit.Mesh`), or None when no face
-    is textured. Read-only arrays; :attr:`rasterkit.Mesh.textured` keeps them with the mesh."""
+    is textured. Read-only arrays; :attr:`rasterkit.Mesh.textured` keeps them with the mesh.
+
+    A face is textured when its material is a :class:`rasterkit.Material` with a diffuse,
+    opacity or normal map (``diffuse_map`` white where it has none) and the face has texture
+    coordinates. Its alpha is its ``opacity_map`` (or the alpha of a ``diffuse_map`` with some
+    alpha below 255); data maps (opacity, normals) are read as linear values."""
     if mesh.face_materials is None or not mesh.materials:
         return None
-    maps, rows = {}, []
-    tints = np.zeros((len(mesh.materials) + 1, 3), np.float32)  # the last row: faces without a material
+    rows = {}
+
+    def row(texture):
+        return -1 if texture is None else rows.setdefault(id(texture), (len(rows), texture))[0]
+
+    n = len(mesh.materials)
+    diffuse, alpha, normal = (np.full(n + 1, -1, np.int32) for _ in range(3))  # the last row: no material
+    tint, opacity, bump = np.zeros((n + 1, 3), np.float32), np.ones(n + 1, np.float32), np.ones(n + 1, np.float32)
     for k, material in enumerate(mesh.materials):
-        texture = material.diffuse_map if isinstance(material, Material) else None
-        rows.append(-1 if texture is None else maps.setdefault(id(texture), (len(maps), texture))[0])
-        if texture is not None:
-            tints[k] = np.asarray(material.diffuse, np.float32) * np.float32(255)
-    if not maps:
+        if not isinstance(material, Material):
+            continue
+        cut = material.opacity_map if material.opacity_map is not None else _with_alpha(material.diffuse_map)
+        if material.diffuse_map is None and material.normal_map is None and cut is None:
+            continue
+        diffuse[k] = row(material.diffuse_map if material.diffuse_map is not None else _WHITE)
+        tint[k] = np.asarray(material.diffuse, np.float32) * np.float32(255)
+        alpha[k] = row(_linear(cut) if cut is material.opacity_map else cut)
+        opacity[k] = material.opacity
+        normal[k] = row(_linear(material.normal_map))
+        bump[k] = material.bump_scale
+    if not rows:
         return None
-    material_texture = np.array(rows + [-1], np.int32)
-    face_texture = material_texture[mesh.face_materials]  # -1 (no material) reads the last row
     uv = corner_uv(mesh)
-    face_texture[~np.isfinite(uv).all(axis=1)] = -1  # a face without texture coordinates
-    textures = tuple(texture for _, texture in sorted(maps.values(), key=lambda item: item[0]))
-    return MeshTextures(textures, _sealed(face_texture), _sealed(tints[mesh.face_materials]), _sealed(uv))
+    untextured = ~np.isfinite(uv).all(axis=1)  # a face without texture coordinates
+    index = np.where(untextured, n, mesh.face_materials)  # -1 reads the last row too
+    face_normal_map = _sealed(normal[index])
+    tangents = face_tangents(mesh.vertices, mesh.faces, uv) if (face_normal_map >= 0).any() \
+        else np.zeros((0, 6), np.float32)
+    textures = tuple(texture for _, texture in sorted(rows.values(), key=lambda item: item[0]))
+    return MeshTextures(textures, _sealed(diffuse[index]), _sealed(tint[index]), _sealed(uv), _sealed(alpha[index]),
+                        _sealed(opacity[index]), face_normal_map, _sealed(bump[index]), _sealed(tangents))
+
+
+def face_tangents(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
+    """(M, 6) float32: each face's tangent and bitangent, the directions in which ``u`` and
+    ``v`` grow on it (``dP/du``, ``dP/dv`` from its edges and their texture-coordinate
+    differences), unit length; zero for a face whose texture coordinates have no area."""
+    p = vertices[faces]  # (M, 3 corners, 3)
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    d1, d2 = uv[:, 2:4] - uv[:, 0:2], uv[:, 4:6] - uv[:, 0:2]
+    det = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(det != 0.0, 1.0 / det, 0.0)[:, None]
+        tangent = (e1 * d2[:, 1:2] - e2 * d1[:, 1:2]) * r
+        bitangent = (e2 * d1[:, 0:1] - e1 * d2[:, 0:1]) * r
+    return np.ascontiguousarray(np.hstack([unit(tangent), unit(bitangent)]), np.float32)
+
+
+def _with_alpha(texture):
+    """``texture`` when it has an alpha channel with some value below 255, else None."""
+    if texture is None or texture.channels != 4 or texture.image[..., 3].min() == 255:
+        return None
+    return texture
+
+
+def _linear(texture):
+    """``texture`` read as data (linear values), not sRGB colours."""
+    return texture.replace(srgb=False) if texture is not None and texture.srgb else texture
 
 
 def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided: bool, smooth: bool,
@@ -75,16 +135,19 @@ def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided: bool, smo
         return None
     args = _arguments(layout.textures, texture_filter)
     light = np.ascontiguousarray(light, np.float64)
+    no_normals = np.zeros((0, 3))
     if smooth:
         normals, corners, _ = mesh.smooth_corners
         cos = normals @ light
         cos = np.abs(cos) if two_sided else np.maximum(cos, 0.0)
         intensity = (ambient + (1.0 - ambient) * np.nan_to_num(cos, nan=0.0)).astype(np.float32)
-        face_normals = np.zeros((0, 3), np.float32)
+        face_normals, corner_normals = np.zeros((0, 3), np.float32), normals if layout.tangents.size else no_normals
     else:
         intensity, corners, face_normals = np.zeros(0, np.float32), np.zeros((0, 3), np.int64), mesh.face_normals
+        corner_normals = no_normals
     return Textured(*args, layout.face_texture, layout.corner_uv, layout.tint, smooth, intensity, corners,
-                    face_normals, light, float(ambient), 1.0 if two_sided else 0.0, _ENCODE)
+                    face_normals, light, float(ambient), 1.0 if two_sided else 0.0, _ENCODE, layout.face_alpha,
+                    layout.face_opacity, layout.face_normal_map, layout.face_bump, layout.tangents, corner_normals)
 
 
 @functools.lru_cache(maxsize=16)

@@ -287,8 +287,6 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
     ``color_index``: with ``vertex_colors`` (K, 3), each face corner's row of them (M, 3) int64
     (checked by the caller); None: ``faces`` (a colour per vertex)."""
     ws = WORKSPACE
-    if not color:
-        textures = None
     faces = readonly(faces)  # as a Mesh's: one compiled kernel for both
     m = faces.shape[0]
     if not color:

@@ -152,7 +152,8 @@ def _all_imports(path: Path) -> set[str]:
 #: kernels calling another package's kernels (Numba compiles a callee into its caller, so the
 #: caller's module must import it): the textured resolve samples textures.
 KERNEL_CONSTANTS = {("rasterkit.options", "rasterkit.raster.kernels.limits"),
-                    ("rasterkit.raster.kernels.texture_shade", "rasterkit.material.kernels.sample")}
+                    ("rasterkit.raster.kernels.texture_shade", "rasterkit.material.kernels.sample"),
+                    ("rasterkit.raster.kernels.cutout", "rasterkit.material.kernels.sample")}
 
 
 def test_a_packages_kernels_are_imported_by_that_package_only():

@@ -37,6 +37,7 @@ from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
 from rasterkit.raster.kernels.texture_shade import resolve_textured_row
 from rasterkit.raster.kernels.face_setup import N_CHUNKS, ONE, chunk_range
 from rasterkit.raster.kernels.triangle import raster_band
+from rasterkit.raster.kernels.cutout import cutout_band
 
 #: Rows per band, ``1 << BAND_SHIFT`` (a shift: the face pass counts bands per face, and a
 #: division there cost 10 %). 32 rows of a 1920-pixel image keep the band's depth and
@@ -312,7 +313,11 @@ def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, b
         # what the visibility buffer holds: the face, or (SHADE_TAGGED) its colour, so
         # the resolve need not look each pixel's colour up
         tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
-        fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
+        if textures is not None and textures.face_alpha[face] >= 0:  # a cut-out face: its alpha decides
+            fragments += cutout_band(t, tag, face, tri_xy, tri_z, tri_box, y0, y1, sample, band_depth, band_lid,
+                                     row_lo, row_hi, bary, textures)
+        else:
+            fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
     for r in range(y1 - y0):
         if textures is None:
             resolve_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed, vertex_colors,

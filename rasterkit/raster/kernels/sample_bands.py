@@ -30,6 +30,7 @@ from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_SMOOTH, SHADE_TAGGE
 from rasterkit.raster.kernels.bands import BAND_HEIGHT, PREFETCH_AHEAD, clear_depth, prefetch_record
 from rasterkit.raster.kernels.texture_shade import pixel_rgba, texture_fields
 from rasterkit.raster.kernels.triangle_samples import raster_band_at
+from rasterkit.raster.kernels.cutout import cutout_band_at
 
 
 @kernel(inline="always")
@@ -344,8 +345,12 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
                 t = items[k]
                 face = t if t < n_faces else fan_face[t - n_faces]
                 tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
-                fragments += raster_band_at(t, tag, tri_xy, tri_z, sample, y0, y1, band_depth, band_lid, row_lo,
-                                            row_hi)
+                if textures is not None and textures.face_alpha[face] >= 0:  # a cut-out face
+                    fragments += cutout_band_at(t, tag, face, tri_xy, tri_z, sample, y0, y1, band_depth, band_lid,
+                                                row_lo, row_hi, shading.bary, textures)
+                else:
+                    fragments += raster_band_at(t, tag, tri_xy, tri_z, sample, y0, y1, band_depth, band_lid, row_lo,
+                                                row_hi)
             sample_x, sample_y = offsets[s, 0] / ONE, offsets[s, 1] / ONE
             for r in range(y1 - y0):
                 if textures is None:

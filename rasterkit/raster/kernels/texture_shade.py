@@ -17,6 +17,10 @@ Per pixel of a textured face, at its sample point ``(px, py)`` (raster pixels):
    and the Lambert factor: per face for flat shading, interpolated perspective-correctly
    from the corners for smooth shading, as an untextured face's colour is lit.
 
+A face with a normal map is lit per pixel instead (:func:`normal_terms`): its normal (the
+face's, or its corners' interpolated) bent by the map in the frame of its tangent and
+bitangent (the directions of growing ``u`` and ``v``), Lambert's law of that normal.
+
 Faces without a texture (``face_texture[f] < 0``) are coloured as in
 :func:`rasterkit.raster.kernels.shade.resolve_row`.
 """
@@ -26,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.material.kernels.sample import FILTER_TRILINEAR, lod_from_derivatives, lookup_with, settings
-from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_SMOOTH, put_rgba, smooth_rgba, to_u8
+from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, put_rgba, smooth_rgba, to_u8
 from rasterkit.runtime.jit import kernel
 
 #: Intervals of the sRGB encoding table (:func:`encode_table`): with linear interpolation
@@ -63,63 +67,140 @@ def texture_fields(textures):
     inside the pixel loop, or a call that passes it, costs the copy of a large structure."""
     return (textures.texels, textures.levels, textures.samplers, textures.transforms, textures.decode,
             textures.face_texture, textures.corner_uv, textures.tint, textures.smooth, textures.intensity,
-            textures.corners, textures.normals, textures.light, textures.ambient, textures.back, textures.encode)
+            textures.corners, textures.normals, textures.light, textures.ambient, textures.back, textures.encode,
+            textures.face_normal_map, textures.face_bump, textures.tangents, textures.corner_normals)
 
 
 @kernel(inline="always")
-def _plane(a0, b0, c0, a1, b1, c1, a2, b2, c2, q0, q1, q2):
-    """The affine function ``sum_k q_k (a_k x + b_k y + c_k)`` as (x, y, 1) coefficients."""
+def _plane(rows, q0, q1, q2):
+    """The affine function ``sum_k q_k (a_k x + b_k y + c_k)`` as (x, y, 1) coefficients, of
+    the barycentric ``rows`` ``(a0, b0, c0, a1, b1, c1, a2, b2, c2)``."""
+    a0, b0, c0, a1, b1, c1, a2, b2, c2 = rows
     return a0 * q0 + a1 * q1 + a2 * q2, b0 * q0 + b1 * q1 + b2 * q2, c0 * q0 + c1 * q1 + c2 * q2
+
+
+@kernel(inline="always")
+def _size(levels, setting):
+    """Texels per unit of u and v of the texture whose :func:`settings` are ``setting``."""
+    first = setting[0]
+    return levels[first, 1] * setting[6], levels[first, 2] * setting[7]
+
+
+@kernel(inline="always")
+def _lambert(x, y, z, light, ambient, back):
+    """The Lambert factor of the unit normal (x, y, z), as the face pass lights an untextured
+    face: ``ambient + (1 - ambient) max(cos, -back cos)``; a non-finite normal gets the
+    ambient term."""
+    cos = x * light[0] + y * light[1] + z * light[2]
+    cos = max(cos, -back * cos)
+    cos = cos if np.isfinite(cos) else 0.0
+    return ambient + (1.0 - ambient) * cos
 
 
 @kernel(inline="always")
 def face_terms(f, t, bary, fields):
     """What the pixels of face ``f`` (texture ``t``) share: the planes of ``s``, ``U``, ``V``
     and (smooth) the Lambert factor times ``s`` (see the module documentation), the flat
-    Lambert factor, the tint, the texture's settings and its level 0's size times its scale."""
+    Lambert factor, the tint, the texture's settings and size, and :func:`normal_terms`."""
     (_, levels, samplers, transforms, _, _, corner_uv, tint, smooth, intensity, corners, normals, light,
-     ambient, back, _) = fields
+     ambient, back, _, _, _, _, _) = fields
     a0, b0, c0 = bary[f, 0], bary[f, 1], bary[f, 2]
     a1, b1, c1 = bary[f, 3], bary[f, 4], bary[f, 5]
     a2, b2, c2 = bary[f, 6], bary[f, 7], bary[f, 8]
+    rows = (a0, b0, c0, a1, b1, c1, a2, b2, c2)
     s_plane = (a0 + a1 + a2, b0 + b1 + b2, c0 + c1 + c2)
-    u_plane = _plane(a0, b0, c0, a1, b1, c1, a2, b2, c2, corner_uv[f, 0], corner_uv[f, 2], corner_uv[f, 4])
-    v_plane = _plane(a0, b0, c0, a1, b1, c1, a2, b2, c2, corner_uv[f, 1], corner_uv[f, 3], corner_uv[f, 5])
+    u_plane = _plane(rows, corner_uv[f, 0], corner_uv[f, 2], corner_uv[f, 4])
+    v_plane = _plane(rows, corner_uv[f, 1], corner_uv[f, 3], corner_uv[f, 5])
     shade = 0.0
     i_plane = (0.0, 0.0, 0.0)
     if smooth:
-        i_plane = _plane(a0, b0, c0, a1, b1, c1, a2, b2, c2, np.float64(intensity[corners[f, 0]]),
-                         np.float64(intensity[corners[f, 1]]), np.float64(intensity[corners[f, 2]]))
+        i_plane = _plane(rows, np.float64(intensity[corners[f, 0]]), np.float64(intensity[corners[f, 1]]),
+                         np.float64(intensity[corners[f, 2]]))
     else:
-        cos = normals[f, 0] * light[0] + normals[f, 1] * light[1] + normals[f, 2] * light[2]
-        cos = max(cos, -back * cos)
-        cos = cos if np.isfinite(cos) else 0.0
-        shade = ambient + (1.0 - ambient) * cos  # as the face pass lights an untextured face
+        shade = _lambert(normals[f, 0], normals[f, 1], normals[f, 2], light, ambient, back)
     setting = settings(levels, samplers, transforms, t)
-    first = setting[0]
-    size = (levels[first, 1] * setting[6], levels[first, 2] * setting[7])  # texels per unit of u, v
     return (s_plane, u_plane, v_plane, i_plane, smooth, shade, (tint[f, 0], tint[f, 1], tint[f, 2]), setting,
-            size)
+            _size(levels, setting), normal_terms(f, rows, fields))
 
 
 @kernel(inline="always")
-def face_pixel(terms, x, y, texels, levels, decode, table):
+def normal_terms(f, rows, fields):
+    """What the pixels of face ``f`` share for its normal map: ``(m, setting, size, tangent,
+    bitangent, normal planes, bump)``, ``m`` its normal map's row (-1: none), the normal's
+    planes those of the interpolated corner normals (smooth) or the face normal (flat: constant
+    planes)."""
+    (_, levels, samplers, transforms, _, _, _, _, smooth, _, corners, normals, _, _, _, _, face_normal_map,
+     face_bump, tangents, corner_normals) = fields
+    m = face_normal_map[f]
+    zero = (0.0, 0.0, 0.0)
+    setting = settings(levels, samplers, transforms, max(m, 0))
+    tangent, bitangent, planes, bump = zero, zero, (zero, zero, zero), 1.0
+    if m >= 0:
+        tangent = (np.float64(tangents[f, 0]), np.float64(tangents[f, 1]), np.float64(tangents[f, 2]))
+        bitangent = (np.float64(tangents[f, 3]), np.float64(tangents[f, 4]), np.float64(tangents[f, 5]))
+        bump = np.float64(face_bump[f])
+        if smooth:
+            c0, c1, c2 = corners[f, 0], corners[f, 1], corners[f, 2]
+            planes = (_plane(rows, corner_normals[c0, 0], corner_normals[c1, 0], corner_normals[c2, 0]),
+                      _plane(rows, corner_normals[c0, 1], corner_normals[c1, 1], corner_normals[c2, 1]),
+                      _plane(rows, corner_normals[c0, 2], corner_normals[c1, 2], corner_normals[c2, 2]))
+        else:  # constant: the face normal times s, whose plane is the rows' sums
+            sx, sy, s0 = rows[0] + rows[3] + rows[6], rows[1] + rows[4] + rows[7], rows[2] + rows[5] + rows[8]
+            nx, ny, nz = np.float64(normals[f, 0]), np.float64(normals[f, 1]), np.float64(normals[f, 2])
+            planes = ((sx * nx, sy * nx, s0 * nx), (sx * ny, sy * ny, s0 * ny), (sx * nz, sy * nz, s0 * nz))
+    return m, setting, _size(levels, setting), tangent, bitangent, planes, bump
+
+
+@kernel(inline="always")
+def _mapped_shade(terms, x, y, inv, u, v, derivatives, texels, levels, decode, light, ambient, back):
+    """The Lambert factor at (x, y) with the normal bent by the face's normal map (see
+    :func:`normal_terms`): the surface normal ``n``, the tangent made perpendicular to it and
+    the bitangent to both (Gram-Schmidt), the map's ``(2r - 1, 2g - 1, 2b - 1)`` with its
+    first two components times ``bump``, in that frame."""
+    _, setting, size, tangent, bitangent, planes, bump = terms
+    nx = (planes[0][0] * x + planes[0][1] * y + planes[0][2]) * inv
+    ny = (planes[1][0] * x + planes[1][1] * y + planes[1][2]) * inv
+    nz = (planes[2][0] * x + planes[2][1] * y + planes[2][2]) * inv
+    scale = 1.0 / np.sqrt(nx * nx + ny * ny + nz * nz)
+    nx, ny, nz = nx * scale, ny * scale, nz * scale
+    tx, ty, tz = tangent
+    d = tx * nx + ty * ny + tz * nz
+    tx, ty, tz = tx - d * nx, ty - d * ny, tz - d * nz
+    scale = 1.0 / np.sqrt(tx * tx + ty * ty + tz * tz)
+    tx, ty, tz = tx * scale, ty * scale, tz * scale
+    bx, by, bz = bitangent
+    d, e = bx * nx + by * ny + bz * nz, bx * tx + by * ty + bz * tz
+    bx, by, bz = bx - d * nx - e * tx, by - d * ny - e * ty, bz - d * nz - e * tz
+    scale = 1.0 / np.sqrt(bx * bx + by * by + bz * bz)
+    bx, by, bz = bx * scale, by * scale, bz * scale
+    lod = 0.0
+    if setting[3] == FILTER_TRILINEAR:
+        lod = lod_from_derivatives(derivatives[0], derivatives[1], derivatives[2], derivatives[3], size[0], size[1])
+    r, g, b, _ = lookup_with(texels, levels, decode, setting, u, v, lod)
+    mx, my, mz = (2.0 * r - 1.0) * bump, (2.0 * g - 1.0) * bump, 2.0 * b - 1.0
+    x, y, z = tx * mx + bx * my + nx * mz, ty * mx + by * my + ny * mz, tz * mx + bz * my + nz * mz
+    scale = 1.0 / np.sqrt(x * x + y * y + z * z)
+    return _lambert(x * scale, y * scale, z * scale, light, ambient, back)
+
+
+@kernel(inline="always")
+def face_pixel(terms, x, y, texels, levels, decode, table, light, ambient, back):
     """The packed colour at raster point (x, y) of the face whose :func:`face_terms` are
     ``terms``."""
-    s_plane, u_plane, v_plane, i_plane, smooth, shade, tint, setting, size = terms
+    s_plane, u_plane, v_plane, i_plane, smooth, shade, tint, setting, size, mapped = terms
     inv = 1.0 / (s_plane[0] * x + s_plane[1] * y + s_plane[2])
     u = (u_plane[0] * x + u_plane[1] * y + u_plane[2]) * inv
     v = (v_plane[0] * x + v_plane[1] * y + v_plane[2]) * inv
+    # the quotient rule: du/dx = (U_x - u s_x) / s, and so on
+    derivatives = ((u_plane[0] - u * s_plane[0]) * inv, (v_plane[0] - v * s_plane[0]) * inv,
+                   (u_plane[1] - u * s_plane[1]) * inv, (v_plane[1] - v * s_plane[1]) * inv)
     lod = 0.0
     if setting[3] == FILTER_TRILINEAR:
-        # the quotient rule: du/dx = (U_x - u s_x) / s, and so on
-        dudx = (u_plane[0] - u * s_plane[0]) * inv
-        dvdx = (v_plane[0] - v * s_plane[0]) * inv
-        dudy = (u_plane[1] - u * s_plane[1]) * inv
-        dvdy = (v_plane[1] - v * s_plane[1]) * inv
-        lod = lod_from_derivatives(dudx, dvdx, dudy, dvdy, size[0], size[1])
+        lod = lod_from_derivatives(derivatives[0], derivatives[1], derivatives[2], derivatives[3], size[0], size[1])
     r, g, b, _ = lookup_with(texels, levels, decode, setting, u, v, lod)
-    if smooth:
+    if mapped[0] >= 0:
+        shade = _mapped_shade(mapped, x, y, inv, u, v, derivatives, texels, levels, decode, light, ambient, back)
+    elif smooth:
         shade = (i_plane[0] * x + i_plane[1] * y + i_plane[2]) * inv
     red = to_u8(encode(table, r) * tint[0] * shade)
     green = to_u8(encode(table, g) * tint[1] * shade)
@@ -134,7 +215,8 @@ def pixel_rgba(mode, f, px, py, packed, vertex_colors, corners, bary, fields):
     :func:`texture_fields`."""
     t = fields[5][f]
     if t >= 0:
-        return face_pixel(face_terms(f, t, bary, fields), px, py, fields[0], fields[1], fields[4], fields[15])
+        return face_pixel(face_terms(f, t, bary, fields), px, py, fields[0], fields[1], fields[4], fields[15],
+                          fields[12], fields[13], fields[14])
     if mode == SHADE_SMOOTH:
         return smooth_rgba(f, px, py, vertex_colors, corners, bary)
     return packed[f]
@@ -144,11 +226,12 @@ def pixel_rgba(mode, f, px, py, packed, vertex_colors, corners, bary, fields):
 def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, corners, bary, color,
                          write_ids, ids, textures):
     """:func:`rasterkit.raster.kernels.shade.resolve_row` of a textured frame (``mode``
-    SHADE_FLAT or SHADE_SMOOTH: the visibility rows hold faces); ``textures`` a
-    :class:`rasterkit.raster.kernels.records.Textured`. A run of pixels of one face shares
-    its :func:`face_terms`."""
+    SHADE_FLAT or SHADE_SMOOTH, or SHADE_NONE for a depth pass with cut-out faces: the
+    visibility rows hold faces); ``textures`` a :class:`rasterkit.raster.kernels.records.Textured`.
+    A run of pixels of one face shares its :func:`face_terms`."""
     fields = texture_fields(textures)
     texels, levels, decode, face_texture, table = fields[0], fields[1], fields[4], fields[5], fields[15]
+    light, ambient, back = fields[12], fields[13], fields[14]
     ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
     px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
     n = hi - lo + 1
@@ -162,10 +245,13 @@ def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, ve
         while end < n and lid[ru, base + np.uint64(end)] == f:
             end += 1
         t = face_texture[f]
-        if t >= 0:
+        if mode == SHADE_NONE:
+            pass
+        elif t >= 0:
             terms = face_terms(f, t, bary, fields)
             for q in range(k, end):
-                put_rgba(color, ju, base + np.uint64(q), face_pixel(terms, px + q, py, texels, levels, decode, table))
+                put_rgba(color, ju, base + np.uint64(q),
+                         face_pixel(terms, px + q, py, texels, levels, decode, table, light, ambient, back))
         elif mode == SHADE_SMOOTH:
             for q in range(k, end):
                 put_rgba(color, ju, base + np.uint64(q), smooth_rgba(f, px + q, py, vertex_colors, corners, bary))
