@@ -11,7 +11,10 @@ from rasterkit import values
 from rasterkit._arrays import describe
 from rasterkit.material.texture import Texture
 
-__all__ = ["DEFAULT_DIFFUSE", "MAPPED_DIFFUSE", "Material"]
+#: The spaces a normal map's vectors can be in (:attr:`Material.normal_space`).
+NORMAL_SPACES = ("tangent", "object")
+
+__all__ = ["NORMAL_SPACES", "DEFAULT_DIFFUSE", "MAPPED_DIFFUSE", "Material"]
 
 DEFAULT_DIFFUSE = (0.8, 0.8, 0.8)
 """Diffuse colour (``Kd``) of a material that gives neither a colour nor a ``diffuse_map``,
@@ -92,10 +95,18 @@ class Material:
     specular_map : Texture or None
         ``map_Ks``: scales ``specular`` (linear data).
     normal_map : Texture or None
-        ``map_Bump``, ``bump`` or ``norm`` (linear data): a tangent-space normal map (an RGB
-        image), or a height map when the image is grey (as ``bump`` often is).
+        ``map_Bump``, ``bump`` or ``norm`` (linear data): a normal map (an RGB image, each
+        texel a unit vector ``2 * rgb - 1``), or a height map when the image is grey (as
+        ``bump`` often is: heights 0 to 1, turned into normals by their slopes,
+        :data:`rasterkit.raster.texturing.HEIGHT_SLOPE`).
     bump_scale : float
-        ``-bm`` of the bump or normal map: how strongly it bends the normal. Default 1.
+        ``-bm`` of the bump or normal map: how strongly it bends the normal (a tangent-space
+        normal's x and y, a height map's slopes, are multiplied by it). Default 1.
+    normal_space : {"tangent", "object"}
+        The space of ``normal_map``'s vectors: ``tangent`` (the default; x along the texture's
+        ``u``, y along ``v``, z the surface normal, as ``.mtl`` and glTF files mean them), or
+        ``object``, the mesh's own coordinates (as tinyrenderer's ``african_head_nm.tga``):
+        the map's vector is the normal, whatever the mesh's normals.
     """
 
     name: str = "default"
@@ -109,6 +120,7 @@ class Material:
     specular_map: Texture | None = None
     normal_map: Texture | None = None
     bump_scale: float = 1.0
+    normal_space: str = "tangent"
 
     def __post_init__(self):
         if self.diffuse is None:
@@ -131,4 +143,5 @@ _CHECKS = {
     "opacity": values.unit_interval,
     "diffuse_map": _texture, "opacity_map": _texture, "specular_map": _texture, "normal_map": _texture,
     "bump_scale": values.real,
+    "normal_space": lambda name, value: values.choice(name, value, NORMAL_SPACES),
 }

@@ -124,7 +124,7 @@ def _textures(mesh: Mesh, style: Style):
 def _cutouts(mesh: Mesh, style: Style):
     """:func:`_textures` when some face is cut out (a depth pass needs its alpha), else None."""
     textures = _textures(mesh, style)
-    return textures if textures is not None and mesh.textured.cutout else None
+    return textures if textures is not None and textures.cutouts is not None else None
 
 
 def _depth_pass(clip, faces, cull, textures, depth):

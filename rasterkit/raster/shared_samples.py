@@ -32,7 +32,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import readonly
 from rasterkit.runtime.threads import run_workers
-from rasterkit.raster.triangle_pass import WORKSPACE, Prepared, clear_spec, draw_prepared, prepare
+from rasterkit.raster.triangle_pass import WORKSPACE, Prepared, clear_spec, draw_prepared, prepare, texture_arguments
 from rasterkit.raster.kernels.records import Samples
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_TAGGED
 from rasterkit.raster.kernels.bands import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
@@ -201,4 +201,5 @@ def _average(prepared: Prepared, color, background, offsets, *, threads, exact=T
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     return int(sum(run_workers(draw_sample_bands, prepared.band_start, prepared.items, prepared.records,
                                shading, band_depth, color, clear_spec(background, color), samples,
-                               ws.visibility(threads, width), spans, prepared.textures, threads=threads)))
+                               ws.visibility(threads, width), spans, *texture_arguments(prepared.textures),
+                               threads=threads)))

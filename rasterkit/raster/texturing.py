@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -23,10 +24,18 @@ from rasterkit.raster.kernels.texture_shade import encode_table
 from rasterkit.raster.normals import unit
 from rasterkit.raster.vision import corner_uv
 
-__all__ = ["MeshTextures", "face_tangents", "frame_textures", "mesh_textures"]
+__all__ = ["FrameTextures", "MeshTextures", "face_tangents", "frame_textures", "mesh_textures"]
 
 _ENCODE = encode_table()
 
+
+#: A height map's slopes: a grey ``normal_map`` is a height map, heights ``h`` 0 to 1 (black
+#: to white), whose normals are ``normalize(-HEIGHT_SLOPE * dh/di, -HEIGHT_SLOPE * dh/dj, 1)``
+#: in tangent space, from central differences per texel (``i`` along ``u``, ``j`` along ``v``;
+#: across the edges as the texture wraps): the full range of heights is as high as 16 texels
+#: are wide (a step from black to white over 16 texels slopes at 45 degrees), times the
+#: material's ``bump_scale``.
+HEIGHT_SLOPE = 16.0
 
 #: The diffuse map of a material that has other maps but none for its colour: white, so that
 #: its faces take the textured path (its ``diffuse`` times the shading).
@@ -45,12 +54,20 @@ class MeshTextures:
     face_opacity: np.ndarray  # (M,) float32: the material's opacity, times that alpha
     face_normal_map: np.ndarray  # (M,) int32: the tangent-space normal map
     face_bump: np.ndarray  # (M,) float32: how strongly the normal map bends the normal
+    face_normal_space: np.ndarray  # (M,) int8: 0 tangent space, 1 object space
     tangents: np.ndarray  # (M, 6) float32: each face's tangent and bitangent (normal-mapped faces)
+    cutout: bool  # some face is cut out where its alpha is below one half
+    normal_mapped: bool  # some face has a normal map
 
-    @property
-    def cutout(self) -> bool:
-        """Whether some face is cut out where its alpha is below one half."""
-        return bool((self.face_alpha >= 0).any())
+
+class FrameTextures(NamedTuple):
+    """A frame's :class:`~rasterkit.raster.kernels.records.Textured` (``textures``), and the
+    same record as ``cutouts`` and ``mapped`` when some face is cut out or has a normal map
+    (else None: the band worker then compiles none of that code)."""
+
+    textures: Textured
+    cutouts: Textured | None
+    mapped: Textured | None
 
 
 def mesh_textures(mesh) -> MeshTextures | None:
@@ -70,6 +87,7 @@ def mesh_textures(mesh) -> MeshTextures | None:
 
     n = len(mesh.materials)
     diffuse, alpha, normal = (np.full(n + 1, -1, np.int32) for _ in range(3))  # the last row: no material
+    space = np.zeros(n + 1, np.int8)
     tint, opacity, bump = np.zeros((n + 1, 3), np.float32), np.ones(n + 1, np.float32), np.ones(n + 1, np.float32)
     for k, material in enumerate(mesh.materials):
         if not isinstance(material, Material):
@@ -81,8 +99,9 @@ def mesh_textures(mesh) -> MeshTextures | None:
         tint[k] = np.asarray(material.diffuse, np.float32) * np.float32(255)
         alpha[k] = row(_linear(cut) if cut is material.opacity_map else cut)
         opacity[k] = material.opacity
-        normal[k] = row(_linear(material.normal_map))
+        normal[k] = row(_normal_map(material.normal_map))
         bump[k] = material.bump_scale
+        space[k] = material.normal_space == "object"
     if not rows:
         return None
     uv = corner_uv(mesh)
@@ -92,8 +111,10 @@ def mesh_textures(mesh) -> MeshTextures | None:
     tangents = face_tangents(mesh.vertices, mesh.faces, uv) if (face_normal_map >= 0).any() \
         else np.zeros((0, 6), np.float32)
     textures = tuple(texture for _, texture in sorted(rows.values(), key=lambda item: item[0]))
-    return MeshTextures(textures, _sealed(diffuse[index]), _sealed(tint[index]), _sealed(uv), _sealed(alpha[index]),
-                        _sealed(opacity[index]), face_normal_map, _sealed(bump[index]), _sealed(tangents))
+    face_alpha = _sealed(alpha[index])
+    return MeshTextures(textures, _sealed(diffuse[index]), _sealed(tint[index]), _sealed(uv), face_alpha,
+                        _sealed(opacity[index]), face_normal_map, _sealed(bump[index]), _sealed(space[index]),
+                        _sealed(tangents), bool((face_alpha >= 0).any()), bool(tangents.size))
 
 
 def face_tangents(vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
@@ -118,14 +139,41 @@ def _with_alpha(texture):
     return texture
 
 
+def _normal_map(texture):
+    """``texture`` as a normal map read as data: a grey one (a height map) turned into normals
+    (:data:`HEIGHT_SLOPE`), once per texture."""
+    if texture is None:
+        return None
+    image = texture.image
+    if np.array_equal(image[..., 0], image[..., 1]) and np.array_equal(image[..., 0], image[..., 2]):
+        return _from_heights(texture)
+    return _linear(texture)
+
+
+@functools.lru_cache(maxsize=8)
+def _from_heights(texture):
+    """The tangent-space normal map (a Texture with ``texture``'s settings) of the height map
+    ``texture`` (see :data:`HEIGHT_SLOPE`)."""
+    heights = texture.image[::-1, :, 0].astype(np.float64) / 255.0  # rows bottom first: j grows with v
+    mode = "edge" if texture.wrap == "clamp" else ("symmetric" if texture.wrap == "mirror" else "wrap")
+    padded = np.pad(heights, 1, mode=mode)
+    di = (padded[1:-1, 2:] - padded[1:-1, :-2]) / 2.0
+    dj = (padded[2:, 1:-1] - padded[:-2, 1:-1]) / 2.0
+    normals = np.stack([-HEIGHT_SLOPE * di, -HEIGHT_SLOPE * dj, np.ones_like(di)], axis=2)
+    normals /= np.linalg.norm(normals, axis=2, keepdims=True)
+    image = np.floor((normals[::-1] + 1.0) / 2.0 * 255.0 + 0.5).astype(np.uint8)
+    return Texture(image, filter=texture.filter, wrap=texture.wrap, scale=texture.scale, offset=texture.offset,
+                   srgb=False, name=texture.name)
+
+
 def _linear(texture):
     """``texture`` read as data (linear values), not sRGB colours."""
     return texture.replace(srgb=False) if texture is not None and texture.srgb else texture
 
 
 def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided: bool, smooth: bool,
-                   texture_filter: str | None) -> Textured | None:
-    """The band worker's :class:`~rasterkit.raster.kernels.records.Textured` for a frame of
+                   texture_filter: str | None) -> FrameTextures | None:
+    """The band worker's :class:`FrameTextures` for a frame of
     ``mesh`` lit from the unit direction ``light`` (world space) with ``ambient``, lit on both
     sides or not, flat or ``smooth``, every texture filtered with ``texture_filter`` (a name of
     :data:`rasterkit.material.sampling.FILTER_CODES`, or None for each texture's own); None
@@ -145,9 +193,11 @@ def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided: bool, smo
     else:
         intensity, corners, face_normals = np.zeros(0, np.float32), np.zeros((0, 3), np.int64), mesh.face_normals
         corner_normals = no_normals
-    return Textured(*args, layout.face_texture, layout.corner_uv, layout.tint, smooth, intensity, corners,
-                    face_normals, light, float(ambient), 1.0 if two_sided else 0.0, _ENCODE, layout.face_alpha,
-                    layout.face_opacity, layout.face_normal_map, layout.face_bump, layout.tangents, corner_normals)
+    record = Textured(*args, layout.face_texture, layout.corner_uv, layout.tint, smooth, intensity, corners,
+                      face_normals, light, float(ambient), 1.0 if two_sided else 0.0, _ENCODE, layout.face_alpha,
+                      layout.face_opacity, layout.face_normal_map, layout.face_bump, layout.face_normal_space,
+                      layout.tangents, corner_normals)
+    return FrameTextures(record, record if layout.cutout else None, record if layout.normal_mapped else None)
 
 
 @functools.lru_cache(maxsize=16)

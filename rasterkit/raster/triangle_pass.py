@@ -272,7 +272,7 @@ class Prepared(NamedTuple):
     generation: int  # the workspace's at prepare: checked by draw_prepared
     stats: dict  # the counts of rasterkit.raster.triangles.TriangleStats but fragments
     corners: np.ndarray  # the vertex pass's (rasterkit.raster.kernels.face_setup.setup_vertices)
-    textures: object = None  # a textured frame's rasterkit.raster.kernels.records.Textured
+    textures: object = None  # a textured frame's rasterkit.raster.texturing.FrameTextures
 
 
 def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, height, color, ids, threads,
@@ -283,7 +283,7 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
     points other than the pixel centres. ``transform``: None, or ``(points, matrix)``
     ((N, 3) and (4, 4) float64, C-contiguous) that the vertex pass turns into ``clip``
     (N, 4), written here. ``textures``: a textured frame's
-    :class:`rasterkit.raster.kernels.records.Textured` (checked against the faces by its maker).
+    :class:`rasterkit.raster.texturing.FrameTextures` (checked against the faces by its maker).
     ``color_index``: with ``vertex_colors`` (K, 3), each face corner's row of them (M, 3) int64
     (checked by the caller); None: ``faces`` (a colour per vertex)."""
     ws = WORKSPACE
@@ -359,7 +359,12 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     return int(sum(run_workers(draw_bands, prepared.band_start, prepared.items, records, prepared.shading,
                                target, clear, sample, ws.visibility(threads, width), spans, maps,
-                               prepared.textures, threads=threads)))
+                               *texture_arguments(prepared.textures), threads=threads)))
+
+
+def texture_arguments(textures):
+    """The band workers' ``textures, cutouts, mapped`` of a frame's FrameTextures (or None)."""
+    return (None, None, None) if textures is None else tuple(textures)
 
 
 def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,

@@ -71,9 +71,9 @@ def bounded_coordinate(u, wrap):
 @kernel(inline="always")
 def wrap_index(i, n, wrap):
     """Texel index ``i`` wrapped into [0, n), for the indices that bounded coordinates
-    (:func:`bounded_coordinate`) give on a level ``n`` texels wide: ``-1 .. n`` for repeat,
-    ``-1 .. 2n`` for mirror, any for clamp. With selects, not a division: a lookup takes up
-    to 8 of them."""
+    (:func:`bounded_coordinate`) give on a level ``n`` texels wide and their right or upper
+    neighbours: ``-1 .. n + 1`` for repeat, ``-1 .. 2n + 1`` for mirror, any for clamp. With
+    selects, not a division."""
     if wrap == WRAP_REPEAT:
         i = i + n if i < 0 else i
         return i - n if i >= n else i
@@ -90,42 +90,6 @@ def texel(texels, decode, srgb, channels, at):
     ``decode``, alpha linear (1 without an alpha channel)."""
     a = decode[0, texels[at + 3]] if channels == 4 else 1.0
     return decode[srgb, texels[at]], decode[srgb, texels[at + 1]], decode[srgb, texels[at + 2]], a
-
-
-@kernel(inline="always")
-def nearest(texels, levels, level, decode, srgb, channels, wrap, u, v):
-    """GL_NEAREST: the texel of ``level`` that contains (u, v) (bounded coordinates)."""
-    offset, width, height = levels[level, 0], levels[level, 1], levels[level, 2]
-    i = wrap_index(np.int64(np.floor(u * width)), width, wrap)
-    j = wrap_index(np.int64(np.floor(v * height)), height, wrap)
-    return texel(texels, decode, srgb, channels, offset + (j * width + i) * channels)
-
-
-@kernel(inline="always")
-def bilinear(texels, levels, level, decode, srgb, channels, wrap, u, v):
-    """GL_LINEAR: the 4 texels of ``level`` around (u, v) (bounded coordinates), weighted by
-    how near their centres are."""
-    offset, width, height = levels[level, 0], levels[level, 1], levels[level, 2]
-    x = u * width - 0.5
-    y = v * height - 0.5
-    fx = np.floor(x)
-    fy = np.floor(y)
-    ax = x - fx
-    ay = y - fy
-    i0 = wrap_index(np.int64(fx), width, wrap)
-    i1 = wrap_index(np.int64(fx) + 1, width, wrap)
-    row0 = offset + wrap_index(np.int64(fy), height, wrap) * width * channels
-    row1 = offset + wrap_index(np.int64(fy) + 1, height, wrap) * width * channels
-    r00, g00, b00, a00 = texel(texels, decode, srgb, channels, row0 + i0 * channels)
-    r10, g10, b10, a10 = texel(texels, decode, srgb, channels, row0 + i1 * channels)
-    r01, g01, b01, a01 = texel(texels, decode, srgb, channels, row1 + i0 * channels)
-    r11, g11, b11, a11 = texel(texels, decode, srgb, channels, row1 + i1 * channels)
-    w00 = (1.0 - ax) * (1.0 - ay)
-    w10 = ax * (1.0 - ay)
-    w01 = (1.0 - ax) * ay
-    w11 = ax * ay
-    return (w00 * r00 + w10 * r10 + w01 * r01 + w11 * r11, w00 * g00 + w10 * g10 + w01 * g01 + w11 * g11,
-            w00 * b00 + w10 * b10 + w01 * b01 + w11 * b11, w00 * a00 + w10 * a10 + w01 * a01 + w11 * a11)
 
 
 @kernel(inline="always")
@@ -149,50 +113,61 @@ def texture_lod(levels, samplers, transforms, t, dudx, dvdx, dudy, dvdy):
     return lod_from_derivatives(dudx * su, dvdx * sv, dudy * su, dvdy * sv, levels[first, 1], levels[first, 2])
 
 
-@kernel(inline="always")
-def settings(levels, samplers, transforms, t):
-    """Texture ``t``'s row of ``samplers`` and ``transforms`` as locals, for a caller that
-    looks it up many times (:func:`lookup_with`): ``(first, count, channels, filter, wrap,
-    srgb, scale_u, scale_v, offset_u, offset_v)``."""
-    return (samplers[t, FIRST], samplers[t, COUNT], samplers[t, CHANNELS], samplers[t, FILTER], samplers[t, WRAP],
-            samplers[t, SRGB], transforms[t, SCALE_U], transforms[t, SCALE_V], transforms[t, OFFSET_U],
-            transforms[t, OFFSET_V])
-
-
 @kernel(refcounts=False)
 def sample(texels, levels, samplers, transforms, decode, t, u, v, lod):
     """Texture ``t`` at (u, v) float64 with level of detail ``lod``: (r, g, b, a) float32
     (see the module documentation). Allocates nothing. A function of its own, for callers
-    outside a hot loop; the band worker inlines :func:`lookup_with`."""
-    return lookup_with(texels, levels, decode, settings(levels, samplers, transforms, t), u, v, lod)
+    outside a hot loop; the band worker inlines :func:`lookup`."""
+    return lookup(texels, levels, samplers, transforms, decode, t, u, v, lod)
 
 
 @kernel(inline="always")
-def lookup_with(texels, levels, decode, setting, u, v, lod):
-    """:func:`sample` of the texture whose :func:`settings` are ``setting``, inlined into
-    its caller."""
-    first, count, channels, mode, wrap, srgb, scale_u, scale_v, offset_u, offset_v = setting
-    u = bounded_coordinate(u * scale_u + offset_u, wrap)
-    v = bounded_coordinate(v * scale_v + offset_v, wrap)
-    if mode == FILTER_NEAREST:
-        r, g, b, a = nearest(texels, levels, first, decode, srgb, channels, wrap, u, v)
-    elif mode == FILTER_BILINEAR:
-        r, g, b, a = bilinear(texels, levels, first, decode, srgb, channels, wrap, u, v)
-    else:
-        if lod != lod or lod < 0.0:
-            lod = 0.0
-        elif lod > count - 1.0:
-            lod = count - 1.0
+def lookup(texels, levels, samplers, transforms, decode, t, u, v, lod):
+    """:func:`sample`, inlined into its caller.
+
+    Written once for every filter, to keep what compiles small: one or two levels (two where
+    ``trilinear`` falls between levels), each blended from the 4 texels around the point
+    (``nearest``: the texel under it, the other 3 weighted 0). The texture's settings are read
+    here, from the arrays, on every call: a caller's loop then has no branch LLVM could hoist
+    out of it and copy the loop for (loop unswitching made a textured render's first compile
+    take 45 s longer)."""
+    first, count, channels = samplers[t, FIRST], samplers[t, COUNT], samplers[t, CHANNELS]
+    mode, wrap, srgb = samplers[t, FILTER], samplers[t, WRAP], samplers[t, SRGB]
+    u = bounded_coordinate(u * transforms[t, SCALE_U] + transforms[t, OFFSET_U], wrap)
+    v = bounded_coordinate(v * transforms[t, SCALE_V] + transforms[t, OFFSET_V], wrap)
+    level, between = first, 0.0
+    if mode == FILTER_TRILINEAR:
+        lod = 0.0 if lod != lod or lod < 0.0 else min(lod, count - 1.0)
         d = np.floor(lod)
-        f = lod - d
-        level = first + np.int64(d)
-        r, g, b, a = bilinear(texels, levels, level, decode, srgb, channels, wrap, u, v)
-        if f > 0.0:
-            r1, g1, b1, a1 = bilinear(texels, levels, level + 1, decode, srgb, channels, wrap, u, v)
-            r = (1.0 - f) * r + f * r1
-            g = (1.0 - f) * g + f * g1
-            b = (1.0 - f) * b + f * b1
-            a = (1.0 - f) * a + f * a1
+        level, between = first + np.int64(d), lod - d
+    offset = 0.5 if mode != FILTER_NEAREST else 0.0  # nearest: the texel containing the point, weight 1
+    r = g = b = a = 0.0
+    weight = 1.0 - between
+    for k in range(2 if between > 0.0 else 1):
+        start, width, height = levels[level + k, 0], levels[level + k, 1], levels[level + k, 2]
+        x = u * width - offset
+        y = v * height - offset
+        fx = np.floor(x)
+        fy = np.floor(y)
+        ax = (x - fx) if mode != FILTER_NEAREST else 0.0
+        ay = (y - fy) if mode != FILTER_NEAREST else 0.0
+        i0 = wrap_index(np.int64(fx), width, wrap) * channels
+        i1 = wrap_index(np.int64(fx) + 1, width, wrap) * channels
+        row0 = start + wrap_index(np.int64(fy), height, wrap) * width * channels
+        row1 = start + wrap_index(np.int64(fy) + 1, height, wrap) * width * channels
+        r00, g00, b00, a00 = texel(texels, decode, srgb, channels, row0 + i0)
+        r10, g10, b10, a10 = texel(texels, decode, srgb, channels, row0 + i1)
+        r01, g01, b01, a01 = texel(texels, decode, srgb, channels, row1 + i0)
+        r11, g11, b11, a11 = texel(texels, decode, srgb, channels, row1 + i1)
+        w00 = weight * (1.0 - ax) * (1.0 - ay)
+        w10 = weight * ax * (1.0 - ay)
+        w01 = weight * (1.0 - ax) * ay
+        w11 = weight * ax * ay
+        r += w00 * r00 + w10 * r10 + w01 * r01 + w11 * r11
+        g += w00 * g00 + w10 * g10 + w01 * g01 + w11 * g11
+        b += w00 * b00 + w10 * b10 + w01 * b01 + w11 * b11
+        a += w00 * a00 + w10 * a10 + w01 * a01 + w11 * a11
+        weight = between
     return np.float32(r), np.float32(g), np.float32(b), np.float32(a)
 
 

@@ -200,7 +200,8 @@ def prefetch_record(t, records, shading):
 
 
 @kernel(refcounts=False)
-def draw_bands(slot, counter, band_start, items, records, shading, target, clear, sample, lid, spans, maps, textures):
+def draw_bands(slot, counter, band_start, items, records, shading, target, clear, sample, lid, spans, maps, textures,
+               cutouts, mapped):
     """Rasterize and resolve bands, each the next one no slot has claimed yet (through
     ``counter``), until none are left; returns the number of fragments this slot
     depth-tested. A worker of :func:`rasterkit.runtime.threads.run_parallel`: slot ``slot`` draws in
@@ -250,10 +251,12 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
         band is in this thread's cache (:func:`rasterkit.raster.kernels.map_rows.band_maps`). None
         for other renders, which compile without that call (Numba prunes the branches of
         an argument typed None).
-    textures : Textured or None
+    textures, cutouts, mapped : Textured or None
         A textured frame's textures (:class:`rasterkit.raster.kernels.records.Textured`):
-        the resolve is :func:`rasterkit.raster.kernels.texture_shade.resolve_textured_row`.
-        None for other frames, which compile none of it.
+        the resolve is :func:`rasterkit.raster.kernels.texture_shade.resolve_textured_row`;
+        the same record again as ``cutouts`` when some face is cut out
+        (:mod:`rasterkit.raster.kernels.cutout`), as ``mapped`` when some face has a normal
+        map. None for frames without them, which compile none of that code.
 
     Compiled without reference counting (nothing is allocated here, and the counts cost
     atomic operations in the per-record loop).
@@ -282,7 +285,9 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
             if not keep_depth:
                 clear_depth(band_depth)
             fragments += _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, band_lid,
-                                    band_depth, row_lo, row_hi, textures)
+                                    band_depth, row_lo, row_hi, cutouts, textures is None)
+            if textures is not None:
+                _resolve_textured(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, textures, mapped)
         if maps is not None:
             band_maps(ids, y0, y1, maps, band_depth, drawn)
     return fragments
@@ -290,12 +295,13 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
 
 @kernel(refcounts=False)
 def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, band_lid, band_depth, row_lo, row_hi,
-               textures):
+               cutouts, resolve):
     """Rasterize the records of bin ``b`` into rows ``y0 .. y1 - 1`` (``band_lid``,
-    ``band_depth``: the band's visibility and depth rows, the depth cleared) and resolve them
-    (:func:`draw_bands`' arguments); returns the number of fragments depth-tested. Compiled
-    on its own: :func:`draw_bands` with and without a vision render's maps is two small
-    loops around this one function, so the maps do not compile the band's drawing again."""
+    ``band_depth``: the band's visibility and depth rows, the depth cleared) and, when
+    ``resolve``, resolve them (:func:`draw_bands`' arguments); returns the number of
+    fragments depth-tested. Compiled on its own: :func:`draw_bands` with and without a
+    vision render's maps or textures is a small loop around this one function, so they do
+    not compile the band's drawing again (cut-out faces do)."""
     tri_xy, tri_z, tri_box = records
     mode, n_faces, fan_face, packed, vertex_colors, _, bary, corners = shading
     _, _, _, color, write_ids, ids = target
@@ -313,16 +319,25 @@ def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, b
         # what the visibility buffer holds: the face, or (SHADE_TAGGED) its colour, so
         # the resolve need not look each pixel's colour up
         tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
-        if textures is not None and textures.face_alpha[face] >= 0:  # a cut-out face: its alpha decides
+        if cutouts is not None and cutouts.face_alpha[face] >= 0:  # a cut-out face: its alpha decides
             fragments += cutout_band(t, tag, face, tri_xy, tri_z, tri_box, y0, y1, sample, band_depth, band_lid,
-                                     row_lo, row_hi, bary, textures)
+                                     row_lo, row_hi, bary, cutouts)
         else:
             fragments += raster_band(t, tag, tri_xy, tri_z, tri_box, y0, y1, band_depth, band_lid, row_lo, row_hi)
-    for r in range(y1 - y0):
-        if textures is None:
+    if resolve:
+        for r in range(y1 - y0):
             resolve_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed, vertex_colors,
                         corners, bary, color, write_ids, ids)
-        else:
-            resolve_textured_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed,
-                                 vertex_colors, corners, bary, color, write_ids, ids, textures)
     return fragments
+
+
+@kernel(refcounts=False)
+def _resolve_textured(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, textures, mapped):
+    """Resolve rows ``y0 .. y1 - 1`` of a textured frame
+    (:func:`rasterkit.raster.kernels.texture_shade.resolve_textured_row`)."""
+    mode, _, _, packed, vertex_colors, _, bary, corners = shading
+    _, _, _, color, write_ids, ids = target
+    sample_x, sample_y = sample.x / ONE, sample.y / ONE
+    for r in range(y1 - y0):
+        resolve_textured_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed,
+                             vertex_colors, corners, bary, color, write_ids, ids, textures, mapped)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit.material.kernels.sample import FILTER_TRILINEAR, lod_from_derivatives, lookup_with, settings
+from rasterkit.material.kernels.sample import CHANNELS, FILTER, FILTER_TRILINEAR, sample, texture_lod
 from rasterkit.raster.kernels.face_setup import ONE
 from rasterkit.raster.kernels.triangle import depth_plane, next_row, row_bounds, row_span, triangle_edges
 from rasterkit.raster.kernels.triangle_samples import moved_box
@@ -40,19 +40,15 @@ def _alpha(face, x, y, bary, textures):
     u0, v0, u1, v1, u2, v2 = uv[face, 0], uv[face, 1], uv[face, 2], uv[face, 3], uv[face, 4], uv[face, 5]
     u = (w0 * u0 + w1 * u1 + w2 * u2) * inv
     v = (w0 * v0 + w1 * v1 + w2 * v2) * inv
-    levels = textures.levels
-    setting = settings(levels, textures.samplers, textures.transforms, t)
+    levels, samplers, transforms = textures.levels, textures.samplers, textures.transforms
     lod = 0.0
-    if setting[3] == FILTER_TRILINEAR:
+    if samplers[t, FILTER] == FILTER_TRILINEAR:
         sx, sy = a0 + a1 + a2, b0 + b1 + b2
-        first = setting[0]
-        lod = lod_from_derivatives((a0 * u0 + a1 * u1 + a2 * u2 - u * sx) * inv,
-                                   (a0 * v0 + a1 * v1 + a2 * v2 - v * sx) * inv,
-                                   (b0 * u0 + b1 * u1 + b2 * u2 - u * sy) * inv,
-                                   (b0 * v0 + b1 * v1 + b2 * v2 - v * sy) * inv,
-                                   levels[first, 1] * setting[6], levels[first, 2] * setting[7])
-    r, _, _, a = lookup_with(textures.texels, levels, textures.decode, setting, u, v, lod)
-    return (a if setting[2] == 4 else r) * textures.face_opacity[face]
+        lod = texture_lod(levels, samplers, transforms, t, (a0 * u0 + a1 * u1 + a2 * u2 - u * sx) * inv,
+                          (a0 * v0 + a1 * v1 + a2 * v2 - v * sx) * inv, (b0 * u0 + b1 * u1 + b2 * u2 - u * sy) * inv,
+                          (b0 * v0 + b1 * v1 + b2 * v2 - v * sy) * inv)
+    r, _, _, a = sample(textures.texels, levels, samplers, transforms, textures.decode, t, u, v, lod)
+    return (a if samplers[t, CHANNELS] == 4 else r) * textures.face_opacity[face]
 
 
 @kernel(refcounts=False)

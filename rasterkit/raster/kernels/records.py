@@ -86,10 +86,11 @@ Maps = namedtuple("Maps", "want_normals normals smooth world_normals vertex_norm
 #: the sRGB table of :func:`rasterkit.raster.kernels.texture_shade.encode_table`; per face
 #: ``face_alpha`` (M,) int32 the texture whose alpha (its first channel without one) times
 #: ``face_opacity`` (M,) float32 cuts it out (-1: none; :mod:`rasterkit.raster.kernels.cutout`),
-#: ``face_normal_map`` (M,) int32 its tangent-space normal map (-1: none), bent by
-#: ``face_bump`` (M,) float32, along ``tangents`` (M, 6) float32 (its unit tangent and
+#: ``face_normal_map`` (M,) int32 its normal map (-1: none), bent by ``face_bump`` (M,)
+#: float32, in tangent space or (``face_normal_space`` (M,) int8 1) object space, tangent
+#: space along ``tangents`` (M, 6) float32 (its unit tangent and
 #: bitangent; empty when no face has a normal map); smooth, normal-mapped faces interpolate
 #: ``corner_normals`` (K, 3) float64 through ``corners`` (empty otherwise).
 Textured = namedtuple("Textured", "texels levels samplers transforms decode face_texture corner_uv tint smooth "
                                   "intensity corners normals light ambient back encode face_alpha face_opacity "
-                                  "face_normal_map face_bump tangents corner_normals")
+                                  "face_normal_map face_bump face_normal_space tangents corner_normals")

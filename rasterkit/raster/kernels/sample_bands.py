@@ -28,7 +28,7 @@ from rasterkit.raster.kernels.records import Sample
 from rasterkit.raster.kernels.face_setup import ONE
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_SMOOTH, SHADE_TAGGED, smooth_rgba
 from rasterkit.raster.kernels.bands import BAND_HEIGHT, PREFETCH_AHEAD, clear_depth, prefetch_record
-from rasterkit.raster.kernels.texture_shade import pixel_rgba, texture_fields
+from rasterkit.raster.kernels.texture_shade import mapped_rgba, pixel_rgba, texture_fields
 from rasterkit.raster.kernels.triangle_samples import raster_band_at
 from rasterkit.raster.kernels.cutout import cutout_band_at
 
@@ -89,9 +89,10 @@ def _add_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, background, 
 
 @kernel(refcounts=False)
 def _add_textured_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, background, sums, exact, first, state,
-                      textures):
+                      textures, mapped):
     """:func:`_add_row` of a textured frame (``shading.mode`` SHADE_FLAT or SHADE_SMOOTH),
-    each face's colour by :func:`rasterkit.raster.kernels.texture_shade.pixel_rgba`."""
+    each face's colour by :func:`rasterkit.raster.kernels.texture_shade.pixel_rgba` (``mapped``
+    None) or ``mapped_rgba``."""
     mode, _, _, packed, vertex_colors, _, bary, corners = shading
     fields = texture_fields(textures)
     ru = np.uint64(r)
@@ -105,7 +106,10 @@ def _add_textured_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, bac
         depth[ru, iu] = np.inf
         if exact:
             _note_face(first, state, ru, iu, f, 1)
-        rgb = pixel_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields)
+        if mapped is None:
+            rgb = pixel_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields)
+        else:
+            rgb = mapped_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields)
         sums[ru, iu, 0] = _channel(sums[ru, iu, 0], rgb, 0, background)
         sums[ru, iu, 1] = _channel(sums[ru, iu, 1], rgb, 8, background)
         sums[ru, iu, 2] = _channel(sums[ru, iu, 2], rgb, 16, background)
@@ -184,7 +188,7 @@ def _note_boundaries(items, start, end, n_faces, records, faces, corners, neighb
 
 
 @kernel
-def _unseen_rgb(f, i, j, records, shading, textures):
+def _unseen_rgb(f, i, j, records, shading, textures, mapped):
     """Face ``f``'s packed colour in pixel ``(i, j)`` that no sample saw (a corner or a sliver
     between the sample points): its flat colour, or its smooth or textured colour at its
     corner in the pixel (else at the pixel's centre)."""
@@ -197,6 +201,9 @@ def _unseen_rgb(f, i, j, records, shading, textures):
         x, y = np.int64(tri_xy[f, 2 * k]), np.int64(tri_xy[f, 2 * k + 1])
         if (x >> 8) == i and (y >> 8) == j:
             cx, cy = x, y
+    if mapped is not None:
+        return mapped_rgba(mode, f, cx / 256.0, cy / 256.0, packed, vertex_colors, corners, bary,
+                           texture_fields(mapped))
     if textures is not None:
         return pixel_rgba(mode, f, cx / 256.0, cy / 256.0, packed, vertex_colors, corners, bary,
                           texture_fields(textures))
@@ -204,7 +211,7 @@ def _unseen_rgb(f, i, j, records, shading, textures):
 
 
 @kernel
-def _exact_pixel(color, sums, ru, i, y, f, hits, n, background, records, shading, textures):
+def _exact_pixel(color, sums, ru, i, y, f, hits, n, background, records, shading, textures, mapped):
     """Pixel ``(i, y)`` (band row ``ru``) of face ``f``, seen by ``hits`` of the ``n`` samples
     and by the background otherwise: the background plus the face's exact share of the
     pixel (:func:`rasterkit.raster.kernels.coverage.pixel_area`) times its colour (the mean of its
@@ -213,7 +220,7 @@ def _exact_pixel(color, sums, ru, i, y, f, hits, n, background, records, shading
     tri_xy = records[0]
     area = pixel_area(np.int64(tri_xy[f, 0]), np.int64(tri_xy[f, 1]), np.int64(tri_xy[f, 2]), np.int64(tri_xy[f, 3]),
                       np.int64(tri_xy[f, 4]), np.int64(tri_xy[f, 5]), i, y)
-    rgb = _unseen_rgb(f, i, y, records, shading, textures) if hits == 0 else np.uint32(0)
+    rgb = _unseen_rgb(f, i, y, records, shading, textures, mapped) if hits == 0 else np.uint32(0)
     rgba = color.shape[2] == 4
     alpha = np.uint8(255.0 * area + 0.5)
     yu, iu = np.uint64(y), np.uint64(i)
@@ -230,7 +237,8 @@ def _exact_pixel(color, sums, ru, i, y, f, hits, n, background, records, shading
 
 
 @kernel(inline="always")
-def _average_exact_rows(sums, y0, y1, color, scale, bias, n, background, first, state, records, shading, textures):
+def _average_exact_rows(sums, y0, y1, color, scale, bias, n, background, first, state, records, shading, textures,
+                        mapped):
     """:func:`_average_rows`, with the pixels whose samples saw one uncut face and the
     background (or that one face's edges cross and nothing else) made exact
     (:func:`_exact_pixel`). Into an RGBA ``color``, the other pixels as
@@ -245,7 +253,7 @@ def _average_exact_rows(sums, y0, y1, color, scale, bias, n, background, first, 
             hits, seen = st & _HITS, (st >> _ALL) & _HITS
             if f >= 0 and not st & _OTHER and (hits < n or st & _EDGE) and tri_box[f, 2] <= tri_box[f, 3]:
                 _exact_pixel(color, sums, ru, np.int64(i), np.int64(y0 + r), f, hits, n, background, records,
-                             shading, textures)
+                             shading, textures, mapped)
             elif rgba:
                 a = np.uint32(255 * seen)
                 for c in range(3):
@@ -258,13 +266,14 @@ def _average_exact_rows(sums, y0, y1, color, scale, bias, n, background, first, 
 
 @kernel(refcounts=False)
 def _finish_exact(items, start, end, records, shading, corners, neighbours, y0, y1, first, state, sums, color,
-                  scale, bias, n, background, textures):
+                  scale, bias, n, background, textures, mapped):
     """A band's outlines noted (:func:`_note_boundaries`) and its average written
     (:func:`_average_exact_rows`): kernels of their own, compiled once (inlined into the
     band loop, they made the first multi-sample render compile 6 s longer)."""
     _note_boundaries(items, start, end, shading.n_faces, records, shading.faces, corners, neighbours, y0, y1,
                      color.shape[1], first, state)
-    _average_exact_rows(sums, y0, y1, color, scale, bias, n, background, first, state, records, shading, textures)
+    _average_exact_rows(sums, y0, y1, color, scale, bias, n, background, first, state, records, shading, textures,
+                        mapped)
 
 
 @kernel(inline="always")
@@ -280,7 +289,7 @@ def _average_rows(sums, y0, y1, color, scale, bias):
 
 @kernel(refcounts=False)
 def draw_sample_bands(slot, counter, band_start, items, records, shading, depth, color, clear, samples, lid, spans,
-                      textures):
+                      textures, cutouts, mapped):
     """Draw the averaged samples into ``color``, band by band, each band the next one no
     slot has claimed (through ``counter``). A worker of :func:`rasterkit.runtime.threads.run_parallel`.
 
@@ -301,9 +310,9 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
         rounding of the average, the sums scratch, and whether (``exact``) the pixels where
         the samples saw one face and the background get that face's exact share of the
         pixel (``shading.mode`` then not SHADE_TAGGED: the visibility rows hold faces).
-    lid, spans, textures
-        As for ``draw_bands`` (``lid`` all -1 on entry and on return; ``textures`` None for an
-        untextured frame, which compiles none of the textured colours).
+    lid, spans, textures, cutouts, mapped
+        As for ``draw_bands`` (``lid`` all -1 on entry and on return; None for a frame without
+        textures, cut-outs or normal maps, which compiles none of that code).
     """
     offsets, background, scale, bias, sums, exact, first, state, corners, neighbours = samples
     tri_xy, tri_z, _ = records
@@ -345,9 +354,9 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
                 t = items[k]
                 face = t if t < n_faces else fan_face[t - n_faces]
                 tag = (packed[face] & 0xFFFFFF) if mode == SHADE_TAGGED else face
-                if textures is not None and textures.face_alpha[face] >= 0:  # a cut-out face
+                if cutouts is not None and cutouts.face_alpha[face] >= 0:  # a cut-out face
                     fragments += cutout_band_at(t, tag, face, tri_xy, tri_z, sample, y0, y1, band_depth, band_lid,
-                                                row_lo, row_hi, shading.bary, textures)
+                                                row_lo, row_hi, shading.bary, cutouts)
                 else:
                     fragments += raster_band_at(t, tag, tri_xy, tri_z, sample, y0, y1, band_depth, band_lid, row_lo,
                                                 row_hi)
@@ -358,10 +367,11 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
                              background, band_sums, exact, band_first, band_state)
                 else:
                     _add_textured_row(band_lid, band_depth, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y,
-                                      shading, background, band_sums, exact, band_first, band_state, textures)
+                                      shading, background, band_sums, exact, band_first, band_state, textures,
+                                      mapped)
         if exact:
             _finish_exact(items, band_start[b], end, records, shading, corners, neighbours, y0, y1, band_first,
-                          band_state, band_sums, color, scale, bias, n, background, textures)
+                          band_state, band_sums, color, scale, bias, n, background, textures, mapped)
         else:
             _average_rows(band_sums, y0, y1, color, scale, bias)
     return fragments

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit.material.kernels.sample import FILTER_TRILINEAR, lod_from_derivatives, lookup_with, settings
+from rasterkit.material.kernels.sample import FILTER, FILTER_TRILINEAR, sample, texture_lod
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, put_rgba, smooth_rgba, to_u8
 from rasterkit.runtime.jit import kernel
 
@@ -68,7 +68,8 @@ def texture_fields(textures):
     return (textures.texels, textures.levels, textures.samplers, textures.transforms, textures.decode,
             textures.face_texture, textures.corner_uv, textures.tint, textures.smooth, textures.intensity,
             textures.corners, textures.normals, textures.light, textures.ambient, textures.back, textures.encode,
-            textures.face_normal_map, textures.face_bump, textures.tangents, textures.corner_normals)
+            textures.face_normal_map, textures.face_bump, textures.tangents, textures.corner_normals,
+            textures.face_normal_space)
 
 
 @kernel(inline="always")
@@ -80,10 +81,13 @@ def _plane(rows, q0, q1, q2):
 
 
 @kernel(inline="always")
-def _size(levels, setting):
-    """Texels per unit of u and v of the texture whose :func:`settings` are ``setting``."""
-    first = setting[0]
-    return levels[first, 1] * setting[6], levels[first, 2] * setting[7]
+def _lod(levels, samplers, transforms, t, derivatives):
+    """OpenGL's level of detail of texture ``t`` for ``derivatives`` (du/dx, dv/dx, du/dy,
+    dv/dy) where it is filtered with mipmaps, else 0."""
+    if samplers[t, FILTER] != FILTER_TRILINEAR:
+        return 0.0
+    return texture_lod(levels, samplers, transforms, t, derivatives[0], derivatives[1], derivatives[2],
+                       derivatives[3])
 
 
 @kernel(inline="always")
@@ -98,12 +102,12 @@ def _lambert(x, y, z, light, ambient, back):
 
 
 @kernel(inline="always")
-def face_terms(f, t, bary, fields):
-    """What the pixels of face ``f`` (texture ``t``) share: the planes of ``s``, ``U``, ``V``
-    and (smooth) the Lambert factor times ``s`` (see the module documentation), the flat
-    Lambert factor, the tint, the texture's settings and size, and :func:`normal_terms`."""
-    (_, levels, samplers, transforms, _, _, corner_uv, tint, smooth, intensity, corners, normals, light,
-     ambient, back, _, _, _, _, _) = fields
+def face_terms(f, bary, fields):
+    """What the pixels of face ``f`` share: its barycentric rows, the planes of ``s``, ``U``,
+    ``V`` and (smooth) the Lambert factor times ``s`` (see the module documentation), the flat
+    Lambert factor and the tint."""
+    (_, _, _, _, _, _, corner_uv, tint, smooth, intensity, corners, normals, light, ambient, back, _, _, _, _, _,
+     _) = fields
     a0, b0, c0 = bary[f, 0], bary[f, 1], bary[f, 2]
     a1, b1, c1 = bary[f, 3], bary[f, 4], bary[f, 5]
     a2, b2, c2 = bary[f, 6], bary[f, 7], bary[f, 8]
@@ -118,24 +122,22 @@ def face_terms(f, t, bary, fields):
                          np.float64(intensity[corners[f, 2]]))
     else:
         shade = _lambert(normals[f, 0], normals[f, 1], normals[f, 2], light, ambient, back)
-    setting = settings(levels, samplers, transforms, t)
-    return (s_plane, u_plane, v_plane, i_plane, smooth, shade, (tint[f, 0], tint[f, 1], tint[f, 2]), setting,
-            _size(levels, setting), normal_terms(f, rows, fields))
+    return rows, s_plane, u_plane, v_plane, i_plane, smooth, shade, (tint[f, 0], tint[f, 1], tint[f, 2])
 
 
 @kernel(inline="always")
 def normal_terms(f, rows, fields):
-    """What the pixels of face ``f`` share for its normal map: ``(m, setting, size, tangent,
-    bitangent, normal planes, bump)``, ``m`` its normal map's row (-1: none), the normal's
-    planes those of the interpolated corner normals (smooth) or the face normal (flat: constant
-    planes)."""
-    (_, levels, samplers, transforms, _, _, _, _, smooth, _, corners, normals, _, _, _, _, face_normal_map,
-     face_bump, tangents, corner_normals) = fields
+    """What the pixels of face ``f`` share for its normal map: ``(tangent, bitangent, normal
+    planes, bump, object_space)``, the normal's planes those of the interpolated corner
+    normals (smooth) or the face normal (flat: constant planes); none of the frame for a map
+    in object space."""
+    (_, _, _, _, _, _, _, _, smooth, _, corners, normals, _, _, _, _, face_normal_map, face_bump, tangents,
+     corner_normals, face_normal_space) = fields
     m = face_normal_map[f]
     zero = (0.0, 0.0, 0.0)
-    setting = settings(levels, samplers, transforms, max(m, 0))
     tangent, bitangent, planes, bump = zero, zero, (zero, zero, zero), 1.0
-    if m >= 0:
+    object_space = m >= 0 and face_normal_space[f] == 1  # the map's vector is the normal
+    if m >= 0 and not object_space:
         tangent = (np.float64(tangents[f, 0]), np.float64(tangents[f, 1]), np.float64(tangents[f, 2]))
         bitangent = (np.float64(tangents[f, 3]), np.float64(tangents[f, 4]), np.float64(tangents[f, 5]))
         bump = np.float64(face_bump[f])
@@ -148,16 +150,24 @@ def normal_terms(f, rows, fields):
             sx, sy, s0 = rows[0] + rows[3] + rows[6], rows[1] + rows[4] + rows[7], rows[2] + rows[5] + rows[8]
             nx, ny, nz = np.float64(normals[f, 0]), np.float64(normals[f, 1]), np.float64(normals[f, 2])
             planes = ((sx * nx, sy * nx, s0 * nx), (sx * ny, sy * ny, s0 * ny), (sx * nz, sy * nz, s0 * nz))
-    return m, setting, _size(levels, setting), tangent, bitangent, planes, bump
+    return tangent, bitangent, planes, bump, object_space
 
 
 @kernel(inline="always")
-def _mapped_shade(terms, x, y, inv, u, v, derivatives, texels, levels, decode, light, ambient, back):
+def _mapped_shade(m, terms, x, y, inv, u, v, derivatives, fields):
     """The Lambert factor at (x, y) with the normal bent by the face's normal map (see
     :func:`normal_terms`): the surface normal ``n``, the tangent made perpendicular to it and
     the bitangent to both (Gram-Schmidt), the map's ``(2r - 1, 2g - 1, 2b - 1)`` with its
     first two components times ``bump``, in that frame."""
-    _, setting, size, tangent, bitangent, planes, bump = terms
+    tangent, bitangent, planes, bump, object_space = terms
+    texels, levels, samplers, transforms, decode, light, ambient, back = (fields[0], fields[1], fields[2], fields[3],
+                                                                         fields[4], fields[12], fields[13], fields[14])
+    r, g, b, _ = sample(texels, levels, samplers, transforms, decode, m, u, v,
+                        _lod(levels, samplers, transforms, m, derivatives))
+    if object_space:
+        x, y, z = 2.0 * r - 1.0, 2.0 * g - 1.0, 2.0 * b - 1.0
+        scale = 1.0 / np.sqrt(x * x + y * y + z * z)
+        return _lambert(x * scale, y * scale, z * scale, light, ambient, back)
     nx = (planes[0][0] * x + planes[0][1] * y + planes[0][2]) * inv
     ny = (planes[1][0] * x + planes[1][1] * y + planes[1][2]) * inv
     nz = (planes[2][0] * x + planes[2][1] * y + planes[2][2]) * inv
@@ -173,10 +183,6 @@ def _mapped_shade(terms, x, y, inv, u, v, derivatives, texels, levels, decode, l
     bx, by, bz = bx - d * nx - e * tx, by - d * ny - e * ty, bz - d * nz - e * tz
     scale = 1.0 / np.sqrt(bx * bx + by * by + bz * bz)
     bx, by, bz = bx * scale, by * scale, bz * scale
-    lod = 0.0
-    if setting[3] == FILTER_TRILINEAR:
-        lod = lod_from_derivatives(derivatives[0], derivatives[1], derivatives[2], derivatives[3], size[0], size[1])
-    r, g, b, _ = lookup_with(texels, levels, decode, setting, u, v, lod)
     mx, my, mz = (2.0 * r - 1.0) * bump, (2.0 * g - 1.0) * bump, 2.0 * b - 1.0
     x, y, z = tx * mx + bx * my + nx * mz, ty * mx + by * my + ny * mz, tz * mx + bz * my + nz * mz
     scale = 1.0 / np.sqrt(x * x + y * y + z * z)
@@ -184,39 +190,86 @@ def _mapped_shade(terms, x, y, inv, u, v, derivatives, texels, levels, decode, l
 
 
 @kernel(inline="always")
-def face_pixel(terms, x, y, texels, levels, decode, table, light, ambient, back):
-    """The packed colour at raster point (x, y) of the face whose :func:`face_terms` are
-    ``terms``."""
-    s_plane, u_plane, v_plane, i_plane, smooth, shade, tint, setting, size, mapped = terms
+def _surface(terms, x, y):
+    """``(inv, u, v, derivatives)`` at raster point (x, y) of the face whose :func:`face_terms`
+    are ``terms``: ``1 / s``, the texture coordinates and their screen-space derivatives
+    (du/dx, dv/dx, du/dy, dv/dy), by the quotient rule: du/dx = (U_x - u s_x) / s, and so on."""
+    _, s_plane, u_plane, v_plane = terms[0], terms[1], terms[2], terms[3]
     inv = 1.0 / (s_plane[0] * x + s_plane[1] * y + s_plane[2])
     u = (u_plane[0] * x + u_plane[1] * y + u_plane[2]) * inv
     v = (v_plane[0] * x + v_plane[1] * y + v_plane[2]) * inv
-    # the quotient rule: du/dx = (U_x - u s_x) / s, and so on
-    derivatives = ((u_plane[0] - u * s_plane[0]) * inv, (v_plane[0] - v * s_plane[0]) * inv,
-                   (u_plane[1] - u * s_plane[1]) * inv, (v_plane[1] - v * s_plane[1]) * inv)
-    lod = 0.0
-    if setting[3] == FILTER_TRILINEAR:
-        lod = lod_from_derivatives(derivatives[0], derivatives[1], derivatives[2], derivatives[3], size[0], size[1])
-    r, g, b, _ = lookup_with(texels, levels, decode, setting, u, v, lod)
-    if mapped[0] >= 0:
-        shade = _mapped_shade(mapped, x, y, inv, u, v, derivatives, texels, levels, decode, light, ambient, back)
-    elif smooth:
-        shade = (i_plane[0] * x + i_plane[1] * y + i_plane[2]) * inv
-    red = to_u8(encode(table, r) * tint[0] * shade)
-    green = to_u8(encode(table, g) * tint[1] * shade)
-    blue = to_u8(encode(table, b) * tint[2] * shade)
-    return np.uint32(red | green << 8 | blue << 16 | 255 << 24)
+    return inv, u, v, ((u_plane[0] - u * s_plane[0]) * inv, (v_plane[0] - v * s_plane[0]) * inv,
+                       (u_plane[1] - u * s_plane[1]) * inv, (v_plane[1] - v * s_plane[1]) * inv)
+
+
+@kernel(inline="always")
+def _diffuse(t, u, v, derivatives, fields):
+    """Texture ``t``'s linear colour (r, g, b) at (u, v)."""
+    texels, levels, samplers, transforms, decode = fields[0], fields[1], fields[2], fields[3], fields[4]
+    r, g, b, _ = sample(texels, levels, samplers, transforms, decode, t, u, v,
+                        _lod(levels, samplers, transforms, t, derivatives))
+    return r, g, b
+
+
+@kernel(inline="always")
+def _packed(r, g, b, tint, shade, table):
+    """The linear colour (r, g, b) encoded to sRGB, times ``tint`` (0..255) and ``shade``, packed
+    (a loop over the channels: one copy of the encoding to compile, not three)."""
+    rgb = (r, g, b)
+    packed = 255 << 24
+    for c in range(3):
+        packed |= to_u8(encode(table, rgb[c]) * tint[c] * shade) << (8 * c)
+    return np.uint32(packed)
+
+
+@kernel(inline="always")
+def _gouraud(terms, x, y, inv):
+    """The Lambert factor of a face without a normal map: its own (flat) or its corners'
+    interpolated (smooth)."""
+    i_plane, smooth, shade = terms[4], terms[5], terms[6]
+    return (i_plane[0] * x + i_plane[1] * y + i_plane[2]) * inv if smooth else shade
+
+
+@kernel(inline="always")
+def face_pixel(t, terms, x, y, fields):
+    """The packed colour at raster point (x, y) of a face with texture ``t`` and no normal
+    map, whose :func:`face_terms` are ``terms``."""
+    inv, u, v, derivatives = _surface(terms, x, y)
+    r, g, b = _diffuse(t, u, v, derivatives, fields)
+    return _packed(r, g, b, terms[7], _gouraud(terms, x, y, inv), fields[15])
+
+
+@kernel(inline="always")
+def mapped_pixel(f, t, terms, normal, x, y, fields):
+    """:func:`face_pixel` of a frame with normal maps: face ``f``'s (whose
+    :func:`normal_terms` are ``normal``) bends its normal where it has one."""
+    inv, u, v, derivatives = _surface(terms, x, y)
+    r, g, b = _diffuse(t, u, v, derivatives, fields)
+    m = fields[16][f]  # read here, not once per face: see rasterkit.material.kernels.sample.lookup
+    shade = _mapped_shade(m, normal, x, y, inv, u, v, derivatives, fields) if m >= 0 else _gouraud(terms, x, y, inv)
+    return _packed(r, g, b, terms[7], shade, fields[15])
 
 
 @kernel(inline="always")
 def pixel_rgba(mode, f, px, py, packed, vertex_colors, corners, bary, fields):
     """The colour of face ``f`` at raster point (px, py): textured where it has a texture,
     else flat (``packed``) or smooth (``vertex_colors`` through ``corners``); ``fields``:
-    :func:`texture_fields`."""
+    :func:`texture_fields` of a frame without normal maps."""
     t = fields[5][f]
     if t >= 0:
-        return face_pixel(face_terms(f, t, bary, fields), px, py, fields[0], fields[1], fields[4], fields[15],
-                          fields[12], fields[13], fields[14])
+        return face_pixel(t, face_terms(f, bary, fields), px, py, fields)
+    if mode == SHADE_SMOOTH:
+        return smooth_rgba(f, px, py, vertex_colors, corners, bary)
+    return packed[f]
+
+
+@kernel(inline="always")
+def mapped_rgba(mode, f, px, py, packed, vertex_colors, corners, bary, fields):
+    """:func:`pixel_rgba` of a frame with normal maps."""
+    t = fields[5][f]
+    if t >= 0:
+        terms = face_terms(f, bary, fields)
+        return mapped_pixel(f, t, terms, normal_terms(f, terms[0], fields), px, py, fields)
     if mode == SHADE_SMOOTH:
         return smooth_rgba(f, px, py, vertex_colors, corners, bary)
     return packed[f]
@@ -224,14 +277,14 @@ def pixel_rgba(mode, f, px, py, packed, vertex_colors, corners, bary, fields):
 
 @kernel(refcounts=False)
 def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, corners, bary, color,
-                         write_ids, ids, textures):
+                         write_ids, ids, textures, mapped):
     """:func:`rasterkit.raster.kernels.shade.resolve_row` of a textured frame (``mode``
     SHADE_FLAT or SHADE_SMOOTH, or SHADE_NONE for a depth pass with cut-out faces: the
-    visibility rows hold faces); ``textures`` a :class:`rasterkit.raster.kernels.records.Textured`.
-    A run of pixels of one face shares its :func:`face_terms`."""
+    visibility rows hold faces); ``textures`` a :class:`rasterkit.raster.kernels.records.Textured`,
+    and again as ``mapped`` when some face has a normal map (else None: that code is not
+    compiled). A run of pixels of one face shares its :func:`face_terms`."""
     fields = texture_fields(textures)
-    texels, levels, decode, face_texture, table = fields[0], fields[1], fields[4], fields[5], fields[15]
-    light, ambient, back = fields[12], fields[13], fields[14]
+    face_texture = fields[5]
     ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
     px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
     n = hi - lo + 1
@@ -248,10 +301,14 @@ def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, ve
         if mode == SHADE_NONE:
             pass
         elif t >= 0:
-            terms = face_terms(f, t, bary, fields)
-            for q in range(k, end):
-                put_rgba(color, ju, base + np.uint64(q),
-                         face_pixel(terms, px + q, py, texels, levels, decode, table, light, ambient, back))
+            terms = face_terms(f, bary, fields)
+            if mapped is None:
+                for q in range(k, end):
+                    put_rgba(color, ju, base + np.uint64(q), face_pixel(t, terms, px + q, py, fields))
+            else:
+                normal = normal_terms(f, terms[0], fields)
+                for q in range(k, end):
+                    put_rgba(color, ju, base + np.uint64(q), mapped_pixel(f, t, terms, normal, px + q, py, fields))
         elif mode == SHADE_SMOOTH:
             for q in range(k, end):
                 put_rgba(color, ju, base + np.uint64(q), smooth_rgba(f, px + q, py, vertex_colors, corners, bary))
