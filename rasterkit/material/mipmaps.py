@@ -19,12 +19,14 @@ exactly (:mod:`rasterkit.material.colorspace`), averaged and encoded back to the
 (half up). Every level is made from the previous level's rounded texels, so each level is
 exactly what :func:`reduce_level` makes of the one before.
 
-Layout (what the sampling kernels read): ``texels`` (n,) uint8 holds every level, rows
-**bottom first** (the row order of OpenGL's texel space, where ``v`` grows upwards), texels
-of a row left to right, ``channels`` bytes each; ``levels`` (L, 3) int64 holds each level's
-offset into ``texels``, width and height. Memory: the levels add at most a third to the
-image, plus about two rows' worth for strips (a side of 1 stops halving): ``(4/3) * W * H *
-C + 2 * max(W, H) * C`` bytes at most; 1.33x for a 1024x1024 texture.
+Layout (what the sampling kernels read): ``texels`` (n,) uint8 holds every level, rows top
+first as in the image (the kernels count OpenGL's texel rows, ``v`` upwards, from the last
+row), texels of a row left to right, ``channels`` bytes each; ``levels`` (L, 3) int64 holds
+each level's offset into ``texels``, width and height. Level 0 is the image itself: once the
+chain is built, :attr:`rasterkit.Texture.image` is a view of it, so a texture and its
+mipmaps hold the image's bytes once. Memory: the levels add at most a third to the image,
+plus about two rows' worth for strips (a side of 1 stops halving): ``(4/3) * W * H * C + 2 *
+max(W, H) * C`` bytes at most; 1.33x for a 1024x1024 texture.
 """
 
 from __future__ import annotations
@@ -50,7 +52,7 @@ class Mipmaps:
     Attributes
     ----------
     texels : (n,) uint8
-        Every level, level 0 first; rows bottom first. Read-only.
+        Every level, level 0 first; rows top first. Read-only.
     levels : (L, 3) int64
         Per level: offset into ``texels``, width, height. Read-only.
     channels : int
@@ -72,7 +74,7 @@ class Mipmaps:
         """Level ``k`` as an image (h, w, channels) uint8, row 0 at the top (a view)."""
         offset, width, height = (int(x) for x in self.levels[k])
         size = width * height * self.channels
-        return self.texels[offset:offset + size].reshape(height, width, self.channels)[::-1]
+        return self.texels[offset:offset + size].reshape(height, width, self.channels)
 
     def check_intact(self) -> None:
         """Raise ``ValueError`` when the arrays' shape, dtype or layout changed since they
@@ -157,12 +159,12 @@ def build_mipmaps(image: np.ndarray, srgb: bool) -> Mipmaps:
     offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     texels = np.empty(int(offsets[-1]), np.uint8)
     level = texels[:counts[0]].reshape(height, width, channels)
-    level[:] = image[::-1]  # bottom row first
+    level[:] = image
     for k, (w, h) in enumerate(sizes[1:], start=1):
         reduced = texels[offsets[k]:offsets[k + 1]].reshape(h, w, channels)
         reduced[:] = reduce_level(level, w, h, srgb)
         level = reduced
-    texels.flags.writeable = False
+    texels = np.frombuffer(texels.tobytes(), np.uint8)  # immutable: a view of bytes, as a Mesh's arrays
     table = np.array([(offsets[k], w, h) for k, (w, h) in enumerate(sizes)], np.int64).reshape(-1, 3)
     levels = np.frombuffer(table.tobytes(), np.int64).reshape(table.shape)
     return Mipmaps(texels, levels, channels, bool(srgb))

@@ -145,10 +145,13 @@ class Texture:
     @cached_property
     def mipmaps(self) -> Mipmaps:
         """Every level of the image (:mod:`rasterkit.material.mipmaps`), built on first use
-        and shared with the copies :meth:`replace` makes."""
+        and shared with the copies :meth:`replace` makes. Level 0 is the image's bytes: from
+        then on :attr:`image` is a view of it (the same pixels), so the texture holds them once."""
         chain = self._chains.get(self.srgb)
         if chain is None:
             chain = self._chains[self.srgb] = build_mipmaps(self.image, self.srgb)
+            if len(self._chains) == 1:  # the first chain: its level 0 holds the image from now on
+                object.__setattr__(self, "image", chain.level(0))
         return chain
 
     def replace(self, **changes) -> Texture:

@@ -152,14 +152,14 @@ def test_large_levels_reduce_in_blocks_as_in_one(monkeypatch):
 
 # --- the buffer -------------------------------------------------------------------------------
 
-def test_levels_share_one_flat_buffer_bottom_row_first():
+def test_levels_share_one_flat_buffer_top_row_first():
     image = np.arange(4 * 6 * 3, dtype=np.uint8).reshape(4, 6, 3)
     chain = build_mipmaps(image, srgb=False)
     assert chain.texels.ndim == 1 and chain.texels.dtype == np.uint8 and not chain.texels.flags.writeable
     assert chain.levels.dtype == np.int64 and not chain.levels.flags.writeable
     assert chain.levels.tolist() == [[0, 6, 4], [72, 3, 2], [90, 1, 1]]
     assert len(chain.texels) == 72 + 18 + 3
-    np.testing.assert_array_equal(chain.texels[:18], image[-1].ravel())  # the bottom row first
+    np.testing.assert_array_equal(chain.texels[:18], image[0].ravel())  # the top row first, as in the image
     np.testing.assert_array_equal(chain.level(0), image)
     chain.check_intact()
     chain.texels.shape = (3, 31)
@@ -174,6 +174,19 @@ def test_texture_builds_its_mipmaps_once_and_shares_them():
     data = tex.replace(srgb=False)
     assert data.mipmaps is not tex.mipmaps and data.mipmaps.srgb is False
     assert data.replace(srgb=True).mipmaps is tex.mipmaps
+
+
+def test_a_texture_holds_its_pixels_once_with_its_mipmaps():
+    """The issue's bar: a texture and its mipmaps cost at most 1.4x the texture's pixels. Once
+    the chain is built, the image is a view of its level 0 (the same pixels, still read-only)."""
+    image = np.random.default_rng(0).integers(0, 256, (256, 192, 3), dtype=np.uint8)
+    tex = Texture(image)
+    chain = tex.mipmaps
+    np.testing.assert_array_equal(tex.image, image)
+    assert np.shares_memory(tex.image, chain.texels) and not tex.image.flags.writeable
+    assert chain.texels.nbytes <= 1.4 * image.nbytes  # all the texture holds: the image is in it
+    with pytest.raises(ValueError):
+        tex.image.flags.writeable = True  # a view of bytes: no one can write into it
 
 
 @pytest.mark.parametrize("size", [(4, 4), (5, 7), (64, 64), (1024, 1024), (1000, 600), (640, 4), (4, 333), (2, 2)])

@@ -257,7 +257,7 @@ def test_load_obj_face_colours_agree_and_no_texture_is_opened(tmp_path):
     png(tmp_path / "t.png")
     mtl = "newmtl red\nKd 1 0 0\nmap_Kd missing.png\nnewmtl grey\nKd 0.5\nKs 1 1 1\nnewmtl plain\n"
     materials, _ = read(tmp_path, mtl, uses=("red", "grey", "plain"))
-    mesh = rasterkit.load_obj(tmp_path / "model.obj")
+    mesh = rasterkit.load_obj(tmp_path / "model.obj", textures=False)
     assert mesh.warnings == () and mesh.material_names == ("red", "grey", "plain")
     np.testing.assert_array_equal(mesh.face_colors, np.float32([materials[n].diffuse for n in ("red", "grey", "plain")]))
 
@@ -287,8 +287,8 @@ def test_load_obj_warns_in_one_order(tmp_path):
     (tmp_path / "m.mtl").write_text("newmtl m\nKs x\nKd y\nmap_Kd gone.png\n")
     (tmp_path / "model.obj").write_text("mtllib m.mtl lost.mtl\n" + TRIANGLE + "usemtl m\nf 1 2 3\nusemtl q\nf 1 2 3\n")
     mtl, obj = tmp_path / "m.mtl", tmp_path / "model.obj"
-    plain = rasterkit.load_obj(obj)
-    whole = rasterkit.load_obj(obj, textures=True)
+    plain = rasterkit.load_obj(obj, textures=False)
+    whole = rasterkit.load_obj(obj)
     assert plain.warnings == (f"{mtl}:3: cannot read Kd 'Kd y'",
                               f"{obj}:1: material library 'lost.mtl' cannot be read: No such file or directory",
                               f"{obj}:7: 1 material not in the material libraries: 'q'")

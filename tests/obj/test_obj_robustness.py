@@ -334,7 +334,7 @@ def test_the_table_names_every_real_model():
 def test_real_model_loads_with_the_readme_counts_and_no_undeserved_warning(name):
     path = MODELS / name
     model = REAL[name]
-    mesh = load_obj(path)
+    mesh = load_obj(path, textures=False)  # the geometry and the .mtl's colours; textures: below
     assert len(mesh.vertices) == model.vertices
     assert len(mesh.faces) == model.triangles - model.degenerate
     expected = (MISSING_MTL.format(model.missing_mtl),) if model.missing_mtl else ()
@@ -349,6 +349,19 @@ def test_real_model_loads_with_the_readme_counts_and_no_undeserved_warning(name)
         np.testing.assert_array_equal(mesh.edges, reference_edges(polygons))
         kept = [p for p in map(merged, polygons) if p]
         assert len(mesh.faces) == sum(len(p) - 2 for p in kept)
+
+
+@needs_models
+@pytest.mark.parametrize("name", ["sponza.obj", "spider.obj", "holodeck.obj", "scrubPine.obj"])
+def test_the_textures_a_real_model_lacks_are_one_warning_each(name):
+    """The shared models come without most of their texture files: each missing one is
+    named once (a few, then a count), and only those warnings are added to the plain load's."""
+    path = MODELS / name
+    plain, whole = load_obj(path, textures=False), load_obj(path)
+    added = whole.warnings[len(plain.warnings):]
+    assert whole.warnings[:len(plain.warnings)] == plain.warnings and added
+    for warning in added:
+        assert "cannot be read" in warning and warning.startswith(f"{path.with_suffix('.mtl')}:")
 
 
 def test_material_colours_of_a_real_model_come_from_its_mtl():

@@ -7,7 +7,8 @@ Everything a lookup needs is a handful of arrays and scalars, so that a band wor
 
 ``texels`` (n,) uint8, ``levels`` (L, 3) int64
     Every mipmap level of every texture of a draw: a level's offset into ``texels``, its
-    width and height; rows bottom first (:mod:`rasterkit.material.mipmaps`).
+    width and height; rows top first, as in the image (:mod:`rasterkit.material.mipmaps`):
+    texel row ``j``, counted from the bottom as OpenGL's ``v`` grows, is row ``height - 1 - j``.
 ``samplers`` (T, 6) int64, ``transforms`` (T, 4) float64, row ``t`` for texture ``t``
     Its first level (a row of ``levels``), its level count, channels (3 or 4), filter
     (``FILTER_*``), wrap (``WRAP_*``) and whether its colours are sRGB; its ``scale`` (u, v)
@@ -153,8 +154,8 @@ def lookup(texels, levels, samplers, transforms, decode, t, u, v, lod):
         ay = (y - fy) if mode != FILTER_NEAREST else 0.0
         i0 = wrap_index(np.int64(fx), width, wrap) * channels
         i1 = wrap_index(np.int64(fx) + 1, width, wrap) * channels
-        row0 = start + wrap_index(np.int64(fy), height, wrap) * width * channels
-        row1 = start + wrap_index(np.int64(fy) + 1, height, wrap) * width * channels
+        row0 = start + (height - 1 - wrap_index(np.int64(fy), height, wrap)) * width * channels
+        row1 = start + (height - 1 - wrap_index(np.int64(fy) + 1, height, wrap)) * width * channels
         r00, g00, b00, a00 = texel(texels, decode, srgb, channels, row0 + i0)
         r10, g10, b10, a10 = texel(texels, decode, srgb, channels, row0 + i1)
         r01, g01, b01, a01 = texel(texels, decode, srgb, channels, row1 + i0)
