@@ -64,7 +64,7 @@ def _workload(family: str, side: str, args: dict):
     return lambda: gl.draw(glmesh, mode)
 
 
-def _status(field: str) -> int:
+def status(field: str) -> int:
     """A ``kB`` field of /proc/self/status, in bytes."""
     for line in Path("/proc/self/status").read_text().splitlines():
         if line.startswith(field + ":"):
@@ -84,10 +84,10 @@ def measure(fn) -> dict:
     """Peak extra resident memory of one call of ``fn`` (see the module docstring)."""
     fn()
     gc.collect()
-    baseline = _status("VmRSS")
+    baseline = status("VmRSS")
     if _reset_peak():
         fn()
-        return {"baseline": baseline, "peak": _status("VmHWM"), "method": "VmHWM after clear_refs"}
+        return {"baseline": baseline, "peak": status("VmHWM"), "method": "VmHWM after clear_refs"}
     fn()
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     return {"baseline": baseline, "peak": peak, "method": "ru_maxrss (whole process)"}

@@ -10,11 +10,12 @@
                   "gl_renderer", "started", "seconds"},
       "records": [
         {"family":     "render" | "fill" | "threads" | "lines2d" | "loading" | "cli"
-                       | "memory" | "scaling" | "startup" | "contention",
+                       | "memory" | "scaling" | "startup" | "contention" | "textures" | ...,
          "name":       unique workload name, e.g. "render/solid/ogre/1920x1080",
          "peer":       the other side, e.g. "llvmpipe", or null when it could not run,
          "sizes":      workload sizes, e.g. {"width", "height", "triangles", "edges"},
-         "quantity":   "seconds" (the median of the timed runs) or "peak_bytes",
+         "quantity":   "seconds" (the median of the timed runs), "peak_bytes" or "bytes"
+                       (memory held, not a peak),
          "rasterkit":  rasterkit's value,
          "peer_value": the peer's value, or null,
          "ratio":      rasterkit / peer (below 1: rasterkit is faster or smaller), or null,
@@ -124,7 +125,7 @@ def _summary(r: Record) -> str:
 
 
 def _value(value: float, quantity: str) -> str:
-    if quantity == "peak_bytes":
+    if quantity in ("peak_bytes", "bytes"):
         return f"{value / 2**20:.1f} MiB"
     return f"{value * 1e3:.3f} ms" if value < 10 else f"{value:.2f} s"
 

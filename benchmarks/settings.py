@@ -94,6 +94,16 @@ class Settings:
         Image size of the ``batch`` family's folder renders.
     batch_models : tuple of str
         Its models (the medium ones, 50k-300k triangles, each 8 times).
+    texture_models : tuple of str
+        Models of the ``textures`` family (names of :data:`benchmarks.textured_models.MODELS`);
+        the first is drawn in every variant (flat, bilinear, untextured), the others smooth
+        and trilinear.
+    texture_size : (width, height)
+        Their image size, and that of the texture memory rows.
+    textured_cold_runs : int
+        Repetitions of the ``startup`` family's first textured render against the first
+        untextured one (fuze, each in an empty cache; :mod:`benchmarks.first_textured`); 0
+        leaves them out.
     """
 
     name: str
@@ -130,6 +140,9 @@ class Settings:
     svg_size: tuple = TARGET_SIZE
     batch_size: tuple = (1280, 960)
     batch_models: tuple = ("stanford-bunny", "armadillo", "sponza", "lost_empire", "ogre", "sportsCar")
+    texture_models: tuple = ("spot", "beast")
+    texture_size: tuple = TARGET_SIZE
+    textured_cold_runs: int = 1
 
 
 FULL = Settings(
@@ -143,6 +156,7 @@ FULL = Settings(
     sweep_sizes=((320, 240), (640, 480), (1280, 720), (1920, 1080), (2560, 1440), (3840, 2160)),
     sweep_model="stanford-bunny", memory=("render", "fill", "lines2d", "loading"), process_repeat=5,
     startup_cold_runs=3, first_model_runs=3, contention_seconds=5.0,
+    texture_models=("spot", "african_head", "fuze", "beast", "lost_empire"), textured_cold_runs=3,
 )
 
 QUICK = Settings(
@@ -166,9 +180,11 @@ TARGETS = Settings(
     cli_model="stanford-bunny", cli_size=TARGET_SIZE, cold_runs=0,
     sweep_triangles=(16,), sweep_sizes=((640, 480),),
     sweep_model="stanford-bunny", memory=("render",), process_repeat=3,
+    texture_models=("spot", "beast", "lost_empire"),
 )
-"""Only what the rasterization issue's targets need (``--targets``): its three models at
-1920x1080 in every mode, the 200-triangle fill scene and its thread scaling."""
+"""Only what the targets need (``--targets``): the rasterization issue's three models at
+1920x1080 in every mode, the 200-triangle fill scene and its thread scaling; the textured
+frames of spot and the larger textured models."""
 
 TINY = Settings(
     name="tiny", warmup=1, repeat=1,
@@ -184,6 +200,7 @@ TINY = Settings(
     startup_sequence=False, first_model_runs=0, contention_processes=(1, 2), contention_seconds=0.3,
     aa_model="suzanne", aa_size=(64, 48), cv_model="suzanne", cv_size=(64, 48),
     svg_models=("suzanne",), svg_size=(64, 48), batch_size=(64, 48), batch_models=("suzanne",),
+    texture_models=("spot", "fuze"), texture_size=(64, 48), textured_cold_runs=0,
 )
 
 

@@ -24,6 +24,11 @@ first models
     ``NUMBA_CACHE_DIR``: what a new user's first render of their own model costs, wall
     seconds and user CPU seconds (:mod:`benchmarks.first_models`).
 
+first textured
+    ``rasterkit render fuze.obj -o x.png --mode solid --shading smooth`` against the same with
+    ``--no-textures``, each in a new, empty ``NUMBA_CACHE_DIR``: what texturing adds to a first
+    render (:mod:`benchmarks.first_textured`).
+
 Peak memory is ``ru_maxrss`` of the process, from ``os.wait4``. The process is started by a
 small launcher process (a bare Python, about 10 MiB), never by the suite itself: Linux carries
 the resident peak of the address space a process had *before* its ``exec`` into its
@@ -43,7 +48,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from . import cli, first_models
+from . import cli, first_models, first_textured
 from .launch import ROOT, child_environment, launch, rasterkit_command
 from .compare import RASTERKIT, compare, start
 from .report import Record
@@ -255,8 +260,8 @@ def _import(settings, results) -> None:
 
 
 def run(settings, results, peers) -> None:
-    """Cold runs (the demo alone; the sequence; first models), the warm run against its peer,
-    import time."""
+    """Cold runs (the demo alone; the sequence; first models; the first textured render), the
+    warm run against its peer, import time."""
     cli.compile_bytecode()
     model = model_path(settings.startup_model)
     model_ok = model.is_file()
@@ -270,4 +275,5 @@ def run(settings, results, peers) -> None:
             _warm(settings, results, peers, scratch)
         _cold(settings, results, scratch, model_ok)
         first_models.run(settings, results, scratch)
+        first_textured.run(settings, results, scratch)
 

@@ -8,7 +8,9 @@ clip-space map of :func:`benchmarks.peers.gl_clip_matrix`) and the same texture,
 texels. The fragment shader encodes the filtered colour back to sRGB with the exact transfer
 function and multiplies it by the Lambert factor of a headlight (flat: per face; smooth: per
 corner, interpolated), as rasterkit shades an untextured face's colour; ``unlit`` writes the
-texture alone. Each timed frame is clear + draw + read back.
+texture alone. Without an image (``upload(..., image=None)``) the faces are drawn untextured
+in rasterkit's default colour (light grey) with the same shading: the peer of an untextured
+frame (``textures=False``). Each timed frame is clear + draw + read back.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .peers import AMBIENT, Llvmpipe, gl_clip_matrix
+from .peers import AMBIENT, LIGHTGRAY, Llvmpipe, gl_clip_matrix
 
 __all__ = ["TexturedGL", "TexturedMesh"]
 
@@ -59,10 +61,19 @@ void main() {
 }
 """
 
+# The untextured frame: the same vertex shader, the surface colour times the shading.
+_PLAIN_FS = """#version 330
+uniform vec3 base;
+in float shade;
+out vec4 frag;
+void main() { frag = vec4(base * shade, 1.0); }
+"""
+
 
 @dataclass
 class TexturedMesh:
-    """A textured mesh uploaded to llvmpipe with its camera's uniforms."""
+    """A textured mesh uploaded to llvmpipe with its camera's uniforms (``texture`` None: drawn
+    untextured)."""
 
     vao: object
     texture: object
@@ -80,14 +91,17 @@ class TexturedGL:
         self.peer, self.ctx, self.gl = llvmpipe, llvmpipe.ctx, llvmpipe.gl
         self.program = self.ctx.program(vertex_shader=_VS, fragment_shader=_FS)
         self.program["ambient"].value = AMBIENT
+        self.plain = self.ctx.program(vertex_shader=_VS, fragment_shader=_PLAIN_FS)
+        self.plain["ambient"].value = AMBIENT
+        self.plain["base"].value = LIGHTGRAY
 
     def upload(self, vertices, faces, corner_uv, image, camera, *, filter: str = "trilinear", wrap: str = "repeat",
                shading: str = "flat", corner_normals=None, levels=None) -> TexturedMesh:
         """Upload once: ``vertices`` (N, 3), ``faces`` (M, 3), ``corner_uv`` (M, 3, 2) (OpenGL's
         convention: v up, v = 0 the image's bottom row), ``image`` (H, W, 3|4) uint8 with row
-        0 the top, seen by ``camera``. ``shading``: "flat" (face normals), "smooth"
-        (``corner_normals`` (M, 3, 3)) or "unlit". ``levels``: the mip levels to upload (each
-        (h, w, 4) uint8, level 0 first), else GL makes them for ``trilinear``."""
+        0 the top (None: untextured, light grey), seen by ``camera``. ``shading``: "flat" (face
+        normals), "smooth" (``corner_normals`` (M, 3, 3)) or "unlit". ``levels``: the mip levels
+        to upload (each (h, w, 4) uint8, level 0 first), else GL makes them for ``trilinear``."""
         ctx = self.ctx
         vertices = np.asarray(vertices, np.float64)
         faces = np.asarray(faces, np.int64)
@@ -101,8 +115,11 @@ class TexturedGL:
             normals = np.repeat(n, 3, axis=0)
         data = np.hstack([corners, np.asarray(corner_uv, np.float64).reshape(-1, 2), normals]).astype(np.float32)
         buffer = ctx.buffer(data.tobytes())
-        vao = ctx.vertex_array(self.program, [(buffer, "3f 2f 3f", "in_pos", "in_uv", "in_normal")])
-        texture = self._texture(image, filter, wrap, levels)
+        if image is None:  # the linker drops the unused coordinates: skip their bytes
+            vao = ctx.vertex_array(self.plain, [(buffer, "3f 2x4 3f", "in_pos", "in_normal")])
+        else:
+            vao = ctx.vertex_array(self.program, [(buffer, "3f 2f 3f", "in_pos", "in_uv", "in_normal")])
+        texture = None if image is None else self._texture(image, filter, wrap, levels)
         mvp = (gl_clip_matrix(camera.width, camera.height) @ camera.matrix()).astype(np.float32)
         return TexturedMesh(vao, texture, mvp.T.tobytes(), tuple(float(c) for c in camera.basis()[2]),
                             camera.width, camera.height, 0 if shading == "unlit" else 1)
@@ -142,10 +159,12 @@ class TexturedGL:
             ctx.enable(gl.CULL_FACE)
         else:
             ctx.disable(gl.CULL_FACE)
-        self.program["mvp"].write(mesh.mvp)
-        self.program["towards_eye"].value = mesh.towards_eye
-        self.program["lit"].value = mesh.lit
-        mesh.texture.use(0)
+        program = self.plain if mesh.texture is None else self.program
+        program["mvp"].write(mesh.mvp)
+        program["towards_eye"].value = mesh.towards_eye
+        program["lit"].value = mesh.lit
+        if mesh.texture is not None:
+            mesh.texture.use(0)
         mesh.vao.render(gl.TRIANGLES)
         data = fbo.read(components=3, alignment=1)
         return np.frombuffer(data, np.uint8).reshape(mesh.height, mesh.width, 3)[::-1]

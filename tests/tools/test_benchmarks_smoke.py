@@ -19,8 +19,8 @@ import pytest
 
 from support.paths import MODELS, ROOT
 
-FAMILIES = {"render", "aa", "cv", "svg", "fill", "threads", "lines2d", "loading", "cli", "scaling", "memory",
-            "startup", "contention", "batch"}
+FAMILIES = {"render", "aa", "cv", "textures", "svg", "fill", "threads", "lines2d", "loading", "cli", "scaling",
+            "memory", "startup", "contention", "batch"}
 RECORD_KEYS = {"family", "name", "peer", "sizes", "quantity", "rasterkit", "peer_value", "ratio",
                "throughput", "target", "runs", "note"}
 
@@ -42,7 +42,7 @@ def test_rasterkit_side_of_every_family(suite):
     assert {"platform", "cpu_count", "threads", "versions"} <= set(results["machine"])
     records = results["records"]
     families = {r["family"] for r in records}
-    without_models = {"render", "aa", "cv", "svg", "loading", "cli", "memory", "contention", "batch"}
+    without_models = {"render", "aa", "cv", "textures", "svg", "loading", "cli", "memory", "contention", "batch"}
     expected = FAMILIES if MODELS.is_dir() else FAMILIES - without_models
     assert expected <= families
     for r in records:
