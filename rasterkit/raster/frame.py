@@ -95,14 +95,14 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
     if not row.shaded:  # the colour buffer is cleared by the edge pass
         rasterize_checked(None, fb.uncleared_depth(), clip, mesh.faces, None, None, fb.ids, style.cull, (),
                           row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True,
-                          textures=_cutouts(mesh, style))
+                          textures=_cutouts(_textures(mesh, style)))
         return
     face_colors, vertex_colors, corners = shade(mesh, style)
     textures = _textures(mesh, style)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
     if not row.depth_kept and not style.keep_depth:  # nothing drawn after: depth only if read
         depth = None
-        fb.defer_depth(partial(_depth_pass, clip, mesh.faces, style.cull, _cutouts(mesh, style)))
+        fb.defer_depth(partial(_depth_pass, clip, mesh.faces, style.cull, _cutouts(textures)))
     else:
         depth = fb.uncleared_depth()
     rasterize_checked(fb.color, depth, clip, mesh.faces, face_colors, vertex_colors, fb.ids, style.cull, background,
@@ -111,7 +111,7 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
 
 
 def _textures(mesh: Mesh, style: Style):
-    """The frame's :class:`rasterkit.raster.kernels.records.Textured`, or None (textures off,
+    """The frame's :class:`rasterkit.raster.texturing.FrameTextures`, or None (textures off,
     or no face of ``mesh`` textured)."""
     if not style.textures or not mesh.materials or mesh.textured is None:  # no import for a plain mesh
         return None
@@ -121,9 +121,9 @@ def _textures(mesh: Mesh, style: Style):
                           style.texture_filter)
 
 
-def _cutouts(mesh: Mesh, style: Style):
-    """:func:`_textures` when some face is cut out (a depth pass needs its alpha), else None."""
-    textures = _textures(mesh, style)
+def _cutouts(textures):
+    """The frame's ``textures`` when some face is cut out (a depth pass needs its alpha), else
+    None."""
     return textures if textures is not None and textures.cutouts is not None else None
 
 

@@ -210,3 +210,29 @@ def test_a_textured_multi_sample_render_is_the_same_at_any_thread_count(shading)
     finally:
         rasterkit.set_threads(None)
     assert np.array_equal(images[0], images[2]) and np.array_equal(images[1], images[3])
+
+
+def test_a_scene_draws_its_objects_textures():
+    """A textured object moved by its model matrix beside an untextured one: the world mesh
+    keeps each face's material and texture coordinates, and the textured faces look as the
+    object drawn on its own where it was moved to."""
+    ball = _textured_ball()
+    camera = Camera.look_at((0.0, -6.0, 2.0), (0.0, 0.0, 0.0), width=200, height=120)
+    scene = rasterkit.Scene(camera)
+    move = rasterkit.transform.translate(1.2, 0.0, 0.0) @ rasterkit.transform.rotate_z(0.7)
+    scene.add(ball, move)
+    scene.add(rasterkit.shapes.cube(), rasterkit.transform.translate(-1.5, 0.0, 0.0), color="red")
+    fb = rasterkit.render(scene, mode="solid", ids=True)
+    world = scene.world_mesh()
+    assert world.textured is not None
+    assert np.all(world.textured.face_texture[:len(ball.faces)] == 0)
+    assert np.all(world.textured.face_texture[len(ball.faces):] == -1)
+    alone = Mesh(world.vertices, world.faces[:len(ball.faces)], uv=world.uv, uv_index=world.uv_index[:len(ball.faces)],
+                 face_materials=np.zeros(len(ball.faces), np.int32), material_names=("m",),
+                 materials=(ball.materials[0],))
+    drawn_alone = rasterkit.render(alone, camera, "solid", ids=True)
+    on_ball = (fb.object_ids == 0) & (drawn_alone.ids >= 0)
+    assert on_ball.sum() > 1500
+    assert np.array_equal(fb.color[on_ball], drawn_alone.color[on_ball])
+    plain = rasterkit.render(scene, mode="solid", textures=False)
+    assert np.mean(np.abs(plain.color.astype(int) - fb.color)[on_ball].max(axis=1) > 8) > 0.3

@@ -11,7 +11,7 @@ from PIL import Image
 
 import rasterkit
 from rasterkit import Mesh, RenderOptions, View, shapes
-from support.objfiles import write_obj
+from support.objfiles import write_obj, write_textured_obj
 
 BALL = shapes.icosphere(2)
 #: An open bowl: where faces are missing its inside shows, so the culling is seen too.
@@ -33,10 +33,12 @@ IMAGE = dict(mode="solid+wire", cull="none", shading="smooth", color="steelblue"
 
 
 def model_folder(folder: Path) -> Path:
-    """``folder`` with bowl.obj and ball.obj."""
+    """``folder`` with bowl.obj, ball.obj and the textured bowl (textured.obj with its .mtl
+    and PNG)."""
     folder.mkdir(parents=True, exist_ok=True)
     for name, mesh in (("bowl", BOWL), ("ball", BALL)):
         write_obj(folder / f"{name}.obj", mesh)
+    write_textured_obj(folder / "textured.obj", TEXTURED_BOWL, TEXTURED_BOWL.materials[0].diffuse_map.image)
     return folder
 
 
@@ -45,8 +47,11 @@ def batch_matches_the_api(folder: Path, out: Path, **engine) -> None:
     writes the images that ``render`` draws with the same options and view, bit for bit."""
     view = View(size=(96, 72), azimuth=40.0, elevation=35.0)
     summary = rasterkit.render_many(folder, out, options=RenderOptions(**IMAGE), view=view, **engine)
-    assert summary.done == 2 and summary.exit_code == 0
-    for name in ("bowl", "ball"):
+    assert summary.done == 3 and summary.exit_code == 0
+    for name in ("bowl", "ball", "textured"):
         mesh = rasterkit.load_obj(folder / f"{name}.obj")
         expected = rasterkit.render(mesh, view.camera_for(mesh), options=RenderOptions(**IMAGE)).color
         assert np.array_equal(np.asarray(Image.open(out / f"{name}.png")), expected), name
+    textured = rasterkit.load_obj(folder / "textured.obj")
+    plain = rasterkit.render(textured, view.camera_for(textured), options=RenderOptions(**IMAGE, textures=False))
+    assert not np.array_equal(np.asarray(Image.open(out / "textured.png")), plain.color)  # drawn with its texture
