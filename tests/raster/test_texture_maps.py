@@ -135,3 +135,48 @@ def test_a_flat_normal_map_changes_nothing_on_a_curved_mesh():
     covered = mapped.ids >= 0
     difference = np.abs(mapped.color.astype(int) - gouraud.color.astype(int))[covered]
     assert covered.sum() > 5000 and difference.mean() < 1.5 and difference.max() <= 12
+
+
+def test_an_object_space_normal_map_is_the_normal():
+    """``normal_space="object"``: the map's vector is the normal, whatever the face's: a square
+    turned away from the light but mapped with normals towards it is lit as they are."""
+    n = np.array([0.6, -0.48, 0.64])
+    image = _normal_map(np.broadcast_to(n, (2, 2, 3)))
+    material = Material(diffuse=(1.0, 1.0, 1.0), normal_map=Texture(image, filter="nearest"), normal_space="object")
+    tilted = SQUARE @ rasterkit.transform.rotate_y(1.2)[:3, :3].T  # its own normal far from n
+    mesh = Mesh(tilted, FACES, uv=UV, face_materials=np.zeros(2, np.int32), material_names=("m",),
+                materials=(material,))
+    light = np.array([0.2, -0.3, 0.9]) / np.linalg.norm([0.2, -0.3, 0.9])
+    fb = rasterkit.render(mesh, CAMERA, "solid", ids=True, light=light, cull="none")
+    decoded = image[0, 0] / 255.0 * 2.0 - 1.0
+    decoded /= np.linalg.norm(decoded)
+    expected = np.floor(255 * (0.25 + 0.75 * max(decoded @ light, 0.0)) + 0.5)
+    covered = fb.ids >= 0
+    assert covered.sum() > 1000
+    assert np.abs(fb.color[covered].astype(int) - expected).max() <= 1
+
+
+def test_a_grey_bump_map_is_a_height_map():
+    """A grey ``normal_map`` holds heights: a ramp rising along ``u`` by 32 codes a texel tilts
+    the normal against ``u`` by its slope times HEIGHT_SLOPE (central differences), lit by
+    Lambert's law; its texels at the clamped edges see half the slope."""
+    from rasterkit.raster.texturing import HEIGHT_SLOPE
+
+    ramp = np.repeat(np.repeat((np.arange(8) * 32).astype(np.uint8)[None, :, None], 4, axis=0), 3, axis=2)
+    material = Material(diffuse=(1.0, 1.0, 1.0), normal_map=Texture(ramp, filter="nearest", wrap="clamp"),
+                        bump_scale=0.5)
+    mesh = Mesh(SQUARE, FACES, uv=UV, face_materials=np.zeros(2, np.int32), material_names=("m",),
+                materials=(material,))
+    light = np.array([0.0, 0.0, 1.0])
+    fb = rasterkit.render(mesh, CAMERA, "solid", ids=True, light=light, texture_filter="nearest")
+    ys, xs = np.nonzero(fb.ids >= 0)
+    column = np.floor(_ray_uv(CAMERA, xs, ys)[:, 0] * 8).astype(int)
+    interior = (column >= 1) & (column <= 6)
+    stored = np.array([-HEIGHT_SLOPE * 32 / 255, 0.0, 1.0]) / np.linalg.norm([-HEIGHT_SLOPE * 32 / 255, 0.0, 1.0])
+    code = np.floor((stored + 1) / 2 * 255 + 0.5) / 255 * 2 - 1  # as the derived map stores it
+    bent = np.array([code[0] * 0.5, code[1] * 0.5, code[2]])  # the bump scale bends its x and y
+    expected = np.floor(255 * (0.25 + 0.75 * bent[2] / np.linalg.norm(bent)) + 0.5)
+    assert interior.sum() > 1500
+    assert np.abs(fb.color[ys[interior], xs[interior]].astype(int) - expected).max() <= 1
+    flat = rasterkit.render(Mesh(SQUARE, FACES), CAMERA, "solid", light=light, color=(255, 255, 255)).color
+    assert (np.abs(flat[ys[interior], xs[interior]].astype(int) - expected) >= 10).all()  # visibly bent
