@@ -88,10 +88,12 @@ def test_each_list_of_choices_has_one_home(monkeypatch):
     choices = {a.dest: tuple(a.choices) for a in commands.choices["render"]._actions if a.choices}
     assert choices == {"mode": options.MODES, "projection": options.PROJECTIONS,
                        "cull": options.CULL, "shading": options.SHADING, "edges": options.EDGES,
-                       "hidden": tuple(h for h in options.HIDDEN if h is not None)}
+                       "hidden": tuple(h for h in options.HIDDEN if h is not None),
+                       "texture_filter": options.TEXTURE_FILTERS}
     svg_module = importlib.import_module("rasterkit.svg")
     assert svg_module.SVG_MODES is options.SVG_MODES and svg_module.HIDDEN is options.HIDDEN
     assert importlib.import_module("rasterkit.raster.features").EDGES is options.EDGES
+    assert importlib.import_module("rasterkit.material.texture").FILTERS is options.TEXTURE_FILTERS
 
 
 def test_first_render_announces_the_compile_once_and_a_cached_run_is_silent(tmp_path):

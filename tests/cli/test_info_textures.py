@@ -40,16 +40,16 @@ def test_info_names_found_textures_and_warns_of_missing_ones(tmp_path, capsys):
     assert "nowhere.png" in warnings and "look.mtl" in warnings
 
 
-def test_load_obj_reads_whole_materials_only_when_asked(tmp_path):
+def test_load_obj_reads_whole_materials_unless_told_not_to(tmp_path):
     import rasterkit
 
     (tmp_path / "tex dir").mkdir()
     Image.fromarray(np.zeros((6, 10, 3), np.uint8)).save(tmp_path / "tex dir" / "paint job.png")
     (tmp_path / "look.mtl").write_text(MTL)
     (tmp_path / "m.obj").write_text(OBJ)
-    plain = rasterkit.load_obj(tmp_path / "m.obj")
+    plain = rasterkit.load_obj(tmp_path / "m.obj", textures=False)
     assert plain.materials == () and plain.warnings == ()
-    whole = rasterkit.load_obj(tmp_path / "m.obj", textures=True)
+    whole = rasterkit.load_obj(tmp_path / "m.obj")  # the default: materials whole, textures read
     assert [m.name for m in whole.materials] == ["painted", "lost"]
     assert whole.materials[0].diffuse_map.image.shape == (6, 10, 3) and whole.materials[1].diffuse_map is None
     assert len(whole.warnings) == 1 and "nowhere.png" in whole.warnings[0]
