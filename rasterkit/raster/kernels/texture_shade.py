@@ -269,10 +269,14 @@ def textured_run(color, j, i0, n, t, terms, x0, y, texels, levels, samplers, tra
             scratch[chunk + q] = v
             scratch[2 * chunk + q] = texture_lod(levels, samplers, transforms, t, d[0], d[1], d[2], d[3])
             scratch[3 * chunk + q] = _gouraud(terms, x, y, inv)
-        for q in range(m):
+        for q in range(m):  # the linear colour in place of (u, v, lod)
             r, g, b, _ = lookup(texels, levels, samplers, transforms, decode, t, scratch[q], scratch[chunk + q],
                                 scratch[2 * chunk + q])
-            put_rgba(color, j, i0 + np.uint64(start) + q, _packed(r, g, b, tint, scratch[3 * chunk + q], table))
+            scratch[q], scratch[chunk + q], scratch[2 * chunk + q] = r, g, b
+        for q in range(m):
+            put_rgba(color, j, i0 + np.uint64(start) + q, _packed(scratch[q], scratch[chunk + q],
+                                                                  scratch[2 * chunk + q], tint, scratch[3 * chunk + q],
+                                                                  table))
 
 
 @kernel(inline="always")
