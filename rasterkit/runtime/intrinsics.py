@@ -1,5 +1,6 @@
 """LLVM operations that Numba does not expose: a software prefetch, an atomic add and an
-atomic read, a spin-wait hint, and 8-byte loads and stores at any byte offset.
+atomic read, a spin-wait hint, 8-byte loads and stores at any byte offset, and the bits of a
+float64 as an int64 and back, and a kernel's scratch floats on its stack.
 
 Prefetch
 --------
@@ -33,7 +34,8 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-__all__ = ["fetch_add", "load_acquire", "load_word", "pause", "prefetch_row", "store_word"]
+__all__ = ["bits_float", "fetch_add", "float_bits", "load_acquire", "load_word", "pause", "prefetch_row", "stack_floats",
+           "store_word"]
 
 
 @intrinsic
@@ -159,3 +161,50 @@ def store_word(typingctx, array, offset, value):
         return context.get_dummy_value()
 
     return types.void(array, offset, value), codegen
+
+
+@intrinsic
+def float_bits(typingctx, x):
+    """The IEEE 754 bits of the float64 ``x`` as an int64 (what ``x.view(np.int64)`` would
+    be for a scalar)."""
+    if x != types.float64:
+        return None
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.IntType(64))
+
+    return types.int64(x), codegen
+
+
+@intrinsic
+def bits_float(typingctx, i):
+    """The float64 whose IEEE 754 bits are the int64 ``i`` (the inverse of :func:`float_bits`)."""
+    if i != types.int64:
+        return None
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.DoubleType())
+
+    return types.float64(i), codegen
+
+
+@intrinsic
+def stack_floats(typingctx, n):
+    """A 1-D float64 array of ``n`` (a literal int) elements on the calling kernel's stack,
+    reserved once at its entry (not per loop iteration) and valid until it returns: scratch
+    space for kernels compiled without reference counting, which cannot allocate (the array
+    has no owner to count). Not initialised."""
+    if not isinstance(n, types.IntegerLiteral):
+        return None
+    count = n.literal_value
+    array_type = types.Array(types.float64, 1, "C")
+
+    def codegen(context, builder, signature, args):
+        block = cgutils.alloca_once(builder, ir.DoubleType(), size=count)
+        array = context.make_array(array_type)(context, builder)
+        intp = context.get_value_type(types.intp)
+        context.populate_array(array, data=block, shape=[ir.Constant(intp, count)], strides=[ir.Constant(intp, 8)],
+                               itemsize=ir.Constant(intp, 8), meminfo=None)
+        return array._getvalue()
+
+    return array_type(n), codegen

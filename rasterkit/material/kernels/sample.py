@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rasterkit.runtime.intrinsics import bits_float, float_bits
 from rasterkit.runtime.jit import kernel
 
 FILTER_NEAREST, FILTER_BILINEAR, FILTER_TRILINEAR = 0, 1, 2
@@ -87,10 +88,38 @@ def wrap_index(i, n, wrap):
 
 @kernel(inline="always")
 def texel(texels, decode, srgb, channels, at):
-    """The texel at byte ``at``: (r, g, b, a) float64, colours through row ``srgb`` of
-    ``decode``, alpha linear (1 without an alpha channel)."""
-    a = decode[0, texels[at + 3]] if channels == 4 else 1.0
-    return decode[srgb, texels[at]], decode[srgb, texels[at + 1]], decode[srgb, texels[at + 2]], a
+    """The texel at byte ``at`` (np.uint64): (r, g, b, a) float64, colours through row
+    ``srgb`` (np.uint64) of ``decode``, alpha linear (1 without an alpha channel). Unsigned
+    indices: Numba adds no wraparound of negative indices to the loads."""
+    a = decode[np.uint64(0), texels[at + np.uint64(3)]] if channels == 4 else 1.0
+    return (decode[srgb, texels[at]], decode[srgb, texels[at + np.uint64(1)]],
+            decode[srgb, texels[at + np.uint64(2)]], a)
+
+
+@kernel(inline="always")
+def log2(x):
+    """``log2(x)`` within 1e-15 of the exact value, inline (a call of the C library's log2
+    in a pixel loop costs the spilling of every live float register around it): the binary
+    exponent of ``x`` plus log2 of its significand ``m`` in [sqrt(1/2), sqrt(2)), from the
+    series ``ln m = 2 (s + s^3 / 3 + s^5 / 5 + ...)``, ``s = (m - 1) / (m + 1)``, ``|s| <=
+    0.172``, to its ``s^17`` term. ``-inf`` for 0, ``inf`` for ``inf``, NaN for NaN and
+    negative ``x``."""
+    tiny = x < 2.2250738585072014e-308  # subnormal: scaled by 2^54 into the normal range
+    bits = float_bits(x * 18014398509481984.0 if tiny else x)
+    e = np.float64((bits >> 52) - 1023) - (54.0 if tiny else 0.0)
+    m = bits_float((bits & 0xFFFFFFFFFFFFF) | 0x3FF0000000000000)  # the significand, in [1, 2)
+    high = m > 1.4142135623730951
+    m = 0.5 * m if high else m
+    e = e + 1.0 if high else e
+    s = (m - 1.0) / (m + 1.0)
+    z = s * s
+    p = 1.0 / 17.0
+    for c in (15.0, 13.0, 11.0, 9.0, 7.0, 5.0, 3.0, 1.0):
+        p = p * z + 1.0 / c
+    y = e + 2.8853900817779268 * s * p  # 2 / ln 2
+    y = y if x < np.inf else x  # inf and NaN as they are
+    y = y if x != 0.0 else -np.inf
+    return y if x >= 0.0 or x != x else np.nan
 
 
 @kernel(inline="always")
@@ -101,14 +130,15 @@ def lod_from_derivatives(dudx, dvdx, dudy, dvdy, width, height):
     NaN for NaN derivatives (both taken as 0 by :func:`sample`)."""
     x = (dudx * width) ** 2 + (dvdx * height) ** 2
     y = (dudy * width) ** 2 + (dvdy * height) ** 2
-    return 0.5 * np.log2(max(x, y)) if x == x and y == y else np.nan
+    return 0.5 * log2(max(x, y)) if x == x and y == y else np.nan
 
 
 @kernel(inline="always")
 def texture_lod(levels, samplers, transforms, t, dudx, dvdx, dudy, dvdy):
     """:func:`lod_from_derivatives` for texture ``t``: the derivatives of the mesh's (u, v),
     scaled by the texture's ``scale``, over its level 0."""
-    first = samplers[t, FIRST]
+    t = np.uint64(t)
+    first = np.uint64(samplers[t, FIRST])
     su = transforms[t, SCALE_U]
     sv = transforms[t, SCALE_V]
     return lod_from_derivatives(dudx * su, dvdx * sv, dudy * su, dvdy * sv, levels[first, 1], levels[first, 2])
@@ -132,8 +162,9 @@ def lookup(texels, levels, samplers, transforms, decode, t, u, v, lod):
     here, from the arrays, on every call: a caller's loop then has no branch LLVM could hoist
     out of it and copy the loop for (loop unswitching made a textured render's first compile
     take 45 s longer)."""
+    t = np.uint64(t)
     first, count, channels = samplers[t, FIRST], samplers[t, COUNT], samplers[t, CHANNELS]
-    mode, wrap, srgb = samplers[t, FILTER], samplers[t, WRAP], samplers[t, SRGB]
+    mode, wrap, srgb = samplers[t, FILTER], samplers[t, WRAP], np.uint64(samplers[t, SRGB])
     u = bounded_coordinate(u * transforms[t, SCALE_U] + transforms[t, OFFSET_U], wrap)
     v = bounded_coordinate(v * transforms[t, SCALE_V] + transforms[t, OFFSET_V], wrap)
     level, between = first, 0.0
@@ -145,17 +176,18 @@ def lookup(texels, levels, samplers, transforms, decode, t, u, v, lod):
     r = g = b = a = 0.0
     weight = 1.0 - between
     for k in range(2 if between > 0.0 else 1):
-        start, width, height = levels[level + k, 0], levels[level + k, 1], levels[level + k, 2]
+        at = np.uint64(level + k)
+        start, width, height = levels[at, 0], levels[at, 1], levels[at, 2]
         x = u * width - offset
         y = v * height - offset
         fx = np.floor(x)
         fy = np.floor(y)
         ax = (x - fx) if mode != FILTER_NEAREST else 0.0
         ay = (y - fy) if mode != FILTER_NEAREST else 0.0
-        i0 = wrap_index(np.int64(fx), width, wrap) * channels
-        i1 = wrap_index(np.int64(fx) + 1, width, wrap) * channels
-        row0 = start + (height - 1 - wrap_index(np.int64(fy), height, wrap)) * width * channels
-        row1 = start + (height - 1 - wrap_index(np.int64(fy) + 1, height, wrap)) * width * channels
+        i0 = np.uint64(wrap_index(np.int64(fx), width, wrap) * channels)
+        i1 = np.uint64(wrap_index(np.int64(fx) + 1, width, wrap) * channels)
+        row0 = np.uint64(start + (height - 1 - wrap_index(np.int64(fy), height, wrap)) * width * channels)
+        row1 = np.uint64(start + (height - 1 - wrap_index(np.int64(fy) + 1, height, wrap)) * width * channels)
         r00, g00, b00, a00 = texel(texels, decode, srgb, channels, row0 + i0)
         r10, g10, b10, a10 = texel(texels, decode, srgb, channels, row0 + i1)
         r01, g01, b01, a01 = texel(texels, decode, srgb, channels, row1 + i0)

@@ -29,14 +29,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit.material.kernels.sample import FILTER, FILTER_TRILINEAR, sample, texture_lod
+from rasterkit.material.kernels.sample import FILTER, FILTER_TRILINEAR, lookup, sample, texture_lod
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, put_rgba, smooth_rgba, to_u8
+from rasterkit.runtime.intrinsics import stack_floats
 from rasterkit.runtime.jit import kernel
 
 #: Intervals of the sRGB encoding table (:func:`encode_table`): with linear interpolation
 #: between its entries the encoded value is within 1e-5 of the exact transfer function
 #: (0.003 of an 8-bit step), everywhere in [0, 1].
 ENCODE_STEPS = 4096
+
+#: Pixels of a run that :func:`textured_run` prepares at a time (its scratch: 4 floats each).
+RUN_CHUNK = 32
+_RUN_SCRATCH = 4 * RUN_CHUNK
 
 
 def encode_table() -> np.ndarray:
@@ -58,7 +63,9 @@ def encode(table, x):
     pos = x * ENCODE_STEPS
     k = np.int64(pos)
     frac = pos - k
-    return table[k] + (table[k + 1] - table[k]) * frac
+    k = np.uint64(k)  # unsigned: no wraparound of negative indices
+    low = table[k]
+    return low + (table[k + np.uint64(1)] - low) * frac
 
 
 @kernel(inline="always")
@@ -84,7 +91,7 @@ def _plane(rows, q0, q1, q2):
 def _lod(levels, samplers, transforms, t, derivatives):
     """OpenGL's level of detail of texture ``t`` for ``derivatives`` (du/dx, dv/dx, du/dy,
     dv/dy) where it is filtered with mipmaps, else 0."""
-    if samplers[t, FILTER] != FILTER_TRILINEAR:
+    if samplers[np.uint64(t), FILTER] != FILTER_TRILINEAR:
         return 0.0
     return texture_lod(levels, samplers, transforms, t, derivatives[0], derivatives[1], derivatives[2],
                        derivatives[3])
@@ -239,6 +246,39 @@ def face_pixel(t, terms, x, y, fields):
     return _packed(r, g, b, terms[7], _gouraud(terms, x, y, inv), fields[15])
 
 
+@kernel(refcounts=False)
+def textured_run(color, j, i0, n, t, terms, x0, y, texels, levels, samplers, transforms, decode, table):
+    """Colour ``n`` pixels of row ``j`` from column ``i0`` on, of a face with texture ``t`` and
+    no normal map whose :func:`face_terms` are ``terms``; ``(x0, y)`` the first one's sample
+    point. :func:`face_pixel` in two passes over up to :data:`RUN_CHUNK` pixels at a time:
+    the texture coordinates, level of detail and Lambert factor of each pixel into scratch
+    on the stack (a loop of independent arithmetic without branches, which LLVM vectorises),
+    then the lookups (inlined: a kernel of its own, called once per run, compiles the lookup
+    in one place). The level of detail is worked out for every filter (only trilinear reads
+    it), and the texture's settings are read per pixel inside the lookup (see
+    :func:`rasterkit.material.kernels.sample.lookup`): no branch on a setting in the loops."""
+    scratch = stack_floats(_RUN_SCRATCH)
+    chunk = np.uint64(RUN_CHUNK)
+    tint = terms[7]
+    for start in range(0, n, RUN_CHUNK):
+        m = np.uint64(min(RUN_CHUNK, n - start))
+        for q in range(m):
+            x = x0 + np.float64(start + q)
+            inv, u, v, d = _surface(terms, x, y)
+            scratch[q] = u
+            scratch[chunk + q] = v
+            scratch[2 * chunk + q] = texture_lod(levels, samplers, transforms, t, d[0], d[1], d[2], d[3])
+            scratch[3 * chunk + q] = _gouraud(terms, x, y, inv)
+        for q in range(m):  # the linear colour in place of (u, v, lod)
+            r, g, b, _ = lookup(texels, levels, samplers, transforms, decode, t, scratch[q], scratch[chunk + q],
+                                scratch[2 * chunk + q])
+            scratch[q], scratch[chunk + q], scratch[2 * chunk + q] = r, g, b
+        for q in range(m):
+            put_rgba(color, j, i0 + np.uint64(start) + q, _packed(scratch[q], scratch[chunk + q],
+                                                                  scratch[2 * chunk + q], tint, scratch[3 * chunk + q],
+                                                                  table))
+
+
 @kernel(inline="always")
 def mapped_pixel(f, t, terms, normal, x, y, fields):
     """:func:`face_pixel` of a frame with normal maps: face ``f``'s (whose
@@ -282,7 +322,8 @@ def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, ve
     SHADE_FLAT or SHADE_SMOOTH, or SHADE_NONE for a depth pass with cut-out faces: the
     visibility rows hold faces); ``textures`` a :class:`rasterkit.raster.kernels.records.Textured`,
     and again as ``mapped`` when some face has a normal map (else None: that code is not
-    compiled). A run of pixels of one face shares its :func:`face_terms`."""
+    compiled). A run of pixels of one face shares its :func:`face_terms`; without normal
+    maps :func:`textured_run` colours the run."""
     fields = texture_fields(textures)
     face_texture = fields[5]
     ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
@@ -303,8 +344,8 @@ def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, ve
         elif t >= 0:
             terms = face_terms(f, bary, fields)
             if mapped is None:
-                for q in range(k, end):
-                    put_rgba(color, ju, base + np.uint64(q), face_pixel(t, terms, px + q, py, fields))
+                textured_run(color, ju, base + np.uint64(k), np.int64(end - k), t, terms, px + k, py, fields[0],
+                             fields[1], fields[2], fields[3], fields[4], fields[15])
             else:
                 normal = normal_terms(f, terms[0], fields)
                 for q in range(k, end):
