@@ -7,10 +7,10 @@ resident set) for ``spot_texture.png`` opened as one :class:`rasterkit.Texture`,
 spot meshes (two ``Mesh`` objects sharing it), smooth trilinear frames at the profile's size:
 
 held
-    ``texture.image.nbytes + texture.mipmaps.nbytes`` (the mipmaps: every level in one buffer,
-    level 0 included, and their table) against the texture's pixels, ``width * height *
-    channels`` bytes; the note says whether level 0 of the mipmaps is the image itself or a
-    copy of it.
+    ``texture.mipmaps.nbytes`` (every level in one buffer, level 0 included, and their table),
+    plus ``texture.image.nbytes`` unless the image is a view of level 0, against the texture's
+    pixels, ``width * height * channels`` bytes; the note says whether level 0 of the mipmaps
+    is the image itself or a copy of it.
 frames (rss, traced)
     ``VmRSS``, then tracemalloc's traced bytes, before and after :data:`FRAMES` frames drawn
     in turn from the two meshes (each figure after a garbage collection): flat when nothing
@@ -124,7 +124,7 @@ def _records(m: dict, width: int, height: int) -> list[Record]:
         "level 0 is a separate copy of the image (image + mipmaps = 1 + 4/3 of the pixels)"
     frames = f"{FRAMES} smooth trilinear frames, two meshes sharing one Texture in turn " \
              f"(shared: {'yes' if m['shared'] else 'no'})"
-    held = m["image"] + m["mipmaps"]
+    held = m["mipmaps"] + (0 if m["level0_is_image"] else m["image"])  # shared bytes counted once
     sizes = {"texture": m["size"], "channels": m["channels"]}
     drawn = {"width": width, "height": height, "frames": FRAMES}
     return [
