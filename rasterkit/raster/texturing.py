@@ -166,8 +166,10 @@ def _from_heights(texture):
                    srgb=False, name=texture.name)
 
 
+@functools.lru_cache(maxsize=64)
 def _linear(texture):
-    """``texture`` read as data (linear values), not sRGB colours."""
+    """``texture`` read as data (linear values), not sRGB colours: one copy per texture (kept),
+    so that materials sharing a map share its row of the band worker's arrays."""
     return texture.replace(srgb=False) if texture is not None and texture.srgb else texture
 
 

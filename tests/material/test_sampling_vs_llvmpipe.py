@@ -40,22 +40,6 @@ def _uv_and_lod():
     return xs, ys, u / s, 0.5 * np.log2(np.maximum(*lengths))
 
 
-@pytest.fixture(scope="module")
-def gl():
-    pytest.importorskip("moderngl")
-    from support.paths import ROOT
-
-    with pytest.MonkeyPatch.context() as patch:
-        patch.syspath_prepend(str(ROOT))  # the benchmark suite is not installed with the package
-        from benchmarks.peers import Llvmpipe, PeerUnavailable
-        from benchmarks.texture_peer import TexturedGL
-
-        try:
-            yield TexturedGL(Llvmpipe())
-        except PeerUnavailable as why:
-            pytest.skip(str(why))
-
-
 @pytest.mark.parametrize("filter", ["nearest", "bilinear", "trilinear"])
 def test_the_kernels_sample_what_llvmpipe_draws(filter, gl):
     texture = Texture(NOISE, filter=filter)

@@ -14,23 +14,9 @@ import pytest
 
 import rasterkit
 from rasterkit import Material, Texture, View, load_obj
-from support.paths import MODELS, ROOT, needs_models
+from support.paths import MODELS, needs_models
 
 pytestmark = needs_models
-
-
-@pytest.fixture(scope="module")
-def gl():
-    pytest.importorskip("moderngl")
-    with pytest.MonkeyPatch.context() as patch:
-        patch.syspath_prepend(str(ROOT))  # the benchmark suite is not installed with the package
-        from benchmarks.peers import Llvmpipe, PeerUnavailable
-        from benchmarks.texture_peer import TexturedGL
-
-        try:
-            yield TexturedGL(Llvmpipe())
-        except PeerUnavailable as why:
-            pytest.skip(str(why))
 
 
 def spot():

@@ -180,3 +180,16 @@ def test_a_grey_bump_map_is_a_height_map():
     assert np.abs(fb.color[ys[interior], xs[interior]].astype(int) - expected).max() <= 1
     flat = rasterkit.render(Mesh(SQUARE, FACES), CAMERA, "solid", light=light, color=(255, 255, 255)).color
     assert (np.abs(flat[ys[interior], xs[interior]].astype(int) - expected) >= 10).all()  # visibly bent
+
+
+def test_materials_sharing_a_data_map_share_its_row():
+    """Two materials with the same opacity map (read as data: a linear copy of it) look it up
+    through one row of the band worker's texture arrays, not a copy each."""
+    grey = Texture(np.repeat(HOLES[..., 3:], 3, axis=2), filter="nearest")
+    skin = Texture(HOLES[..., :3], filter="nearest")
+    a, b = Material("a", diffuse_map=skin, opacity_map=grey), Material("b", diffuse_map=skin, opacity_map=grey)
+    mesh = Mesh(SQUARE, FACES, uv=UV, face_materials=np.array([0, 1], np.int32), material_names=("a", "b"),
+                materials=(a, b))
+    layout = mesh.textured
+    assert len(layout.textures) == 2  # the diffuse map and the opacity map, each once
+    assert layout.face_alpha[0] == layout.face_alpha[1] >= 0
