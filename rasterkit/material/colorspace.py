@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["DECODE", "LINEAR_ROW", "SRGB_ROW", "decode_srgb", "encode_srgb8"]
+__all__ = ["DECODE", "LINEAR_ROW", "SRGB_ROW", "decode_srgb", "encode_srgb", "encode_srgb8"]
 
 
 def decode_srgb(c: np.ndarray) -> np.ndarray:
@@ -23,13 +23,18 @@ def decode_srgb(c: np.ndarray) -> np.ndarray:
     return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
 
 
+def encode_srgb(linear: np.ndarray) -> np.ndarray:
+    """sRGB-encoded values in [0, 1] of linear-light values (float, clipped to [0, 1]; the
+    result has their float type)."""
+    x = np.clip(linear, 0.0, 1.0)
+    with np.errstate(invalid="ignore"):  # the unused branch of np.where
+        return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
+
+
 def encode_srgb8(linear: np.ndarray) -> np.ndarray:
     """The nearest 8-bit sRGB code (uint8) of each linear-light value (float, clipped to
     [0, 1]): ``floor(255 * encode(x) + 0.5)``."""
-    x = np.clip(linear, 0.0, 1.0)
-    with np.errstate(invalid="ignore"):  # the unused branch of np.where
-        s = np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
-    return np.floor(s * 255.0 + 0.5).astype(np.uint8)
+    return np.floor(encode_srgb(linear) * 255.0 + 0.5).astype(np.uint8)
 
 
 #: Row of :data:`DECODE` for linear values (alpha, data textures): code / 255.

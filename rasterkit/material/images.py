@@ -39,7 +39,7 @@ from rasterkit.material.errors import TextureError, TextureLimitError
 from rasterkit.material.mipmaps import mipmaps_bytes
 from rasterkit.runtime import files
 
-__all__ = ["FORMATS", "decoding_bytes", "read_image"]
+__all__ = ["FORMATS", "decode_image", "decoding_bytes", "read_image"]
 
 #: The formats read, by the signature their files start with (TGA has none: the rest).
 FORMATS = (("PNG", b"\x89PNG\r\n\x1a\n"), ("JPEG", b"\xff\xd8\xff"), ("BMP", b"BM"), ("TGA", b""))
@@ -114,6 +114,13 @@ def read_image(path: str, spent: int = 0) -> np.ndarray:
         raise TextureLimitError(e.path, e.reason) from None
     except files.FileError as e:
         raise TextureError(e.path, e.reason) from None
+    return decode_image(data, path, spent)
+
+
+def decode_image(data: bytes, path: str, spent: int = 0) -> np.ndarray:
+    """The image of the bytes ``data`` of an image file (steps 2 to 4 of the module
+    documentation), as :func:`read_image` gives it; ``path`` names the image in errors (a
+    file, or where the bytes come from, such as a glTF buffer view)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         im, name = _header(data, path)

@@ -107,6 +107,10 @@ class Material:
         ``u``, y along ``v``, z the surface normal, as ``.mtl`` and glTF files mean them), or
         ``object``, the mesh's own coordinates (as tinyrenderer's ``african_head_nm.tga``):
         the map's vector is the normal, whatever the mesh's normals.
+    double_sided : bool
+        glTF's ``doubleSided``: the faces are meant to be seen from both sides (not culled,
+        and lit on the back as on the front). Default False. Recorded for the renderer:
+        :func:`rasterkit.render` culls every face alike, as ``RenderOptions.cull`` says.
     """
 
     name: str = "default"
@@ -121,6 +125,7 @@ class Material:
     normal_map: Texture | None = None
     bump_scale: float = 1.0
     normal_space: str = "tangent"
+    double_sided: bool = False
 
     def __post_init__(self):
         if self.diffuse is None:
@@ -144,4 +149,5 @@ _CHECKS = {
     "diffuse_map": _texture, "opacity_map": _texture, "specular_map": _texture, "normal_map": _texture,
     "bump_scale": values.real,
     "normal_space": lambda name, value: values.choice(name, value, NORMAL_SPACES),
+    "double_sided": values.flag,
 }

@@ -68,7 +68,15 @@ def test_textures_are_shared_objects():
     ("opacity", True, TypeError, "number"),
     ("diffuse_map", np.zeros((2, 2, 3), np.uint8), TypeError, "rasterkit.Texture or None"),
     ("bump_scale", "1", TypeError, "bump_scale must be a number"),
+    ("double_sided", 1, TypeError, "double_sided must be True or False"),
 ])
 def test_bad_values_are_refused(field, value, error, match):
     with pytest.raises(error, match=match):
         Material(**{field: value})
+
+
+def test_double_sided_is_recorded_and_off_by_default():
+    """glTF's doubleSided: kept on the material (False unless asked)."""
+    assert Material().double_sided is False
+    assert Material(double_sided=True).double_sided is True
+    assert dataclasses.replace(Material("a"), double_sided=True) != Material("a")

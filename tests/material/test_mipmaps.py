@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from rasterkit.material import Texture
-from rasterkit.material.colorspace import DECODE, LINEAR_ROW, SRGB_ROW, decode_srgb, encode_srgb8
+from rasterkit.material.colorspace import DECODE, LINEAR_ROW, SRGB_ROW, decode_srgb, encode_srgb, encode_srgb8
 from rasterkit.material.mipmaps import box_taps, build_mipmaps, level_sizes, mipmaps_bytes, reduce_level
 from support.reference_texture import box_mean, linear_to_srgb, srgb_to_linear
 
@@ -34,6 +34,13 @@ def test_encode_rounds_to_the_nearest_code_and_inverts_decode():
 
 
 # --- sizes and taps ---------------------------------------------------------------------------
+
+def test_encode_srgb_inverts_decode_and_clips():
+    x = np.linspace(0.0, 1.0, 101)
+    np.testing.assert_allclose(encode_srgb(decode_srgb(x)), x, atol=1e-12)
+    np.testing.assert_allclose(encode_srgb(np.array([-1.0, 2.0])), [0.0, 1.0], atol=1e-15)
+    assert encode_srgb(np.float32([0.5])).dtype == np.float32
+
 
 def test_level_sizes_are_opengls():
     assert level_sizes(1, 1) == [(1, 1)]

@@ -237,6 +237,18 @@ def test_corrupt_files_are_one_line_errors(tmp_path, data, reason):
     assert reason in error.reason and not isinstance(error, TextureLimitError)
 
 
+def test_bytes_decode_as_the_file_does(tmp_path):
+    """decode_image: an image file's bytes (a glTF buffer view's) give what read_image gives
+    for the file, and a corrupt one the same one-line error, naming what the caller says."""
+    from rasterkit.material.images import decode_image, read_image
+
+    path = tmp_path / "a.png"
+    path.write_bytes(good_bytes("PNG"))
+    np.testing.assert_array_equal(decode_image(good_bytes("PNG"), "buffer view 3"), read_image(str(path)))
+    with pytest.raises(TextureError, match=r"^buffer view 3: cannot read the JPEG header"):
+        decode_image(good_bytes("JPEG")[:300], "buffer view 3")
+
+
 def test_missing_and_irregular_files(tmp_path):
     assert "No such file or directory" in refusal(tmp_path / "missing.png").reason
     assert refusal(tmp_path).reason == "not a regular file (a directory)"
