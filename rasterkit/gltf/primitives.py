@@ -17,8 +17,8 @@ Attributes: ``POSITION`` (VEC3), ``NORMAL`` (VEC3), ``TEXCOORD_n`` (VEC2; ``v`` 
 rasterkit's, ``v' = 1 - v``: glTF's ``v`` runs down the image), ``COLOR_0`` (VEC3 or VEC4,
 linear light, clipped to [0, 1]; its alpha is not used), any component type, normalized or
 not (which makes ``KHR_mesh_quantization`` files readable as they are). Every attribute must
-have POSITION's count. Normals that are not finite become zero, colours that are not finite
-white, each with a warning.
+have POSITION's count. A normal with a component that is not finite becomes zero, such a
+colour white, each with a warning.
 """
 
 from __future__ import annotations
@@ -91,7 +91,7 @@ def read_vertices(doc: Document, prim: Obj, accessors: dict) -> Vertices:
 
 
 def _finite(doc: Document, values: np.ndarray, fill: float, where: str, message: str) -> np.ndarray:
-    bad = ~np.isfinite(values)
+    bad = ~np.isfinite(values).all(axis=1)
     if bad.any():
         doc.warn(where, message)
         values[bad] = fill

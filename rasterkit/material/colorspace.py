@@ -28,7 +28,7 @@ def encode_srgb(linear: np.ndarray) -> np.ndarray:
     result has their float type)."""
     x = np.clip(linear, 0.0, 1.0)
     with np.errstate(invalid="ignore"):  # the unused branch of np.where
-        return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
+        return np.where(x <= 0.0031308, 12.92 * x, np.where(x >= 1.0, 1.0, 1.055 * x ** (1 / 2.4) - 0.055))
 
 
 def encode_srgb8(linear: np.ndarray) -> np.ndarray:
