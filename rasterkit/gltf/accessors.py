@@ -92,7 +92,8 @@ def floats(doc: Document, index: int, use: str, types: tuple, components: tuple 
     fractions (see the module documentation)."""
     raw, acc = read(doc, index, use, types, components)
     doc.check_memory(raw.size * 16, f"{acc.count} elements of {acc.where}", acc.where)
-    out = raw.astype(np.float64)
+    with np.errstate(invalid="ignore"):  # a signalling NaN in the file becomes a quiet one
+        out = raw.astype(np.float64)
     divisor = COMPONENTS[acc.component][1]
     if acc.normalized and divisor is not None:
         out /= divisor

@@ -25,6 +25,9 @@ MISSING = object()
 #: Longest JSON value quoted whole in a message.
 _QUOTE = 40
 
+#: Warnings kept of one file; the others are counted (:attr:`Document.dropped`).
+MAX_WARNINGS = 50
+
 
 def shown(value) -> str:
     """A JSON value for a one-line message: its ``repr``, shortened."""
@@ -47,14 +50,16 @@ def _is_number(value) -> bool:
 class Document:
     """One glTF file: ``path`` (as given), ``folder`` (where its URIs are resolved),
     ``root`` (its JSON object, an :class:`Obj`), ``binary`` (the GLB's BIN chunk, a
-    ``memoryview``, or None), ``warnings`` (one-line strings) and ``spent`` (bytes of the
-    buffers and arrays held so far, counted against the memory limit)."""
+    ``memoryview``, or None), ``warnings`` (one-line strings, the first
+    :data:`MAX_WARNINGS` different ones; ``dropped`` counts the others) and ``spent`` (bytes
+    of the buffers and arrays held so far, counted against the memory limit)."""
 
     def __init__(self, path: str, folder: str, root, binary: memoryview | None):
         self.path = path
         self.folder = folder
         self.binary = binary
         self.warnings: list[str] = []
+        self.dropped = 0
         self.spent = 0
         self.cache: dict = {}  # what was read once: buffers, images, materials, meshes
         if not isinstance(root, dict):
@@ -67,8 +72,12 @@ class Document:
     def warn(self, where: str | None, message: str) -> None:
         """Note a warning, ``where: message`` (the file's name is added by the reader)."""
         text = message if where is None else f"{where}: {message}"
-        if text not in self.warnings:
+        if text in self.warnings:
+            return
+        if len(self.warnings) < MAX_WARNINGS:
             self.warnings.append(text)
+        else:
+            self.dropped += 1
 
     def check_memory(self, nbytes: float, what: str, where: str | None) -> None:
         """:func:`rasterkit.limits.check_memory` of ``nbytes`` more than :attr:`spent`, as a

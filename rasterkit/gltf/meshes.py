@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rasterkit.gltf.document import Document
-from rasterkit.gltf.errors import GltfError, GltfLimitError
+from rasterkit.gltf.errors import GltfError, GltfLimitError, readable
 from rasterkit.gltf.materials import look
 from rasterkit.gltf.primitives import attribute_accessors, read_topology, read_vertices
 from rasterkit.limits import LimitError
@@ -134,7 +134,7 @@ def _assemble(doc: Document, where: str, blocks: list, looks: list, parts: list,
         fields.update(materials=tuple(materials), material_names=tuple(x.name for x in materials),
                       face_materials=np.concatenate([np.full(len(p.faces), p.slot, np.int32) for p in parts]))
     try:
-        mesh = Mesh(**fields, warnings=tuple(f"{doc.path}: {w}" for w in warnings))
+        mesh = Mesh(**fields, warnings=tuple(f"{readable(doc.path)}: {w}" for w in warnings))
     except LimitError as e:
         raise GltfLimitError(doc.path, where, str(e)) from None
     except ValueError as e:  # the reader's checks should leave nothing for the Mesh's own to find

@@ -21,6 +21,7 @@ from rasterkit.gltf.buffers import buffer
 from rasterkit.gltf.cameras import GltfCamera, read_camera
 from rasterkit.gltf.container import open_document
 from rasterkit.gltf.document import Document, Obj
+from rasterkit.gltf.errors import readable
 from rasterkit.gltf.extensions import check_extensions
 from rasterkit.gltf.meshes import read_mesh
 from rasterkit.gltf.nodes import walk
@@ -94,7 +95,9 @@ def read_gltf(path) -> GltfScene:
             scene.point_colors = np.concatenate(colors)
     if not scene.objects:
         raise doc.error(None, "the default scene draws nothing (no node with a mesh of triangles, lines or points)")
-    scene.warnings = tuple(f"{doc.path}: {w}" for w in doc.warnings)
+    if doc.dropped:
+        doc.warnings.append(f"{doc.dropped} more warnings not shown")
+    scene.warnings = tuple(f"{readable(doc.path)}: {w}" for w in doc.warnings)
     return scene
 
 

@@ -191,3 +191,13 @@ def test_non_finite_normals_and_colours_are_replaced_with_a_warning(tmp_path):
     np.testing.assert_array_equal(mesh.corner_normals[0], [0, 0, 0])
     np.testing.assert_array_equal(mesh.vertex_colors[:, 0], [1, 0, 1])
     assert sum("not finite" in w for w in scene.warnings) == 2
+
+
+def test_warnings_are_capped(tmp_path):
+    """A file of 80 primitives without POSITION: 50 warnings, then their count."""
+    b = GltfBuilder()
+    pos = b.accessor(STRIP[:3])
+    b.scene(b.node(mesh=b.mesh({"attributes": {"POSITION": pos}}, *[{"attributes": {"NORMAL": pos}}] * 80)))
+    warnings = read(b, tmp_path).warnings
+    assert len(warnings) == 51 and warnings[-1].endswith(": 30 more warnings not shown")
+    assert warnings[49].endswith("meshes[0].primitives[50]: has no POSITION: not drawn")
