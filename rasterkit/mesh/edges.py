@@ -45,10 +45,11 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
     pairs = np.asarray(pairs)
     if pairs.dtype.kind not in "iu" and pairs.size:
         raise TypeError(f"pairs must hold integer vertex indices, got dtype {pairs.dtype}")
-    pairs = np.sort(pairs.astype(np.int64).reshape(-1, 2), axis=1)
-    pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+    pairs = pairs.astype(np.int64, copy=False).reshape(-1, 2)
+    # each pair's ends in order, column by column (NumPy's sort along rows of two is 8x slower)
+    lo, hi = np.minimum(pairs[:, 0], pairs[:, 1]), np.maximum(pairs[:, 0], pairs[:, 1])
     n = max(int(n_vertices), 1)
-    codes = pairs[:, 0] * n + pairs[:, 1]
+    codes = (lo * n + hi)[lo != hi]
     if keys is not None:
         codes = np.concatenate([keys, codes])
     codes = np.sort(codes)

@@ -70,6 +70,20 @@ def test_polygon_edges_are_unique_and_undirected():
     assert edges.tolist() == [[0, 1], [0, 3], [1, 2], [2, 3], [2, 4], [3, 4]]
 
 
+def test_unique_edges_match_a_set_of_sorted_pairs():
+    """Random pairs (repeats, both directions, self pairs, unsigned ints, extra keys): the sorted
+    set of (min, max) without self pairs."""
+    from rasterkit.mesh import unique_edges
+
+    rng = np.random.default_rng(7)
+    for n, k in [(1, 5), (6, 40), (300, 2000)]:
+        pairs = rng.integers(0, n, (k, 2)).astype(np.uint32)
+        keys = np.array([0 * n + n - 1] if n > 1 else [], np.int64)
+        expected = sorted({(min(a, b), max(a, b)) for a, b in pairs.tolist() if a != b} |
+                          ({(0, n - 1)} if n > 1 else set()))
+        assert unique_edges(pairs, n, keys).tolist() == [list(e) for e in expected]
+
+
 def test_mesh_derives_edges_and_validates():
     mesh = Mesh(np.zeros((4, 3)), [[0, 1, 2], [0, 2, 3]])
     assert mesh.edges.tolist() == [[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]]
