@@ -114,14 +114,19 @@ def _assemble(doc: Document, where: str, blocks: list, looks: list, parts: list,
                                                            n if has_normals else 0, indexed),
                      f"a mesh of {n} vertices and {m} faces", where)
 
-    def joined(arrays, width, dtype=np.int64):
+    def joined(arrays, width):
         arrays = [a for a in arrays if len(a)]
-        return np.concatenate(arrays) if arrays else np.zeros((0, width), dtype)
+        if len(arrays) == 1:
+            return arrays[0]
+        return np.concatenate(arrays) if arrays else np.zeros((0, width), np.int64)
 
-    faces = joined([p.faces + starts[p.block] for p in parts], 3)
-    lines = joined([p.lines + starts[p.block] for p in parts], 2)
-    points = joined([p.points + starts[p.block] for p in parts], 1).reshape(-1)
-    fields = dict(vertices=np.concatenate([b.positions for b in blocks]) if blocks else np.zeros((0, 3)),
+    def offset(a, block):
+        return a + starts[block] if starts[block] else a
+
+    faces = joined([offset(p.faces, p.block) for p in parts], 3)
+    lines = joined([offset(p.lines, p.block) for p in parts], 2)
+    points = joined([offset(p.points, p.block) for p in parts], 1).reshape(-1)
+    fields = dict(vertices=joined([b.positions for b in blocks], 3).astype(np.float64, copy=False),
                   faces=faces, lines=lines)
     if has_uv:
         fields.update(_table(blocks, parts, starts, faces, "uv", 2, "uv_index"))

@@ -93,7 +93,8 @@ def _converted(im) -> np.ndarray:
         grey = np.floor(np.clip(grey, 0, 65535) / 257.0 + 0.5).astype(np.uint8)
         return np.repeat(grey[:, :, None], 3, axis=2)
     alpha = "A" in im.mode or "a" in im.mode or "transparency" in im.info
-    return np.asarray(im.convert("RGBA" if alpha else "RGB"))
+    mode = "RGBA" if alpha else "RGB"
+    return np.asarray(im if im.mode == mode else im.convert(mode))  # convert() to its own mode copies
 
 
 def read_image(path: str, spent: int = 0) -> np.ndarray:
