@@ -143,10 +143,12 @@ def _image(doc: Document, index: int):
     doc.cache[key] = None
     try:
         uri = im.string("uri", None)
-        if uri is not None:
+        if uri is not None and uri[:5].lower() != "data:":
             data = uri_bytes(doc, uri, im.path("uri"))
-            name = uri if uri[:5].lower() == "data:" else local_path(doc, uri, im.path("uri"))
-            name = name if len(name) <= 200 else f"{doc.path} {im.where}"
+            name = local_path(doc, uri, im.path("uri"))
+        elif uri is not None:
+            data = uri_bytes(doc, uri, im.path("uri"))
+            name = f"{doc.path} {im.where}"
         else:
             data = buffer_view(doc, im.ref("bufferView", "bufferViews")).data
             name = f"{doc.path} {im.where}"

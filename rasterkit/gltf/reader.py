@@ -94,7 +94,9 @@ def read_gltf(path) -> GltfScene:
         if all(c is not None for c in colors):
             scene.point_colors = np.concatenate(colors)
     if not scene.objects:
-        raise doc.error(None, "the default scene draws nothing (no node with a mesh of triangles, lines or points)")
+        noticed = f"; {len(doc.warnings)} warnings, the first: {doc.warnings[0]}" if doc.warnings else ""
+        raise doc.error(None, "the default scene draws nothing (no node with a mesh of triangles, lines or "
+                              f"points{noticed})")
     if doc.dropped:
         doc.warnings.append(f"{doc.dropped} more warnings not shown")
     scene.warnings = tuple(f"{readable(doc.path)}: {w}" for w in doc.warnings)

@@ -201,3 +201,17 @@ def test_warnings_are_capped(tmp_path):
     warnings = read(b, tmp_path).warnings
     assert len(warnings) == 51 and warnings[-1].endswith(": 30 more warnings not shown")
     assert warnings[49].endswith("meshes[0].primitives[50]: has no POSITION: not drawn")
+
+
+def test_vertex_colours_are_tinted_by_the_material_factor(tmp_path):
+    """glTF's base colour is COLOR_0 times baseColorFactor, in linear light; a primitive of the
+    same mesh without COLOR_0 gets its factor at every vertex."""
+    b = GltfBuilder()
+    tint = b.add("materials", {"pbrMetallicRoughness": {"baseColorFactor": [0.5, 1.0, 0.25, 1.0]}})
+    colors = b.accessor(np.array([[1.0, 0.5, 1.0]] * 3))
+    b.scene(b.node(mesh=b.mesh({"attributes": {"POSITION": b.accessor(STRIP[:3]), "COLOR_0": colors}, "material": tint},
+                               {"attributes": {"POSITION": b.accessor(STRIP[3:])}, "material": tint})))
+    mesh = mesh_of(b, tmp_path)
+    assert mesh.face_colors is None
+    np.testing.assert_allclose(mesh.vertex_colors[:3], np.tile(encode_srgb(np.array([0.5, 0.5, 0.25])), (3, 1)), atol=1e-6)
+    np.testing.assert_allclose(mesh.vertex_colors[3:], np.tile(encode_srgb(np.array([0.5, 1.0, 0.25])), (3, 1)), atol=1e-6)

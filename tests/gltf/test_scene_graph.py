@@ -128,7 +128,12 @@ def test_bad_transforms_are_refused(tmp_path, node, where, reason):
 def test_a_scene_without_anything_to_draw_is_refused(tmp_path):
     b, _ = builder_with_mesh()
     b.scene(b.node(name="empty"))
-    with pytest.raises(GltfError, match="the default scene draws nothing"):
+    with pytest.raises(GltfError, match=r"the default scene draws nothing \(no node with a mesh of triangles, lines "
+                                        r"or points\)$"):
+        read_gltf(b.write_glb(tmp_path / "empty.glb"))
+    b.scene(b.node(mesh=b.mesh({"attributes": {"NORMAL": 0}})))  # what was skipped is named
+    with pytest.raises(GltfError, match=r"points; 1 warnings, the first: meshes\[1\]\.primitives\[0\]: has no "
+                                        r"POSITION: not drawn\)$"):
         read_gltf(b.write_glb(tmp_path / "empty.glb"))
 
 
