@@ -75,7 +75,7 @@ def open_document(path: str) -> Document:
     warnings = []
     if data[:4] == GLB_MAGIC:
         text, binary, warnings = _glb_chunks(path, data)
-        root = _json(path, text, glb=True)
+        root = _json(path, bytes(text).rstrip(b"\x00"), glb=True)  # padded with NULs by some writers
     else:
         binary = None
         root = _json(path, data.removeprefix(b"\xef\xbb\xbf"), glb=False)
@@ -122,7 +122,7 @@ def _glb_chunks(path: str, data: bytes) -> tuple[memoryview, memoryview | None, 
 def _json(path: str, text, glb: bool):
     """The parsed JSON of ``text`` (bytes), errors at a byte (GLB) or line and column."""
     try:
-        return json.loads(bytes(text).decode("utf-8"))
+        return json.loads(text.decode("utf-8"))
     except UnicodeDecodeError as e:
         where = f"byte {_HEADER + _CHUNK_HEADER + e.start}" if glb else f"byte {e.start}"
         raise GltfError(path, where, "the JSON is not UTF-8 text") from None

@@ -191,3 +191,12 @@ def test_errors_pickle_with_their_parts(tmp_path):
                                                                            str(error))
     limit = pickle.loads(pickle.dumps(GltfLimitError("a\nb.glb", None, "too big")))
     assert isinstance(limit, limits.LimitError) and str(limit) == "'a\\nb.glb': too big"
+
+
+def test_a_json_chunk_padded_with_nuls_is_read(tmp_path):
+    """The GLB specification pads the JSON chunk with spaces; some writers use NUL bytes."""
+    b = triangle_builder()
+    text = json.dumps(b._document(None)).encode()
+    path = tmp_path / "nul.glb"
+    path.write_bytes(b.glb(text + b"\x00" * (4 - len(text) % 4)))
+    assert len(read_gltf(path).objects) == 1

@@ -222,3 +222,15 @@ def test_lights_are_kept_in_world_space(tmp_path):
     np.testing.assert_array_equal(first["position"], [1, 2, 3])
     np.testing.assert_allclose(first["direction"], [0, 0, -1])
     np.testing.assert_allclose(second["direction"], [0, -1, 0], atol=1e-12)  # tilted down: shines along -y
+
+
+def test_a_scene_pickles_whole(tmp_path):
+    """Batches send scenes to worker processes: the copy keeps its camera, lights and shared meshes."""
+    import pickle
+
+    path = camera_file(tmp_path, {"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.1}})
+    scene = read_gltf(path)
+    copy = pickle.loads(pickle.dumps(scene))
+    assert type(copy) is GltfScene and copy.path == scene.path and copy.gltf_camera.yfov == 1.0
+    np.testing.assert_array_equal(copy.objects[0].mesh.vertices, TRIANGLE)
+    np.testing.assert_allclose(camera_of(copy, 32, 32).matrix(), camera_of(scene, 32, 32).matrix())
