@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 
 from rasterkit.gltf.errors import GltfError, GltfLimitError
-from rasterkit.limits import LimitError, check_memory
+from rasterkit.limits import LimitError, check_memory, memory_limit
 
 __all__ = ["Document", "MISSING", "Obj"]
 
@@ -61,6 +61,7 @@ class Document:
         self.warnings: list[str] = []
         self.dropped = 0
         self.spent = 0
+        self.limit = memory_limit()  # read once: it reads the environment
         self.cache: dict = {}  # what was read once: buffers, images, materials, meshes
         if not isinstance(root, dict):
             raise self.error(None, f"the JSON must be an object, got {shown(root)}")
@@ -82,6 +83,8 @@ class Document:
     def check_memory(self, nbytes: float, what: str, where: str | None) -> None:
         """:func:`rasterkit.limits.check_memory` of ``nbytes`` more than :attr:`spent`, as a
         :class:`GltfLimitError` at ``where``."""
+        if self.spent + nbytes <= self.limit:
+            return
         try:
             check_memory(self.spent + nbytes, what)
         except LimitError as e:
