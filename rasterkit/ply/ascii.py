@@ -1,0 +1,129 @@
+"""An ASCII body as a source of values for :mod:`rasterkit.ply.rows`: every token of the body
+parsed once into one float64 array (:mod:`rasterkit.ply.kernels.tokens`), the rows of an
+element then read from it as strided views (every row the same length) or gathered (rows
+walked by :func:`rasterkit.ply.kernels.rows.walk_tokens`).
+
+Units are tokens. Rows are found by counting tokens, not lines (as a stream of values, the
+way most readers take ASCII PLY), so a row split over two lines reads the same; a line's
+number is worked out only for a message. Values of integer properties must be whole numbers
+within their type's range (``uchar`` 0 to 255...); float properties take any number
+(``nan``, ``inf``, ``1e400`` as infinity too) and are kept as float64, whatever their
+declared width.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit.ply.errors import PlyError, check_limit, count, row_place
+from rasterkit.ply.kernels.rows import BAD_COUNT, PAST_END, SHORT, walk_tokens
+from rasterkit.ply.kernels.tokens import count_tokens, locate_tokens, parse_tokens
+
+__all__ = ["TokenSource"]
+
+#: Bytes per token while the body is parsed (its value and status) and read into rows.
+BYTES_PER_TOKEN = 9
+
+
+class TokenSource:
+    """The tokens of ``data[body:]``, the body of the file ``name`` whose header has
+    ``header_lines`` lines."""
+
+    unit = "value"
+
+    def __init__(self, name: str, data: bytes, body: int, header_lines: int):
+        self.name, self.data, self.body, self.header_lines = name, data, body, header_lines
+        self.buf = np.frombuffer(data, np.uint8)
+        n = count_tokens(self.buf, body)
+        check_limit(name, BYTES_PER_TOKEN * n, f"reading its {count(n, 'value')}")
+        self.values, status = parse_tokens(self.buf, body, n)
+        self.units = n
+        flagged = np.flatnonzero(status)
+        if len(flagged):
+            self._read_again(flagged)
+
+    def _read_again(self, flagged: np.ndarray) -> None:
+        """Values of the tokens the kernel flagged, by Python's ``float`` (exact); the first
+        that is no number is an error."""
+        starts, ends, lines = locate_tokens(self.buf, self.body, flagged)
+        for k, a, b, line in zip(flagged, starts, ends, lines):
+            token = self.data[a:b]
+            value = _number(token)
+            if value is None:
+                raise PlyError(self.name, self.header_lines + 1 + int(line), f"{token[:40]!r} is not a number")
+            self.values[k] = value
+
+    @staticmethod
+    def size(dtype: np.dtype) -> int:
+        return 1
+
+    def line(self, token: int) -> int:
+        """The 1-based line of the file where token ``token`` is (the last line when it is
+        past the end)."""
+        if token >= self.units:
+            return self.header_lines + 1 + self.data.count(b"\n", self.body)
+        return self.header_lines + 1 + int(locate_tokens(self.buf, self.body, np.array([token]))[2][0])
+
+    def where(self, at: int) -> int:
+        return self.line(at)
+
+    def error(self, at: int, element: str, row: int, reason: str) -> PlyError:
+        """The error of row ``row`` of ``element``, at token ``at``."""
+        return PlyError(self.name, self.line(at), f"{row_place(element, row)}: {reason}")
+
+    def strided(self, at: int, n: int, stride: int, dtype, k: int | None) -> np.ndarray:
+        if k is None:
+            return self.values[at:at + n * stride:stride]
+        return np.lib.stride_tricks.as_strided(self.values[at:], (n, k), (8 * stride, 8), writeable=False)
+
+    def gather(self, positions: np.ndarray, dtype) -> np.ndarray:
+        return self.values[positions]
+
+    def convert(self, values: np.ndarray, prop, rows, offsets=None) -> np.ndarray:
+        """float64 values of a float property; int64 of an integer one, each checked to be a
+        whole number in its type's range (else the error names its row and line)."""
+        if prop.dtype.kind == "f":
+            return values
+        info = np.iinfo(prop.dtype)
+        with np.errstate(invalid="ignore"):
+            good = (values >= info.min) & (values <= info.max) & (values == np.floor(values))
+        if not good.all():
+            k = int(np.argmin(good.reshape(-1)))
+            row = k if offsets is None else rows.row_of_item(offsets, k)
+            item = None if offsets is None else k - int(offsets[row])
+            raise rows.error(row, f"property {prop.name!r} is {float(values.reshape(-1)[k])!r}, not a whole "
+                                  f"number from {info.min} to {info.max} ({prop.dtype.name})", prop, item)
+        return values.astype(np.int64).reshape(values.shape)
+
+    def check_counts(self, counts: np.ndarray, prop, rows) -> None:
+        """Counts of list ``prop`` must fit its count type (``uchar``: at most 255)."""
+        info = np.iinfo(prop.count)
+        if len(counts) and counts.max() > info.max:
+            row = int(np.argmax(counts > info.max))
+            raise rows.error(row, f"the count {int(counts[row])} of list {prop.name!r} is beyond its type "
+                                  f"{prop.count.name}", prop)
+
+    def walk(self, at: int, n: int, layout, element):
+        starts, counts, status, row, j, stop, _ = walk_tokens(self.values, at, n, layout.segments)
+        if status == SHORT:
+            raise PlyError(self.name, self.line(self.units),
+                           f"{row_place(element.name, row)}: the file ends inside the row (the header declares "
+                           f"{count(element.count, 'row')})")
+        if status in (BAD_COUNT, PAST_END):
+            value = self.values[stop]
+            why = "is no whole number >= 0" if status == BAD_COUNT else "goes past the end of the file"
+            raise PlyError(self.name, self.line(stop),
+                           f"{row_place(element.name, row)}: the count {value!r} of list {layout.lists[j].name!r} {why}")
+        return starts, counts, stop
+
+
+def _number(token: bytes) -> float | None:
+    """The value of a token the kernel could not read exactly, or None: Python's ``float``
+    (``nan``, ``inf``, ``infinity`` in any case, with a sign) on ASCII tokens without ``_``."""
+    if token.isascii() and b"_" not in token:
+        try:
+            with np.errstate(over="ignore"):
+                return float(token)
+        except ValueError:
+            return None
+    return None
