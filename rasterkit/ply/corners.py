@@ -46,7 +46,7 @@ def corner_uv(rows, prop, polygons: Polygons, triangles: Triangles, notes: Notes
         bad = ~good & triangles.keep
         if bad.any():
             first = int(np.argmax(bad))
-            notes.warn(rows.layout.element.line,
+            notes.warn(prop.line,
                        f"{count(np.count_nonzero(bad), 'face')} whose {prop.name!r} list does not hold two "
                        f"values per corner (the first: row {first}): no texture coordinates for them")
     index = triangles.corner_rows()
