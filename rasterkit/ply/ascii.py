@@ -50,7 +50,8 @@ class TokenSource:
             token = self.data[a:b]
             value = _number(token)
             if value is None:
-                raise PlyError(self.name, self.header_lines + 1 + int(line), f"{token[:40]!r} is not a number")
+                shown = token[:40].decode("utf-8", "backslashreplace")
+                raise PlyError(self.name, self.header_lines + 1 + int(line), f"{shown!r} is not a number")
             self.values[k] = value
 
     @staticmethod
@@ -91,8 +92,8 @@ class TokenSource:
             k = int(np.argmin(good.reshape(-1)))
             row = k if offsets is None else rows.row_of_item(offsets, k)
             item = None if offsets is None else k - int(offsets[row])
-            raise rows.error(row, f"property {prop.name!r} is {float(values.reshape(-1)[k])!r}, not a whole "
-                                  f"number from {info.min} to {info.max} ({prop.dtype.name})", prop, item)
+            raise rows.error(row, f"property {prop.name!r} is {_shown(values.reshape(-1)[k])}, not a whole "
+                                  f"number from {info.min} to {info.max} ({prop.type_name})", prop, item)
         return values.astype(np.int64).reshape(values.shape)
 
     def check_counts(self, counts: np.ndarray, prop, rows) -> None:
@@ -101,7 +102,7 @@ class TokenSource:
         if len(counts) and counts.max() > info.max:
             row = int(np.argmax(counts > info.max))
             raise rows.error(row, f"the count {int(counts[row])} of list {prop.name!r} is beyond its type "
-                                  f"{prop.count.name}", prop)
+                                  f"{prop.count_name}", prop)
 
     def walk(self, at: int, n: int, layout, element):
         starts, counts, status, row, j, stop, _ = walk_tokens(self.values, at, n, layout.segments)
@@ -110,11 +111,17 @@ class TokenSource:
                            f"{row_place(element.name, row)}: the file ends inside the row (the header declares "
                            f"{count(element.count, 'row')})")
         if status in (BAD_COUNT, PAST_END):
-            value = self.values[stop]
+            value = _shown(self.values[stop])
             why = "is no whole number >= 0" if status == BAD_COUNT else "goes past the end of the file"
             raise PlyError(self.name, self.line(stop),
-                           f"{row_place(element.name, row)}: the count {value!r} of list {layout.lists[j].name!r} {why}")
+                           f"{row_place(element.name, row)}: the count {value} of list {layout.lists[j].name!r} {why}")
         return starts, counts, stop
+
+
+def _shown(value: float) -> str:
+    """A value as the file may have written it: ``3``, ``4.5``, ``nan``."""
+    value = float(value)
+    return str(int(value)) if value.is_integer() else repr(value)
 
 
 def _number(token: bytes) -> float | None:

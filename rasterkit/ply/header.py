@@ -57,12 +57,22 @@ _WHOLE = re.compile(r"[0-9]+")
 @dataclass(frozen=True)
 class Property:
     """One property of an element: its ``name``, its (item) type ``dtype``, the type of its
-    count when it is a list (``count``, else None), and the header line declaring it."""
+    count when it is a list (``count``, else None), the header line declaring it, and the
+    types as the header names them (``words``: ``("uchar",)`` or ``("uchar", "int")``)."""
 
     name: str
     dtype: np.dtype
     count: np.dtype | None
     line: int
+    words: tuple = ()
+
+    @property
+    def type_name(self) -> str:
+        return self.words[-1] if self.words else self.dtype.name
+
+    @property
+    def count_name(self) -> str | None:
+        return self.words[0] if self.count is not None and self.words else None
 
     @property
     def is_list(self) -> bool:
@@ -204,11 +214,12 @@ class _Parser:
             count, item, name = self.type(number, words[2]), self.type(number, words[3]), words[4]
             if count.kind not in "iu":
                 self.fail(number, f"the count type of list {name!r} must be an integer type, got {words[2]!r}")
+            types = (words[2], words[3])
         else:
             if len(words) != 3:
                 self.fail(number, "expected 'property TYPE NAME' or 'property list COUNT_TYPE ITEM_TYPE NAME'")
-            count, item, name = None, self.type(number, words[1]), words[2]
-        self.elements[-1][2].append(Property(name, item, count, number))
+            count, item, name, types = None, self.type(number, words[1]), words[2], (words[1],)
+        self.elements[-1][2].append(Property(name, item, count, number, types))
 
     def type(self, number: int, word: str) -> np.dtype:
         if word not in TYPES:

@@ -163,7 +163,7 @@ def read_rows(source, element: Element, at: int) -> tuple[Rows, int]:
     left = source.units - at
     if n and n > left // max(layout.smallest, 1) and layout.smallest:
         unit = source.unit
-        raise PlyError(source.name, source.where(at), f"element {element.name!r} declares {n} rows of at least "
+        raise PlyError(source.name, source.where(at), f"element {element.name!r} declares {count(n, 'row')} of at least "
                                                       f"{count(layout.smallest, unit)}: more than the "
                                                       f"{count(left, unit)} left in the file")
     if not layout.lists or n == 0:
