@@ -7,8 +7,8 @@ Units are tokens. Rows are found by counting tokens, not lines (as a stream of v
 way most readers take ASCII PLY), so a row split over two lines reads the same; a line's
 number is worked out only for a message. Values of integer properties must be whole numbers
 within their type's range (``uchar`` 0 to 255...); float properties take any number
-(``nan``, ``inf``, ``1e400`` as infinity too) and are kept as float64, whatever their
-declared width.
+(``nan``, ``inf``, ``1e400`` as infinity too), rounded to their declared type (``float``
+to float32: the numbers a binary file of the same model holds).
 """
 
 from __future__ import annotations
@@ -81,8 +81,13 @@ class TokenSource:
         return self.values[positions]
 
     def convert(self, values: np.ndarray, prop, rows, offsets=None) -> np.ndarray:
-        """float64 values of a float property; int64 of an integer one, each checked to be a
-        whole number in its type's range (else the error names its row and line)."""
+        """Values of a ``float`` property rounded to float32 (as the file declares them: the
+        same numbers as a binary file's), of a ``double`` one as parsed; int64 of an integer
+        one, each checked to be a whole number in its type's range (else the error names its
+        row and line)."""
+        if prop.dtype == np.float32:
+            with np.errstate(over="ignore"):  # beyond float32: infinite, as a binary file would hold it
+                return values.astype(np.float32)
         if prop.dtype.kind == "f":
             return values
         info = np.iinfo(prop.dtype)
