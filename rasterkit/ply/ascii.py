@@ -101,6 +101,19 @@ class TokenSource:
                                   f"number from {info.min} to {info.max} ({prop.type_name})", prop, item)
         return values.astype(np.int64).reshape(values.shape)
 
+    def first_counts(self, at: int, layout) -> np.ndarray | None:
+        counts = []
+        for j in range(len(layout.lists)):
+            at += int(layout.segments[j])
+            if at >= self.units:
+                return None
+            c = float(self.values[at])
+            if not (c >= 0 and c.is_integer() and c < self.units):
+                return None
+            counts.append(int(c))
+            at += 1 + int(c)
+        return np.array(counts, np.int64)
+
     def check_counts(self, counts: np.ndarray, prop, rows) -> None:
         """Counts of list ``prop`` must fit its count type (``uchar``: at most 255)."""
         info = np.iinfo(prop.count)

@@ -67,6 +67,21 @@ class BinarySource:
         read-only view of the file's bytes; NumPy converts them where they are used)."""
         return values
 
+    def first_counts(self, at: int, layout) -> np.ndarray | None:
+        counts = []
+        for j, prop in enumerate(layout.lists):
+            at += int(layout.segments[j])
+            size = prop.count.itemsize
+            if at + size > self.units:
+                return None
+            c = int.from_bytes(self.data[at:at + size], "little" if self.order == "<" else "big",
+                               signed=prop.count.kind == "i")
+            if c < 0:
+                return None
+            counts.append(c)
+            at += size + c * prop.dtype.itemsize
+        return np.array(counts, np.int64)
+
     def check_counts(self, counts: np.ndarray, prop, rows) -> None:
         """Nothing to check: a binary count is of its type."""
 

@@ -21,10 +21,11 @@ from rasterkit.mesh import mesh_bytes
 from rasterkit.obj.assemble import split_polygons
 from rasterkit.ply.errors import Notes, PlyError, check_limit, count
 from rasterkit.ply.header import Element, Header
+from rasterkit.ply.kernels.edges import pairs_of_keys, side_keys
 from rasterkit.ply.vertices import find_all
 
 __all__ = ["FACE_INDICES", "Polygons", "Triangles", "check_face_element", "polygon_edges", "read_lines", "read_polygons",
-           "triangulate", "unique_sides"]
+           "triangulate"]
 
 FACE_INDICES = ("vertex_indices", "vertex_index")
 
@@ -85,8 +86,9 @@ def read_polygons(rows, element: Element, n_vertices: int, corner_uv: bool) -> P
     will take first (with a per-corner texture coordinate table when ``corner_uv``)."""
     prop = element.find(*FACE_INDICES)
     j = rows.layout.lists.index(prop)
-    sizes = rows.list_counts(j)
-    corners, polygons = int(sizes.sum()), rows.n
+    sizes = np.atleast_1d(rows.list_counts(j))  # one count for all rows, or one each
+    polygons = rows.n
+    corners = int(sizes[0]) * polygons if len(sizes) == 1 else int(sizes.sum())
     triangles = corners - 2 * polygons
     check_limit(rows.source.name, BYTES_PER_CORNER * corners + mesh_bytes(
         n_vertices, max(triangles, polygons), corners, corners if corner_uv else 0, 0, int(corner_uv)),
@@ -110,9 +112,9 @@ def triangulate(polygons: Polygons, positions: np.ndarray, notes: Notes, line: i
     ``line`` of the face element) about dropped and inexactly split faces."""
     corners, offsets = polygons.corners, polygons.offsets
     p = len(offsets) - 1
-    finite = np.isfinite(positions).all(axis=1)
     keep = np.ones(p, bool)
-    if not finite.all() and p:
+    if not np.isfinite(positions).all() and p:
+        finite = np.isfinite(positions).all(axis=1)
         keep = np.logical_and.reduceat(finite[corners], offsets[:-1])
         notes.warn(line, f"{count(np.count_nonzero(~finite), 'vertex', 'vertices')} with NaN or infinite "
                          f"coordinates; {count(p - np.count_nonzero(keep), 'face')} using them dropped")
@@ -134,37 +136,33 @@ def triangulate(polygons: Polygons, positions: np.ndarray, notes: Notes, line: i
 def polygon_edges(polygons: Polygons | None, keep: np.ndarray | None, n_vertices: int,
                   lines: np.ndarray) -> np.ndarray:
     """(E, 2) int64: the sides of the kept polygons (none for None) and the ``lines`` (K, 2),
-    each once, sorted (as :func:`rasterkit.mesh.unique_edges` gives them)."""
+    each once, sorted (as :func:`rasterkit.mesh.unique_edges` gives them); each pair one key
+    ``min << bits | max`` (:mod:`rasterkit.ply.kernels.edges`), sorted once."""
+    bits = max(int(n_vertices - 1).bit_length(), 1)
+    if 2 * bits > 62:  # two indices do not fit one key: pairs sorted as rows (slower)
+        return _unique_rows(polygons, keep, lines)
     if polygons is None:
-        return unique_sides(lines[:, 0], lines[:, 1], n_vertices)
-    corners, offsets = polygons.corners, polygons.offsets
-    following = np.arange(1, len(corners) + 1, dtype=np.int64)
-    following[offsets[1:] - 1] = offsets[:-1]  # the last corner's side closes the polygon
-    if keep.all():
-        a, b = corners, corners[following]
+        keys = np.zeros(0, np.int64)
     else:
-        mine = np.repeat(keep, polygons.sizes)
-        a, b = corners[mine], corners[following[mine]]
+        keys = side_keys(polygons.corners, polygons.offsets, keep, bits)
     if len(lines):
-        a, b = np.concatenate([a, lines[:, 0]]), np.concatenate([b, lines[:, 1]])
-    return unique_sides(a, b, n_vertices)
-
-
-def unique_sides(a: np.ndarray, b: np.ndarray, n_vertices: int) -> np.ndarray:
-    """(E, 2) int64 sorted unique pairs ``(lo, hi)`` of the sides ``a[k]``-``b[k]``, none
-    from a vertex to itself."""
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    n = max(int(n_vertices), 1)
-    keys = lo * n + hi
-    if (lo == hi).any():
-        keys = keys[lo != hi]
+        a, b = lines[:, 0], lines[:, 1]
+        keys = np.concatenate([keys, ((np.minimum(a, b) << bits) | np.maximum(a, b))[a != b]])
     keys.sort()
-    if len(keys):
-        keys = keys[np.concatenate(([True], keys[1:] != keys[:-1]))]
-    out = np.empty((len(keys), 2), np.int64)
-    np.floor_divide(keys, n, out=out[:, 0])
-    np.subtract(keys, out[:, 0] * n, out=out[:, 1])
-    return out
+    return pairs_of_keys(keys, bits)
+
+
+def _unique_rows(polygons: Polygons | None, keep: np.ndarray | None, lines: np.ndarray) -> np.ndarray:
+    pairs = [lines]
+    if polygons is not None:
+        corners, offsets = polygons.corners, polygons.offsets
+        following = np.arange(1, len(corners) + 1, dtype=np.int64)
+        following[offsets[1:] - 1] = offsets[:-1]  # the last corner's side closes the polygon
+        mine = np.repeat(keep, polygons.sizes)
+        pairs.append(np.stack([corners[mine], corners[following[mine]]], axis=1))
+    pairs = np.sort(np.concatenate(pairs), axis=1)
+    pairs = np.unique(pairs[pairs[:, 0] != pairs[:, 1]], axis=0)
+    return pairs.reshape(-1, 2)
 
 
 def read_lines(rows, element: Element, n_vertices: int, finite: np.ndarray, notes: Notes) -> np.ndarray | None:

@@ -11,7 +11,9 @@ tokens) and offers:
 - ``strided(at, n, stride, dtype, k)``: ``n`` values (``k`` per row when given) from unit
   ``at``, one row every ``stride`` units, as a read-only array;
 - ``gather(positions, dtype)``: the values at ``positions`` (K,) int64;
-- ``walk(at, n, layout)``: row starts (n,) and list counts (n, L), by a kernel, or a
+- ``first_counts(at, layout)``: the list counts (L,) int64 of the row at ``at``, or None
+  when they do not make sense (the walk then says why);
+- ``walk(at, n, layout, element)``: row starts (n,) and list counts (n, L), by a kernel, or a
   :class:`~rasterkit.ply.errors.PlyError` naming the row where the rows stop making sense;
 - ``convert(values, prop, rows)``: the values as the property's result (for text, checked to
   be whole numbers in their type's range), or a ``PlyError`` naming the row;
@@ -76,11 +78,9 @@ class Rows:
     def uniform(self) -> bool:
         return self.starts is None
 
-    def list_counts(self, j: int) -> np.ndarray:
-        """(n,) int64 counts of list j."""
-        if self.uniform:
-            return np.full(self.n, self.counts[j], np.int64)
-        return self.counts[:, j]
+    def list_counts(self, j: int) -> np.ndarray | int:
+        """The counts of list j: (n,) int64, or one int when every row has as many."""
+        return int(self.counts[j]) if self.uniform else self.counts[:, j]
 
     def segment_start(self, j: int):
         """Units from a row's start to segment j: an int for uniform rows (and for walked
@@ -114,14 +114,14 @@ class Rows:
         (n + 1,) int64 (row r's items are ``values[offsets[r]:offsets[r + 1]]``)."""
         j = self.layout.lists.index(prop)
         counts = self.list_counts(j)
-        self.source.check_counts(counts, prop, self)
-        offsets = np.zeros(self.n + 1, np.int64)
-        np.cumsum(counts, out=offsets[1:])
+        self.source.check_counts(np.atleast_1d(counts), prop, self)
         first = self.segment_start(j) + int(self.layout.segments[j] + self.layout.count_sizes[j])
         if self.uniform:
-            k = int(self.counts[j])
-            values = self.source.strided(self.start + first, self.n, self.stride, prop.dtype, k).reshape(-1)
+            offsets = np.arange(self.n + 1, dtype=np.int64) * counts
+            values = self.source.strided(self.start + first, self.n, self.stride, prop.dtype, counts).reshape(-1)
         else:
+            offsets = np.zeros(self.n + 1, np.int64)
+            np.cumsum(counts, out=offsets[1:])
             size = int(self.layout.item_sizes[j])
             total = int(offsets[-1])
             check_limit(self.source.name, 24 * total, f"reading {count(total, 'item')} of list {prop.name!r}")
@@ -168,11 +168,11 @@ def read_rows(source, element: Element, at: int) -> tuple[Rows, int]:
                                                       f"{count(left, unit)} left in the file")
     if not layout.lists or n == 0:
         return Rows(source, layout, at, np.zeros(len(layout.lists), np.int64)), at + n * layout.smallest
-    _, first, _ = source.walk(at, 1, layout, element)
-    counts = first[0]
-    rows = Rows(source, layout, at, counts)
-    if rows.stride * n <= left and _all_equal(source, rows, layout):
-        return rows, at + rows.stride * n
+    counts = source.first_counts(at, layout)
+    if counts is not None:
+        rows = Rows(source, layout, at, counts)
+        if rows.stride * n <= left and _all_equal(source, rows, layout):
+            return rows, at + rows.stride * n
     check_limit(source.name, (8 + 8 * len(layout.lists)) * n, f"walking the {count(n, 'row')} of element {element.name!r}")
     starts, counts, end = source.walk(at, n, layout, element)
     return Rows(source, layout, at, counts, starts), end

@@ -3,8 +3,8 @@ one float64 array (no Python object per token).
 
 A token is a run of bytes other than ASCII whitespace (space, tab, LF, VT, FF, CR). Each is
 parsed as ``[+-]digits[.digits][(e|E)[+-]digits]``, exactly where one rounding suffices
-(Clinger's fast path: at most 19 significant digits read into an integer, scaled by an exact
-power of ten); the others are flagged for the caller to read again (``INEXACT``: more digits
+(Clinger's fast path: the significant digits read into an integer, scaled by an exact power
+of ten); the others are flagged for the caller to read again (``INEXACT``: more digits
 or a large exponent; ``OTHER``: not a plain decimal number, such as ``nan``, ``inf`` or no
 number at all). The kernels never raise: the caller names the bad token.
 """
@@ -20,8 +20,8 @@ __all__ = ["INEXACT", "OK", "OTHER", "count_tokens", "locate_tokens", "parse_tok
 OK, INEXACT, OTHER = 0, 1, 2
 
 _POW10 = np.array([10.0**k for k in range(23)])
-_EXACT = np.uint64(1 << 53)
-_PLUS, _MINUS, _DOT, _ZERO, _LF = 43, 45, 46, 48, 10
+_EXACT = 1 << 53
+_PLUS, _MINUS, _DOT, _ZERO, _NINE, _E, _LF = 43, 45, 46, 48, 57, 101, 10
 
 
 @kernel(inline="always")
@@ -42,78 +42,87 @@ def count_tokens(buf, start):
     return n
 
 
-@kernel(fastmath=False)  # IEEE division: a reciprocal would round twice
-def _number(buf, a, b):
-    """(value, status) of the token buf[a:b] (see the module documentation)."""
-    i = a
-    negative = buf[i] == _MINUS
-    if buf[i] == _PLUS or buf[i] == _MINUS:
-        i += 1
-    mantissa = np.uint64(0)
-    digits = 0
-    exponent = 0
-    truncated = False
-    point = False
-    first = i
-    while i < b:
-        c = buf[i]
-        if c == _DOT and not point:
-            point = True
-        elif 48 <= c <= 57:
-            if digits < 19:
-                if mantissa > 0 or c > _ZERO:
-                    mantissa = mantissa * np.uint64(10) + np.uint64(c - _ZERO)
-                    digits += 1
-                if point:
-                    exponent -= 1
-            else:
-                if not point:
-                    exponent += 1
-                truncated = truncated or c > _ZERO
-        else:
-            break
-        i += 1
-    if i - first == (1 if point else 0):  # no digit
-        return 0.0, OTHER
-    if i < b and buf[i] | 32 == 101:  # e or E
-        i += 1
-        sign = 1
-        if i < b and (buf[i] == _PLUS or buf[i] == _MINUS):
-            sign = -1 if buf[i] == _MINUS else 1
-            i += 1
-        e_first = i
-        e = 0
-        while i < b and 48 <= buf[i] <= 57:
-            e = min(e * 10 + (buf[i] - _ZERO), 100000)
-            i += 1
-        if i == e_first:
-            return 0.0, OTHER
-        exponent += sign * e
-    if i != b:
-        return 0.0, OTHER
-    if mantissa == 0:
-        return -0.0 if negative else 0.0, OK
-    if truncated or mantissa >= _EXACT or exponent > 22 or exponent < -22:
-        return 0.0, INEXACT
-    m = float(mantissa)
-    value = m * _POW10[exponent] if exponent >= 0 else m / _POW10[-exponent]
-    return -value if negative else value, OK
-
-
-@kernel
+@kernel(fastmath=False)  # IEEE arithmetic: a division by a reciprocal would round twice
 def parse_tokens(buf, start, n):
     """The first ``n`` tokens of buf[start:] (there are that many): values (n,) float64 and
-    status (n,) int8 (OK, INEXACT or OTHER; the value is 0 unless OK)."""
+    status (n,) int8 (OK, INEXACT or OTHER; the value is 0 unless OK).
+
+    At most 18 significant digits go into the integer ``mantissa`` (an int64 cannot hold
+    every 19-digit number); later digits shift the exponent (before the point) or, when not
+    zero, make the value INEXACT. (The two digit loops are written out: as one helper the
+    kernel ran at half the speed.)"""
     values = np.empty(n)
     status = np.empty(n, np.int8)
+    end = len(buf)
     i = start
     for k in range(n):
         while _blank(buf[i]):
             i += 1
-        a = i
-        while i < len(buf) and not _blank(buf[i]):
+        negative = buf[i] == _MINUS
+        if buf[i] == _MINUS or buf[i] == _PLUS:
             i += 1
-        values[k], status[k] = _number(buf, a, i)
+        mantissa = 0
+        digits = 0  # significant digits in mantissa
+        seen = 0  # digits of the number
+        exponent = 0
+        state = OK
+        while i < end:
+            d = np.int64(buf[i]) - _ZERO
+            if d < 0 or d > 9:
+                break
+            if digits < 18:
+                mantissa = mantissa * 10 + d
+                digits += mantissa > 0
+            else:
+                exponent += 1
+                state = INEXACT if d > 0 else state
+            seen += 1
+            i += 1
+        if i < end and buf[i] == _DOT:
+            i += 1
+            while i < end:
+                d = np.int64(buf[i]) - _ZERO
+                if d < 0 or d > 9:
+                    break
+                if digits < 18:
+                    mantissa = mantissa * 10 + d
+                    digits += mantissa > 0
+                    exponent -= 1
+                elif d > 0:
+                    state = INEXACT
+                seen += 1
+                i += 1
+        if seen == 0:
+            state = OTHER
+        if i < end and buf[i] | 32 == _E:
+            i += 1
+            sign = 1
+            if i < end and (buf[i] == _PLUS or buf[i] == _MINUS):
+                sign = -1 if buf[i] == _MINUS else 1
+                i += 1
+            e = 0
+            e_digits = 0
+            while i < end and _ZERO <= buf[i] <= _NINE:
+                e = min(e * 10 + (np.int64(buf[i]) - _ZERO), 100000)
+                e_digits += 1
+                i += 1
+            if e_digits == 0:
+                state = OTHER
+            exponent += sign * e
+        if i < end and not _blank(buf[i]):  # more bytes in the token: no plain number
+            state = OTHER
+            while i < end and not _blank(buf[i]):
+                i += 1
+        value = 0.0
+        if state == OK and mantissa != 0:
+            if mantissa >= _EXACT or exponent > 22 or exponent < -22:
+                state = INEXACT
+            elif exponent >= 0:
+                value = mantissa * _POW10[exponent]
+            else:
+                value = mantissa / _POW10[-exponent]
+        values[k] = -value if negative else value
+        status[k] = state
     return values, status
 
 
