@@ -1,6 +1,6 @@
 """An ASCII body as a source of values for :mod:`rasterkit.ply.rows`: every token of the body
 parsed once into one float64 array (:mod:`rasterkit.ply.kernels.tokens`), the rows of an
-element then read from it as strided views (every row the same length) or gathered (rows
+element then read from it as strided views (every row the same length) or copied run by run (rows
 walked by :func:`rasterkit.ply.kernels.rows.walk_tokens`).
 
 Units are tokens. Rows are found by counting tokens, not lines (as a stream of values, the
@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.ply.errors import PlyError, check_limit, count, row_place
-from rasterkit.ply.kernels.rows import BAD_COUNT, PAST_END, SHORT, walk_tokens
+from rasterkit.ply.kernels.rows import BAD_COUNT, PAST_END, SHORT, copy_runs, walk_tokens
 from rasterkit.ply.kernels.tokens import count_tokens, locate_tokens, parse_tokens
 
 __all__ = ["TokenSource"]
@@ -77,8 +77,9 @@ class TokenSource:
             return self.values[at:at + n * stride:stride]
         return np.lib.stride_tricks.as_strided(self.values[at:], (n, k), (8 * stride, 8), writeable=False)
 
-    def gather(self, positions: np.ndarray, dtype) -> np.ndarray:
-        return self.values[positions]
+    def runs(self, starts: np.ndarray, counts, dtype) -> np.ndarray:
+        lengths = np.broadcast_to(np.asarray(counts, np.int64), starts.shape)
+        return copy_runs(self.values, starts, np.ascontiguousarray(lengths))
 
     def convert(self, values: np.ndarray, prop, rows, offsets=None) -> np.ndarray:
         """Values of a ``float`` property rounded to float32 (as the file declares them: the

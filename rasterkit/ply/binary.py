@@ -3,9 +3,8 @@ are read with NumPy in the file's byte order (``frombuffer`` views of the file's
 are copied only when a property is converted), and the rows of elements whose lists vary in
 length are walked by :func:`rasterkit.ply.kernels.rows.walk_binary`.
 
-Values at arbitrary byte offsets (the scalars and items of walked rows) are gathered through
-views of the bytes at each of a type's alignments (offset 0, 1, ... ``size - 1``): one index
-per value, no index per byte.
+The values of walked rows (at any byte offset) are copied as bytes, run by run
+(:func:`rasterkit.ply.kernels.rows.copy_runs`), and viewed as their type.
 """
 
 from __future__ import annotations
@@ -13,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.ply.errors import PlyError, count, row_place
-from rasterkit.ply.kernels.rows import BAD_COUNT, PAST_END, SHORT, walk_binary
+from rasterkit.ply.kernels.rows import BAD_COUNT, PAST_END, SHORT, copy_runs, walk_binary
 
 __all__ = ["BinarySource"]
 
@@ -49,18 +48,10 @@ class BinarySource:
             return np.ndarray((n,), dtype, self.data, at, (stride,))
         return np.ndarray((n, k), dtype, self.data, at, (stride, dtype.itemsize))
 
-    def gather(self, positions: np.ndarray, dtype: np.dtype) -> np.ndarray:
+    def runs(self, starts: np.ndarray, counts, dtype: np.dtype) -> np.ndarray:
         dtype = self._typed(dtype)
-        size = dtype.itemsize
-        if size == 1:
-            return self.buf[positions].view(dtype)
-        out = np.empty(len(positions), dtype)
-        shift = positions % size
-        for r in np.unique(shift):
-            view = np.frombuffer(self.data, dtype, (len(self.data) - r) // size, int(r))
-            mine = shift == r
-            out[mine] = view[(positions[mine] - r) // size]
-        return out
+        lengths = np.broadcast_to(np.asarray(counts, np.int64) * dtype.itemsize, starts.shape)
+        return copy_runs(self.buf, starts, np.ascontiguousarray(lengths)).view(dtype)
 
     def convert(self, values: np.ndarray, prop, rows, offsets=None) -> np.ndarray:
         """The values as they are: of the property's type, in the file's byte order (often a

@@ -10,7 +10,8 @@ tokens) and offers:
 - ``units``: the units of the whole body (a row past it is not there);
 - ``strided(at, n, stride, dtype, k)``: ``n`` values (``k`` per row when given) from unit
   ``at``, one row every ``stride`` units, as a read-only array;
-- ``gather(positions, dtype)``: the values at ``positions`` (K,) int64;
+- ``runs(starts, counts, dtype)``: the values of each row's run (``counts`` values, or one
+  count for all, from unit ``starts[r]``), one run after another;
 - ``first_counts(at, layout)``: the list counts (L,) int64 of the row at ``at``, or None
   when they do not make sense (the walk then says why);
 - ``walk(at, n, layout, element)``: row starts (n,) and list counts (n, L), by a kernel, or a
@@ -106,7 +107,7 @@ class Rows:
         if self.uniform:
             values = self.source.strided(self.start + offset + into, self.n, self.stride, prop.dtype, None)
         else:
-            values = self.source.gather(self.starts + offset + into, prop.dtype)
+            values = self.source.runs(self.starts + offset + into, 1, prop.dtype)
         return self.source.convert(values, prop, self)
 
     def items(self, prop: Property) -> tuple[np.ndarray, np.ndarray]:
@@ -122,12 +123,9 @@ class Rows:
         else:
             offsets = np.zeros(self.n + 1, np.int64)
             np.cumsum(counts, out=offsets[1:])
-            size = int(self.layout.item_sizes[j])
             total = int(offsets[-1])
-            check_limit(self.source.name, 24 * total, f"reading {count(total, 'item')} of list {prop.name!r}")
-            positions = np.repeat(self.starts + first - offsets[:-1] * size, counts)
-            positions += np.arange(total, dtype=np.int64) * size
-            values = self.source.gather(positions, prop.dtype)
+            check_limit(self.source.name, 16 * total, f"reading {count(total, 'item')} of list {prop.name!r}")
+            values = self.source.runs(self.starts + first, counts, prop.dtype)
         return self.source.convert(values, prop, self, offsets), offsets
 
     def row_of_item(self, offsets: np.ndarray, k: int) -> int:

@@ -4,8 +4,9 @@ the rows before it, so this is one pass in order).
 
 A row is laid out as ``segments[0]`` units of scalar properties, then list 0 (its count,
 then its items), ``segments[1]`` units, list 1, ..., ``segments[L]`` units. Units are bytes
-in a binary body and tokens in an ASCII one. The kernels never raise: they return a status
-and the row where the walk stopped.
+in a binary body and tokens in an ASCII one. The walks never raise: they return a status
+and the row where the walk stopped. :func:`copy_runs` then gathers a property's values from
+the rows.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["BAD_COUNT", "PAST_END", "SHORT", "WALKED", "walk_binary", "walk_tokens"]
+__all__ = ["BAD_COUNT", "PAST_END", "SHORT", "WALKED", "copy_runs", "walk_binary", "walk_tokens"]
 
 #: Statuses: every row walked; the data end inside a row; a count that is negative (or, in
 #: text, no whole number); a count whose items go past the end of the data.
@@ -93,3 +94,20 @@ def walk_tokens(values, start, n, segments):
         if at > end:
             return starts, counts, SHORT, r, lists, at, 0
     return starts, counts, WALKED, -1, -1, at, 0
+
+
+@kernel
+def copy_runs(source, starts, lengths):
+    """The runs ``source[starts[r]:starts[r] + lengths[r]]`` one after another (the values of
+    walked rows: each row's run of bytes or tokens); the runs lie within ``source``."""
+    total = 0
+    for r in range(len(starts)):
+        total += lengths[r]
+    out = np.empty(total, source.dtype)
+    at = 0
+    for r in range(len(starts)):
+        first = starts[r]
+        for k in range(lengths[r]):
+            out[at + k] = source[first + k]
+        at += lengths[r]
+    return out
