@@ -124,6 +124,12 @@ def read_ply(path, *, textures: bool = True) -> Mesh | PointCloud:
     """
     name = os.fsdecode(path)
     data = _read_file(name)
+    # NaN, infinities and signalling NaNs of any file convert as IEEE says, without warnings
+    with np.errstate(all="ignore"):
+        return _read(name, data, textures)
+
+
+def _read(name: str, data: bytes, textures: bool) -> Mesh | PointCloud:
     header = read_header(data, name)
     vertex = check_vertex_element(header, name)
     face = check_face_element(header, name)

@@ -275,3 +275,22 @@ def test_the_codes_of_the_test_writer_round_trip(encoding):
         assert struct.calcsize("<" + CODES[old]) == struct.calcsize("<" + CODES[new]) == sizes[old]
     data = ply_bytes(encoding, square(encoding))
     assert data.startswith(b"ply\nformat " + encoding.encode() + b" 1.0\n")
+
+
+@pytest.mark.parametrize("encoding", ["binary_little_endian", "binary_big_endian"])
+def test_signalling_nans_and_infinities_read_without_a_numpy_warning(tmp_path, encoding):
+    """A float32 signalling NaN (found by the fuzzer) sets the invalid flag when converted."""
+    import warnings
+
+    order = "<" if encoding == "binary_little_endian" else ">"
+    elements = [("vertex", XYZ + [("float", "red"), ("float", "green"), ("float", "blue")], [(0, 0, 0, 0, 0, 0)])]
+    data = ply_bytes(encoding, elements)
+    snan, inf = struct.pack(order + "I", 0x7F800001), struct.pack(order + "f", math.inf)
+    path = tmp_path / "t.ply"
+    path.write_bytes(data[:-24] + snan + inf + snan + snan + inf + snan)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cloud = read_ply(path)
+    assert np.isnan(cloud.points[0, 0]) and cloud.points[0, 1] == math.inf
+    assert cloud.colors.tolist() == [[1, 1, 1]]  # NaN and inf colours: white, with a warning
+    assert len(cloud.warnings) == 2
