@@ -13,16 +13,24 @@ to float32: the numbers a binary file of the same model holds).
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from rasterkit.ply.errors import PlyError, check_limit, count, row_place
 from rasterkit.ply.kernels.rows import BAD_COUNT, PAST_END, SHORT, copy_runs, walk_tokens
-from rasterkit.ply.kernels.tokens import count_tokens, locate_tokens, parse_tokens
+from rasterkit.ply.kernels.tokens import copy_texts, count_tokens, locate_tokens, parse_tokens
 
 __all__ = ["TokenSource"]
 
 #: Bytes per token while the body is parsed (its value and status) and read into rows.
 BYTES_PER_TOKEN = 9
+
+#: Tokens the kernel cannot read exactly are read again as bytes strings of at most this
+#: many bytes (longer ones one by one).
+MAX_TOKEN = 64
+
+_MSVC = re.compile(rb"([+-]?)[0-9]+\.#(IND|QNAN|SNAN|INF)[0-9]*", re.IGNORECASE)
 
 
 class TokenSource:
@@ -43,16 +51,31 @@ class TokenSource:
             self._read_again(flagged)
 
     def _read_again(self, flagged: np.ndarray) -> None:
-        """Values of the tokens the kernel flagged, by Python's ``float`` (exact); the first
-        that is no number is an error."""
+        """Values of the tokens the kernel flagged, read exactly by NumPy's conversion of
+        bytes strings (``nan``, ``inf``, ``infinity`` in any case, with a sign; MSVC's
+        ``1.#IND``, ``-1.#INF`` by :func:`_number`); the first that is no number is an
+        error naming its line."""
         starts, ends, lines = locate_tokens(self.buf, self.body, flagged)
-        for k, a, b, line in zip(flagged, starts, ends, lines):
-            token = self.data[a:b]
+        width = int(min((ends - starts).max(), MAX_TOKEN))
+        check_limit(self.name, width * len(flagged) + 16 * len(flagged),
+                    f"reading its {count(len(flagged), 'unusual number')}")
+        texts = copy_texts(self.buf, starts, ends, width)
+        # what NumPy (Python's float) takes, or cuts at a NUL byte, but is no number here:
+        # digits with "_", other scripts' digits, a NUL inside
+        lengths = ends - starts
+        inside = np.arange(width) < lengths[:, None]
+        plain = (lengths <= width) & (texts < 128).all(axis=1) & ~((texts == ord("_")) | (texts == 0) & inside).any(axis=1)
+        try:
+            self.values[flagged[plain]] = texts[plain].view(f"S{width}").ravel().astype(np.float64)
+        except ValueError:
+            plain[:] = False  # one of them is no number: find the first, token by token
+        for k in np.flatnonzero(~plain):
+            token = self.data[starts[k]:ends[k]]
             value = _number(token)
             if value is None:
                 shown = token[:40].decode("utf-8", "backslashreplace")
-                raise PlyError(self.name, self.header_lines + 1 + int(line), f"{shown!r} is not a number")
-            self.values[k] = value
+                raise PlyError(self.name, self.header_lines + 1 + int(lines[k]), f"{shown!r} is not a number")
+            self.values[flagged[k]] = value
 
     @staticmethod
     def size(dtype: np.dtype) -> int:
@@ -144,12 +167,14 @@ def _shown(value: float) -> str:
 
 
 def _number(token: bytes) -> float | None:
-    """The value of a token the kernel could not read exactly, or None: Python's ``float``
-    (``nan``, ``inf``, ``infinity`` in any case, with a sign) on ASCII tokens without ``_``."""
+    """The value of one token, or None: Python's ``float`` on ASCII tokens without ``_``, and
+    the NaN and infinity that MSVC's ``printf`` writes (``1.#IND``, ``-1.#INF``, ``1.#QNAN``)."""
     if token.isascii() and b"_" not in token:
         try:
-            with np.errstate(over="ignore"):
-                return float(token)
+            return float(token)
         except ValueError:
-            return None
-    return None
+            pass
+    match = _MSVC.fullmatch(token)
+    if match is None:
+        return None
+    return np.nan if match[2].upper() != b"INF" else -np.inf if match[1] == b"-" else np.inf

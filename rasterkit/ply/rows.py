@@ -16,9 +16,11 @@ tokens) and offers:
   when they do not make sense (the walk then says why);
 - ``walk(at, n, layout, element)``: row starts (n,) and list counts (n, L), by a kernel, or a
   :class:`~rasterkit.ply.errors.PlyError` naming the row where the rows stop making sense;
-- ``convert(values, prop, rows)``: the values as the property's result (for text, checked to
-  be whole numbers in their type's range), or a ``PlyError`` naming the row;
-- ``check_counts(counts, prop, starts)``: that the counts fit the count type.
+- ``convert(values, prop, rows, offsets=None)``: the values as the property's result (for
+  text, checked to be whole numbers in their type's range), or a ``PlyError`` naming the row
+  (``offsets``: of a list's items, to find it);
+- ``check_counts(counts, prop, rows)``: that a list's counts fit its count type;
+- ``error(at, element, row, reason)``: the ``PlyError`` of a row, at unit ``at``.
 """
 
 from __future__ import annotations
@@ -94,11 +96,9 @@ class Rows:
             return fixed
         return fixed + self.counts[:, :j] @ lay.item_sizes[:j]
 
-    def row_starts(self):
-        """Each row's first unit: (n,) int64 (``start + r * stride`` for uniform rows)."""
-        if self.uniform:
-            return self.start + self.stride * np.arange(self.n, dtype=np.int64)
-        return self.starts
+    def row_start(self, row: int) -> int:
+        """The first unit of row ``row``."""
+        return self.start + row * self.stride if self.uniform else int(self.starts[row])
 
     def scalar(self, prop: Property) -> np.ndarray:
         """(n,) values of the scalar property ``prop`` (see the source's ``convert``)."""
@@ -134,18 +134,18 @@ class Rows:
     def position(self, prop: Property, row: int, k: int | None = None) -> int:
         """The unit where row ``row``'s value of the scalar ``prop`` is, or item ``k`` (an
         index into the row's items) of the list ``prop``."""
-        base = self.start + row * self.stride if self.uniform else int(self.starts[row])
+        base = self.row_start(row)
         if not prop.is_list:
             segment, into = self.layout.places[prop.name]
             return base + _at(self.segment_start(segment), row) + into
         j = self.layout.lists.index(prop)
-        first = base + _at(self.segment_start(j), row) + int(self.layout.segments[j] + self.layout.count_sizes[j])
-        return first + (k or 0) * int(self.layout.item_sizes[j])
+        lay = self.layout
+        first = base + _at(self.segment_start(j), row) + int(lay.segments[j] + lay.count_sizes[j])
+        return first + (k or 0) * int(lay.item_sizes[j])
 
     def error(self, row: int, reason: str, prop: Property | None = None, k: int | None = None) -> PlyError:
         """The error of row ``row`` (at its value of ``prop``, item ``k``, when given)."""
-        at = self.position(prop, row, k) if prop is not None else (
-            self.start + row * self.stride if self.uniform else int(self.starts[row]))
+        at = self.row_start(row) if prop is None else self.position(prop, row, k)
         return self.source.error(at, self.layout.element.name, row, reason)
 
 
@@ -159,11 +159,11 @@ def read_rows(source, element: Element, at: int) -> tuple[Rows, int]:
     layout = Layout.of(element, source.size)
     n = element.count
     left = source.units - at
-    if n and n > left // max(layout.smallest, 1) and layout.smallest:
+    if layout.smallest and n > left // layout.smallest:
         unit = source.unit
-        raise PlyError(source.name, source.where(at), f"element {element.name!r} declares {count(n, 'row')} of at least "
-                                                      f"{count(layout.smallest, unit)}: more than the "
-                                                      f"{count(left, unit)} left in the file")
+        raise PlyError(source.name, source.where(at),
+                       f"element {element.name!r} declares {count(n, 'row')} of at least "
+                       f"{count(layout.smallest, unit)}: more than the {count(left, unit)} left in the file")
     if not layout.lists or n == 0:
         return Rows(source, layout, at, np.zeros(len(layout.lists), np.int64)), at + n * layout.smallest
     counts = source.first_counts(at, layout)
@@ -171,7 +171,8 @@ def read_rows(source, element: Element, at: int) -> tuple[Rows, int]:
         rows = Rows(source, layout, at, counts)
         if rows.stride * n <= left and _all_equal(source, rows, layout):
             return rows, at + rows.stride * n
-    check_limit(source.name, (8 + 8 * len(layout.lists)) * n, f"walking the {count(n, 'row')} of element {element.name!r}")
+    check_limit(source.name, (8 + 8 * len(layout.lists)) * n,
+                f"walking the {count(n, 'row')} of element {element.name!r}")
     starts, counts, end = source.walk(at, n, layout, element)
     return Rows(source, layout, at, counts, starts), end
 

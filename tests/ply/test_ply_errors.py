@@ -198,7 +198,8 @@ def test_binary_index_out_of_range_names_the_row_and_its_byte(tmp_path, encoding
         f": element 'face' row 1 (byte {at}): vertex index 3000000000 is out of range (the file has 3 vertices)")
 
 
-@pytest.mark.parametrize("token", ["1.x", "1,5", "0x10", "1_000", "--1", "e5", "\u00a0", "\u0663", "#"])
+@pytest.mark.parametrize("token", ["1.x", "1,5", "0x10", "1_000", "--1", "e5", "\u00a0", "\u0663", "#", "1\x002",
+                                   "1.#INDx", "nan_", "infinit"])
 def test_ascii_values_that_are_no_numbers(tmp_path, token):
     data = ply_bytes("ascii", square("ascii")).replace(b"\n1.0 1.0 0.0", f"\n1.0 {token} 0.0".encode())
     assert message(tmp_path, data) == f":12: {token!r} is not a number"

@@ -246,7 +246,8 @@ def test_ascii_rows_are_a_stream_of_values(tmp_path):
 
 @pytest.mark.parametrize("text", ["1e-30", "-2.5e+22", "1234567890123456789012", "0.30000000000000004",
                                   "4.9e-324", "1.7976931348623157e308", "1e400", "-1e400", ".5", "5.", "+7", "-0",
-                                  "nan", "-inf", "Infinity", "0.1e1", "00012", "1E5"])
+                                  "nan", "-inf", "Infinity", "0.1e1", "00012", "1E5", "-NaN", "INF",
+                                  "0.000000000000000000000000000001", "123456789012345678.5"])
 def test_ascii_numbers_read_as_pythons_float(tmp_path, text):
     path = tmp_path / "t.ply"
     path.write_bytes(header("ascii", [("vertex", [("double", "x"), ("float", "y"), ("float", "z")], [(0, 0, 0)])])
@@ -294,3 +295,26 @@ def test_signalling_nans_and_infinities_read_without_a_numpy_warning(tmp_path, e
     assert np.isnan(cloud.points[0, 0]) and cloud.points[0, 1] == math.inf
     assert cloud.colors.tolist() == [[1, 1, 1]]  # NaN and inf colours: white, with a warning
     assert len(cloud.warnings) == 2
+
+
+@pytest.mark.parametrize("text, value", [("1.#IND", math.nan), ("-1.#IND00", math.nan), ("1.#QNAN", math.nan),
+                                         ("1.#INF", math.inf), ("-1.#INF", -math.inf), ("1.#SNAN", math.nan)])
+def test_msvcs_nan_and_infinity(tmp_path, text, value):
+    path = tmp_path / "t.ply"
+    path.write_bytes(header("ascii", [("vertex", [("double", "x"), ("double", "y"), ("double", "z")], [(0, 0, 0)])])
+                     + f"{text} 1 2\n".encode())
+    x = read_ply(path).points[0, 0]
+    assert (math.isnan(x) and math.isnan(value)) or x == value
+
+
+def test_many_unusual_numbers_are_read_at_once(tmp_path):
+    """Tokens the kernel leaves to NumPy (long, large exponents, nan): one conversion of all."""
+    rng = np.random.default_rng(5)
+    values = rng.standard_normal(3000) * 10.0 ** rng.integers(-300, 300, 3000)
+    values[::7] = np.nan
+    texts = [repr(float(v)) for v in values]
+    path = tmp_path / "t.ply"
+    path.write_bytes(header("ascii", [("vertex", [("double", "x"), ("double", "y"), ("double", "z")], [(0, 0, 0)] *
+                                       1000)]) + " ".join(texts).encode())
+    points = read_ply(path).points.reshape(-1)
+    np.testing.assert_array_equal(points, values)

@@ -15,7 +15,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["INEXACT", "OK", "OTHER", "count_tokens", "locate_tokens", "parse_tokens"]
+__all__ = ["INEXACT", "OK", "OTHER", "copy_texts", "count_tokens", "locate_tokens", "parse_tokens"]
 
 OK, INEXACT, OTHER = 0, 1, 2
 
@@ -161,3 +161,14 @@ def locate_tokens(buf, start, which):
         inside = not blank
         i += 1
     return starts[:j], ends[:j], lines[:j]
+
+
+@kernel
+def copy_texts(buf, starts, ends, width):
+    """(K, width) uint8: the bytes of each token ``buf[starts[k]:ends[k]]``, cut at ``width``
+    and padded with zeros (for NumPy to read them as one array of bytes strings)."""
+    out = np.zeros((len(starts), width), np.uint8)
+    for k in range(len(starts)):
+        for i in range(min(ends[k] - starts[k], width)):
+            out[k, i] = buf[starts[k] + i]
+    return out
