@@ -68,7 +68,7 @@ from rasterkit.ply.body import read_body
 from rasterkit.ply.cloud import PointCloud
 from rasterkit.ply.corners import corner_texcoords, corner_uv, face_colors, texture_numbers
 from rasterkit.ply.errors import Notes, PlyError, PlyLimitError, count
-from rasterkit.ply.faces import check_face_element, polygon_edges, read_lines, read_polygons, triangulate
+from rasterkit.ply.faces import MAX_VERTICES, check_face_element, polygon_edges, read_lines, read_polygons, triangulate
 from rasterkit.ply.header import read_header, sniff
 from rasterkit.ply.textures import read_textures, texture_files
 from rasterkit.ply.vertices import check_vertex_element, read_vertices
@@ -156,6 +156,8 @@ def _read(name: str, data: bytes, textures: bool) -> Mesh | PointCloud:
 
 def _mesh(name, header, rows, face, vertices, lines, notes: Notes, textures: bool) -> Mesh:
     n = len(vertices.positions)
+    if n > MAX_VERTICES:
+        raise PlyLimitError(name, None, f"{n} vertices: a mesh of more than {MAX_VERTICES} is not read")
     no_lines = np.zeros((0, 2), np.int64) if lines is None else lines
     if face is None or face.count == 0:
         return Mesh(vertices.positions, np.zeros((0, 3), np.int64), edges=polygon_edges(None, None, n, no_lines),
@@ -168,16 +170,15 @@ def _mesh(name, header, rows, face, vertices, lines, notes: Notes, textures: boo
     uv, uv_index = (None, None) if texcoord is None else corner_uv(face_rows, texcoord, polygons, triangles, notes)
     if uv is None and vertices.texcoords is not None:
         uv = vertices.texcoords
-    fields = dict(uv=uv, uv_index=uv_index)
+    fields = dict(uv=uv, uv_index=uv_index, face_colors=face_colors(face_rows, face, triangles, notes))
     files = texture_files(header) if textures else []
     if files and uv is None:
         notes.warn(files[0][0], "TextureFile given, but no texture coordinates: no texture drawn")
     elif files:
         fields.update(_materials(name, files, face_rows, face, triangles, notes))
-    return Mesh(vertices.positions, triangles.faces, edges=polygon_edges(polygons, triangles.keep, n, no_lines),
-                lines=no_lines, vertex_colors=vertices.colors, normals=vertices.normals,
-                texcoords=vertices.texcoords, face_colors=face_colors(face_rows, face, triangles, notes),
-                warnings=tuple(notes.warnings), **fields)
+    edges = polygon_edges(polygons, triangles.keep, n, no_lines)
+    return Mesh(vertices.positions, triangles.faces, edges=edges, lines=no_lines, vertex_colors=vertices.colors,
+                normals=vertices.normals, texcoords=vertices.texcoords, warnings=tuple(notes.warnings), **fields)
 
 
 def _materials(name, files, face_rows, face, triangles, notes: Notes) -> dict:

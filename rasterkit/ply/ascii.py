@@ -52,30 +52,37 @@ class TokenSource:
 
     def _read_again(self, flagged: np.ndarray) -> None:
         """Values of the tokens the kernel flagged, read exactly by NumPy's conversion of
-        bytes strings (``nan``, ``inf``, ``infinity`` in any case, with a sign; MSVC's
-        ``1.#IND``, ``-1.#INF`` by :func:`_number`); the first that is no number is an
-        error naming its line."""
+        bytes strings (``nan``, ``inf``, ``infinity`` in any case, with a sign), the few it
+        cannot take by :func:`_number` (MSVC's ``1.#IND``...); the first that is no number
+        is an error naming its line."""
         starts, ends, lines = locate_tokens(self.buf, self.body, flagged)
-        width = int(min((ends - starts).max(), MAX_TOKEN))
-        check_limit(self.name, width * len(flagged) + 16 * len(flagged),
-                    f"reading its {count(len(flagged), 'unusual number')}")
-        texts = copy_texts(self.buf, starts, ends, width)
-        # what NumPy (Python's float) takes, or cuts at a NUL byte, but is no number here:
-        # digits with "_", other scripts' digits, a NUL inside
         lengths = ends - starts
+        width = int(min(lengths.max(), MAX_TOKEN))
+        check_limit(self.name, (2 * width + 24) * len(flagged), f"reading its {count(len(flagged), 'unusual number')}")
+        texts = copy_texts(self.buf, starts, ends, width)
+        # read one by one: what NumPy (Python's float) takes, or cuts at a NUL byte, but is
+        # no number here (digits with "_", digits of other scripts, a NUL inside), MSVC's "#"
         inside = np.arange(width) < lengths[:, None]
-        plain = (lengths <= width) & (texts < 128).all(axis=1) & ~((texts == ord("_")) | (texts == 0) & inside).any(axis=1)
+        odd = (lengths > width) | ((texts == ord("_")) | (texts == ord("#")) | (texts >= 128)
+                                   | ((texts == 0) & inside)).any(axis=1)
+        texts = texts.view(f"S{width}").ravel()
+        values = np.full(len(flagged), np.nan)
+        bad = len(flagged)
+        plain = np.flatnonzero(~odd)
         try:
-            self.values[flagged[plain]] = texts[plain].view(f"S{width}").ravel().astype(np.float64)
+            values[plain] = texts[plain].astype(np.float64)
         except ValueError:
-            plain[:] = False  # one of them is no number: find the first, token by token
-        for k in np.flatnonzero(~plain):
-            token = self.data[starts[k]:ends[k]]
-            value = _number(token)
+            bad = int(plain[_first_bad(texts[plain])])
+        for k in np.flatnonzero(odd[:bad]):
+            value = _number(self.data[starts[k]:ends[k]])
             if value is None:
-                shown = token[:40].decode("utf-8", "backslashreplace")
-                raise PlyError(self.name, self.header_lines + 1 + int(lines[k]), f"{shown!r} is not a number")
-            self.values[flagged[k]] = value
+                bad = int(k)
+                break
+            values[k] = value
+        if bad < len(flagged):
+            shown = self.data[starts[bad]:ends[bad]][:40].decode("utf-8", "backslashreplace")
+            raise PlyError(self.name, self.header_lines + 1 + int(lines[bad]), f"{shown!r} is not a number")
+        self.values[flagged] = values
 
     @staticmethod
     def size(dtype: np.dtype) -> int:
@@ -164,6 +171,20 @@ def _shown(value: float) -> str:
     """A value as the file may have written it: ``3``, ``4.5``, ``nan``."""
     value = float(value)
     return str(int(value)) if value.is_integer() else repr(value)
+
+
+def _first_bad(texts: np.ndarray) -> int:
+    """The first of ``texts`` (bytes strings, one of them no number) that NumPy cannot read,
+    by halving: a few conversions, not one per text."""
+    low, high = 0, len(texts)  # the first bad one is in [low, high)
+    while high - low > 1:
+        middle = (low + high) // 2
+        try:
+            texts[low:middle].astype(np.float64)
+            low = middle
+        except ValueError:
+            high = middle
+    return low
 
 
 def _number(token: bytes) -> float | None:

@@ -24,10 +24,14 @@ from rasterkit.ply.header import Element, Header
 from rasterkit.ply.kernels.edges import pairs_of_keys, side_keys
 from rasterkit.ply.vertices import find_all
 
-__all__ = ["FACE_INDICES", "Polygons", "Triangles", "check_face_element", "polygon_edges", "read_lines", "read_polygons",
+__all__ = ["FACE_INDICES", "MAX_VERTICES", "Polygons", "Triangles", "check_face_element", "polygon_edges", "read_lines",
+           "read_polygons",
            "triangulate"]
 
 FACE_INDICES = ("vertex_indices", "vertex_index")
+
+#: The most vertices a mesh may have: two indices make one int64 key of the edges.
+MAX_VERTICES = 2**31
 
 #: Bytes per polygon corner while faces are split and their sides sorted (indices, the
 #: sides' keys and their sorting, the triangles' corners), besides the Mesh's own arrays.
@@ -138,9 +142,7 @@ def polygon_edges(polygons: Polygons | None, keep: np.ndarray | None, n_vertices
     """(E, 2) int64: the sides of the kept polygons (none for None) and the ``lines`` (K, 2),
     each once, sorted (as :func:`rasterkit.mesh.unique_edges` gives them); each pair one key
     ``min << bits | max`` (:mod:`rasterkit.ply.kernels.edges`), sorted once."""
-    bits = max(int(n_vertices - 1).bit_length(), 1)
-    if 2 * bits > 62:  # two indices do not fit one key: pairs sorted as rows (slower)
-        return _unique_rows(polygons, keep, lines)
+    bits = max(int(n_vertices - 1).bit_length(), 1)  # at most 31: see MAX_VERTICES
     if polygons is None:
         keys = np.zeros(0, np.int64)
     else:
@@ -150,19 +152,6 @@ def polygon_edges(polygons: Polygons | None, keep: np.ndarray | None, n_vertices
         keys = np.concatenate([keys, ((np.minimum(a, b) << bits) | np.maximum(a, b))[a != b]])
     keys.sort()
     return pairs_of_keys(keys, bits)
-
-
-def _unique_rows(polygons: Polygons | None, keep: np.ndarray | None, lines: np.ndarray) -> np.ndarray:
-    pairs = [lines]
-    if polygons is not None:
-        corners, offsets = polygons.corners, polygons.offsets
-        following = np.arange(1, len(corners) + 1, dtype=np.int64)
-        following[offsets[1:] - 1] = offsets[:-1]  # the last corner's side closes the polygon
-        mine = np.repeat(keep, polygons.sizes)
-        pairs.append(np.stack([corners[mine], corners[following[mine]]], axis=1))
-    pairs = np.sort(np.concatenate(pairs), axis=1)
-    pairs = np.unique(pairs[pairs[:, 0] != pairs[:, 1]], axis=0)
-    return pairs.reshape(-1, 2)
 
 
 def read_lines(rows, element: Element, n_vertices: int, finite: np.ndarray, notes: Notes) -> np.ndarray | None:

@@ -23,11 +23,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from rasterkit.obj.attributes import unit_rows
-from rasterkit.ply.errors import Notes, PlyError, count
+from rasterkit.ply.errors import Notes, PlyError, check_limit, count
 from rasterkit.ply.header import Element, Header
 
-__all__ = ["COLORS", "NORMALS", "POSITIONS", "TEXCOORDS", "VertexData", "check_vertex_element", "find_all",
-           "read_vertices", "unit_colors"]
+__all__ = ["BYTES_PER_VERTEX", "COLORS", "NORMALS", "POSITIONS", "TEXCOORDS", "VertexData", "check_vertex_element",
+           "find_all", "read_vertices", "unit_colors"]
+
+#: Bytes per vertex while its attributes are read and made into a Mesh (positions, normals,
+#: colours and texture coordinates, their temporaries, and the Mesh's checked copies).
+BYTES_PER_VERTEX = 320
 
 POSITIONS = ("x", "y", "z")
 NORMALS = ("nx", "ny", "nz")
@@ -70,8 +74,10 @@ def check_vertex_element(header: Header, name: str) -> Element:
 
 
 def read_vertices(rows, notes: Notes) -> VertexData:
-    """The vertex data of ``rows`` (the vertex element's :class:`~rasterkit.ply.rows.Rows`)."""
+    """The vertex data of ``rows`` (the vertex element's :class:`~rasterkit.ply.rows.Rows`),
+    after checking the memory they will take."""
     element = rows.layout.element
+    check_limit(notes.name, BYTES_PER_VERTEX * rows.n, f"reading its {count(rows.n, 'vertex', 'vertices')}")
     positions = _columns(rows, find_all(element, POSITIONS, notes.name), np.float64)
     normals = find_all(element, NORMALS, notes.name)
     if normals is not None:

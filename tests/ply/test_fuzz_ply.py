@@ -16,11 +16,11 @@ FUZZ = fuzz_ply.__file__  # run as a script, as by hand
 
 
 def test_fuzz_sample_ends_cleanly(tmp_path):
-    outcome = run([sys.executable, FUZZ, "--grammar", "250", "--mutations", "250", "--failures",
+    outcome = run([sys.executable, FUZZ, "--grammar", "400", "--mutations", "400", "--failures",
                    tmp_path / "failures", "--example-seconds", "60"], timeout=600)
     assert outcome.code == 0 and not outcome.timed_out, outcome.describe() + outcome.stdout[-3000:]
     summary = outcome.stdout.strip().splitlines()[-1]
-    assert summary.startswith("checked 503 files") and summary.endswith(" 0 failures"), summary
+    assert summary.startswith("checked 803 files") and summary.endswith(" 0 failures"), summary
     read = int(summary.split(": ")[1].split(" read")[0])
     assert read > 25, summary  # the grammar gives files that read, not only errors
     assert not (tmp_path / "failures").exists()
