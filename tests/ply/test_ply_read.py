@@ -124,7 +124,8 @@ def test_a_quad_mesh_is_split_into_fans(tmp_path, encoding):
 
 
 def test_degenerate_triangles_are_left_out_as_in_obj_files(tmp_path):
-    mesh = read_ply(write_ply(tmp_path / "t.ply", "ascii", square("ascii", [(0, 1, 2), (0, 0, 1), (2, 3, 3), (0, 2, 3)])))
+    faces = [(0, 1, 2), (0, 0, 1), (2, 3, 3), (0, 2, 3)]
+    mesh = read_ply(write_ply(tmp_path / "t.ply", "ascii", square("ascii", faces)))
     assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3]]
     assert mesh.edges.tolist() == [[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]]
 

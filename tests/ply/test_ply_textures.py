@@ -103,8 +103,8 @@ def test_per_vertex_texture_coordinates_with_a_texture_file(tmp_path):
     png(tmp_path / "w.png")
     props = XYZ + [("float", "s"), ("float", "t")]
     rows = [(*v, v[0] / 2, v[1]) for v in SQUARE]
-    mesh = read_ply(write_ply(tmp_path / "t.ply", "ascii", [("vertex", props, rows), ("face", FACES, [([0, 1, 2, 3],)])],
-                              comments=("TextureFile w.png",)))
+    elements = [("vertex", props, rows), ("face", FACES, [([0, 1, 2, 3],)])]
+    mesh = read_ply(write_ply(tmp_path / "t.ply", "ascii", elements, comments=("TextureFile w.png",)))
     assert mesh.uv.tolist() == [[0, 0], [0.5, 0], [0.5, 1], [0, 1]]
     np.testing.assert_array_equal(mesh.uv_index, mesh.faces)
     assert mesh.material_names == ("w.png",) and mesh.face_materials.tolist() == [0, 0]

@@ -2,14 +2,13 @@
 
 Two sources of hostile files:
 
-- **grammar**: Hypothesis draws PLY files from a grammar of what the reader takes: the three
-  formats, elements ``vertex`` (x y z of any type, colours, normals, texture coordinates),
-  ``face`` (index lists of any count and item type, per-corner ``texcoord``, colours,
-  ``texnumber``), ``edge`` and unknown ones, unknown scalar and list properties, comments,
-  ``TextureFile``; bodies written to match the header, with hostile values (NaN, inf, 1e308,
-  counts of 0, 1, 2, 255 and negative, indices out of range), then now and then cut short,
-  with rows added or removed, or random bytes spliced in; headers with a count changed, a
-  type swapped or a line removed;
+- **grammar**: Hypothesis draws PLY files of the three formats from a grammar of what the
+  reader takes: ``vertex`` (x y z of any type, colours, normals, texture coordinates),
+  ``face`` (index lists of any types, per-corner ``texcoord``, colours, ``texnumber``),
+  ``edge`` and unknown elements, unknown scalars and lists, comments, ``TextureFile``;
+  bodies that match the header, with hostile values (NaN, inf, 1e308, faces of 0 to 7
+  corners, indices out of range), now and then cut short, with random bytes spliced in, a
+  count changed or a type swapped in the header;
 - **mutations**: the real PLY files of ``../shared/models/formats`` (the small ones) and a few
   written here, with bytes flipped, runs of bytes deleted, duplicated or inserted, the file
   truncated, and header counts or types changed.
@@ -47,15 +46,15 @@ from pathlib import Path
 # paths of their own, not support.paths: this file also runs as a script
 TESTS = Path(__file__).resolve().parents[1]
 FORMATS = TESTS.parents[1] / "shared" / "models" / "formats"
+if str(TESTS) not in sys.path:
+    sys.path.insert(0, str(TESTS))
+
+from support.plyfiles import CODES  # noqa: E402 - the struct code of each PLY type
 #: Real PLY files small enough to mutate many times a second.
 SMALL_MODELS = ("ply/cube_blender_uv.ply", "obj/fuze/fuze.ply", "robustness/ply/corrupted_invalid_vertex_count.ply")
 MODES = ("wire", "hidden", "solid", "solid+wire")
 ENCODINGS = ("ascii", "binary_little_endian", "binary_big_endian")
-TYPES = ("char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8", "int16", "uint16",
-         "int32", "uint32", "float32", "float64")
-CODES = {"char": "b", "int8": "b", "uchar": "B", "uint8": "B", "short": "h", "int16": "h", "ushort": "H",
-         "uint16": "H", "int": "i", "int32": "i", "uint": "I", "uint32": "I", "float": "f", "float32": "f",
-         "double": "d", "float64": "d"}
+TYPES = tuple(CODES)
 
 
 class Failure(Exception):
@@ -114,16 +113,12 @@ def check_tables(mesh) -> None:
     ``face_materials`` index ``material_names`` (the Mesh's own checks, from the outside)."""
     if (mesh.uv is None) != (mesh.uv_index is None):
         raise Failure("read_ply: uv and uv_index: one without the other")
-    if mesh.uv_index is not None:
-        rows = mesh.uv_index
-        given = (rows >= 0).all(axis=1)
-        if rows.shape != mesh.faces.shape or not (given | (rows == -1).all(axis=1)).all() or \
-                (rows[given] >= len(mesh.uv)).any():
-            raise Failure(f"read_ply: uv_index does not index uv ({len(mesh.uv)} rows)")
-    if mesh.face_materials is not None:
-        m = mesh.face_materials
-        if m.shape != (len(mesh.faces),) or (m < -1).any() or (m >= len(mesh.material_names)).any():
-            raise Failure("read_ply: face_materials does not index material_names")
+    rows, m = mesh.uv_index, mesh.face_materials
+    whole = None if rows is None else (rows >= 0) | (rows == -1).all(axis=1)[:, None]  # 3 rows, or -1 -1 -1
+    if rows is not None and (rows.shape != mesh.faces.shape or not whole.all() or (rows >= len(mesh.uv)).any()):
+        raise Failure(f"read_ply: uv_index does not index uv ({len(mesh.uv)} rows)")
+    if m is not None and (m.shape != (len(mesh.faces),) or (m < -1).any() or (m >= len(mesh.material_names)).any()):
+        raise Failure("read_ply: face_materials does not index material_names")
 
 
 # --- writing -------------------------------------------------------------------------------
