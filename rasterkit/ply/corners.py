@@ -15,9 +15,9 @@ import numpy as np
 from rasterkit.ply.errors import Notes, count
 from rasterkit.ply.faces import Polygons, Triangles
 from rasterkit.ply.header import Element
-from rasterkit.ply.vertices import COLORS, find_all, unit_colors
+from rasterkit.ply.vertices import COLORS, first_of, unit_colors
 
-__all__ = ["CORNER_TEXCOORDS", "corner_uv", "corner_texcoords", "face_colors", "texture_numbers"]
+__all__ = ["CORNER_TEXCOORDS", "corner_texcoords", "corner_uv", "face_colors", "texture_numbers"]
 
 CORNER_TEXCOORDS = "texcoord"
 
@@ -60,7 +60,7 @@ def corner_uv(rows, prop, polygons: Polygons, triangles: Triangles, notes: Notes
 
 def face_colors(rows, element: Element, triangles: Triangles, notes: Notes) -> np.ndarray | None:
     """(M, 3) float32 colour of each triangle's face, or None when faces have none."""
-    props = next((c for c in (find_all(element, names, notes.name) for names in COLORS) if c is not None), None)
+    props = first_of(element, COLORS, notes)
     if props is None:
         return None
     return triangles.per_polygon(unit_colors(rows, props, notes))

@@ -22,7 +22,6 @@ from rasterkit.obj.assemble import split_polygons
 from rasterkit.ply.errors import Notes, PlyError, check_limit, count
 from rasterkit.ply.header import Element, Header
 from rasterkit.ply.kernels.edges import pairs_of_keys, side_keys
-from rasterkit.ply.vertices import find_all
 
 __all__ = ["FACE_INDICES", "MAX_VERTICES", "Polygons", "Triangles", "check_face_element", "polygon_edges", "read_lines",
            "read_polygons",
@@ -156,9 +155,9 @@ def polygon_edges(polygons: Polygons | None, keep: np.ndarray | None, n_vertices
 
 def read_lines(rows, element: Element, n_vertices: int, finite: np.ndarray, notes: Notes) -> np.ndarray | None:
     """(K, 2) int64 segments of the edge element (``vertex1``, ``vertex2``), without those at
-    a NaN or infinite vertex; None when it has no such properties (a warning)."""
-    props = find_all(element, ("vertex1", "vertex2"), notes.name)
-    if props is None or any(p.dtype.kind not in "iu" for p in props):
+    a NaN or infinite vertex; None when it has no such integer scalars (a warning)."""
+    props = (element.find("vertex1"), element.find("vertex2"))
+    if any(p is None or p.is_list or p.dtype.kind not in "iu" for p in props):
         notes.warn(element.line, "element 'edge' has no integer properties 'vertex1' and 'vertex2': skipped")
         return None
     pairs = np.stack([np.asarray(rows.scalar(p)).astype(np.int64) for p in props], axis=1)

@@ -27,7 +27,7 @@ from rasterkit.ply.errors import Notes, PlyError, check_limit, count
 from rasterkit.ply.header import Element, Header
 
 __all__ = ["BYTES_PER_VERTEX", "COLORS", "NORMALS", "POSITIONS", "TEXCOORDS", "VertexData", "check_vertex_element",
-           "find_all", "read_vertices", "unit_colors"]
+           "find_all", "first_of", "read_vertices", "unit_colors"]
 
 #: Bytes per vertex while its attributes are read and made into a Mesh (positions, normals,
 #: colours and texture coordinates, their temporaries, and the Mesh's checked copies).
@@ -49,17 +49,28 @@ class VertexData:
     texcoords: np.ndarray | None  # (N, 2) float64
 
 
-def find_all(element: Element, names: tuple, name: str) -> tuple | None:
-    """The scalar properties ``names`` of ``element`` when it has all of them, else None; a
-    list among them is an error naming its line."""
+def find_all(element: Element, names: tuple, name: str, notes: Notes | None = None) -> tuple | None:
+    """The scalar properties ``names`` of ``element`` when it has all of them, else None. A
+    list among them is an error naming its line, or with ``notes`` (properties the reader
+    can do without) a warning, and None."""
     found = tuple(element.find(n) for n in names)
     if any(p is None for p in found):
         return None
     for p in found:
         if p.is_list:
-            raise PlyError(name, p.line, f"property {p.name!r} of element {element.name!r} must be a scalar, "
-                                         "not a list")
+            reason = f"property {p.name!r} of element {element.name!r} must be a scalar, not a list"
+            if notes is None:
+                raise PlyError(name, p.line, reason)
+            notes.warn(p.line, f"{reason}: skipped")
+            return None
     return found
+
+
+def first_of(element: Element, choices: tuple, notes: Notes) -> tuple | None:
+    """The first of ``choices`` (tuples of names) whose scalar properties ``element`` has
+    (:func:`find_all`), or None."""
+    return next((f for f in (find_all(element, names, notes.name, notes) for names in choices) if f is not None),
+                None)
 
 
 def check_vertex_element(header: Header, name: str) -> Element:
@@ -79,18 +90,18 @@ def read_vertices(rows, notes: Notes) -> VertexData:
     element = rows.layout.element
     check_limit(notes.name, BYTES_PER_VERTEX * rows.n, f"reading its {count(rows.n, 'vertex', 'vertices')}")
     positions = _columns(rows, find_all(element, POSITIONS, notes.name), np.float64)
-    normals = find_all(element, NORMALS, notes.name)
+    normals = first_of(element, (NORMALS,), notes)
     if normals is not None:
-        normals = _columns(rows, normals, np.float64)
+        line, normals = normals[0].line, _columns(rows, normals, np.float64)
         finite = np.isfinite(normals).all(axis=1)
         if not finite.all():
-            notes.warn(element.line, f"{count(np.count_nonzero(~finite), 'vertex normal')} with NaN or infinite "
-                                     "components: those components taken as 0")
+            notes.warn(line, f"{count(np.count_nonzero(~finite), 'vertex normal')} with NaN or infinite "
+                             "components: those components taken as 0")
         normals = unit_rows(normals)
-    colors = next((c for c in (find_all(element, names, notes.name) for names in COLORS) if c is not None), None)
+    colors = first_of(element, COLORS, notes)
     if colors is not None:
         colors = unit_colors(rows, colors, notes)
-    uv = next((t for t in (find_all(element, names, notes.name) for names in TEXCOORDS) if t is not None), None)
+    uv = first_of(element, TEXCOORDS, notes)
     return VertexData(positions, colors, normals, None if uv is None else _columns(rows, uv, np.float64))
 
 

@@ -175,6 +175,17 @@ def test_vertex_normals_and_texture_coordinates(tmp_path, names):
     assert mesh.uv.tolist() == mesh.texcoords.tolist() and mesh.uv_index.tolist() == [[0, 1, 2]]
 
 
+@pytest.mark.parametrize("props", [[("float", "vertex1"), ("int", "vertex2")], [("int", "vertex1")],
+                                   [("list", "uchar", "int", "vertex1"), ("int", "vertex2")]])
+def test_an_edge_element_without_integer_vertex1_and_vertex2_is_skipped(tmp_path, props):
+    rows = [tuple([0] if p[0] == "list" else 0 for p in props)]
+    path = write_ply(tmp_path / "t.ply", "ascii", [("vertex", XYZ, SQUARE), ("edge", props, rows)])
+    cloud = read_ply(path)
+    assert isinstance(cloud, PointCloud) and len(cloud.points) == 4
+    assert cloud.warnings == (f"{path}:7: element 'edge' has no integer properties 'vertex1' and 'vertex2': "
+                              "skipped",)
+
+
 @pytest.mark.parametrize("encoding", ENCODINGS)
 def test_an_edge_element_gives_lines(tmp_path, encoding):
     elements = [("vertex", XYZ, SQUARE), ("edge", [("int", "vertex1"), ("int", "vertex2"), ("uchar", "red")],
@@ -319,3 +330,12 @@ def test_many_unusual_numbers_are_read_at_once(tmp_path):
                                        1000)]) + " ".join(texts).encode())
     points = read_ply(path).points.reshape(-1)
     np.testing.assert_array_equal(points, values)
+
+
+def test_optional_properties_that_are_lists_are_skipped_with_a_warning(tmp_path):
+    props = XYZ + [("list", "uchar", "uchar", "red"), ("uchar", "green"), ("uchar", "blue"), ("float", "u"),
+                   ("float", "v")]
+    path = write_ply(tmp_path / "t.ply", "binary_little_endian", [("vertex", props, [(0, 1, 2, [9], 3, 4, 0.5, 1)])])
+    cloud = read_ply(path)
+    assert cloud.points.tolist() == [[0, 1, 2]] and cloud.colors is None
+    assert cloud.warnings == (f"{path}:7: property 'red' of element 'vertex' must be a scalar, not a list: skipped",)
