@@ -200,7 +200,9 @@ class _Parser:
         if len(words) != 3:
             self.fail(number, "expected 'element NAME COUNT'")
         if not _WHOLE.fullmatch(words[2]):
-            self.fail(number, f"the count of element {words[1]!r} must be a whole number >= 0, got {words[2]!r}")
+            self.fail(number, f"the count of element {words[1]!r} must be a whole number >= 0, got {words[2][:40]!r}")
+        if len(words[2].lstrip("0")) > 18:  # no file holds 10**18 rows (and Python reads at most 4300 digits)
+            self.fail(number, f"the count of element {words[1]!r} is too large ({len(words[2])} digits)")
         if any(e[0] == words[1] for e in self.elements):
             self.fail(number, f"element {words[1]!r} is declared twice")
         self.elements.append([words[1], int(words[2]), [], number])

@@ -56,6 +56,8 @@ def two_faces(encoding):
      ":3: the count of element 'vertex' must be a whole number >= 0, got '-4'"),
     (b"ply\nformat ascii 1.0\nelement vertex 1e3\nend_header\n",
      ":3: the count of element 'vertex' must be a whole number >= 0, got '1e3'"),
+    (b"ply\nformat ascii 1.0\nelement vertex " + b"9" * 5000 + b"\nend_header\n",
+     ":3: the count of element 'vertex' is too large (5000 digits)"),
     (b"ply\nformat ascii 1.0\nelement vertex 1\nelement vertex 1\nend_header\n",
      ":4: element 'vertex' is declared twice"),
     (b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float32 x y\nend_header\n",
