@@ -339,3 +339,12 @@ def test_optional_properties_that_are_lists_are_skipped_with_a_warning(tmp_path)
     cloud = read_ply(path)
     assert cloud.points.tolist() == [[0, 1, 2]] and cloud.colors is None
     assert cloud.warnings == (f"{path}:7: property 'red' of element 'vertex' must be a scalar, not a list: skipped",)
+
+
+@pytest.mark.parametrize("module", ["rasterkit.ply", "rasterkit.ply.cloud"])
+def test_docstring_examples(module):
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(module))
+    assert result.attempted > 0 and result.failed == 0
