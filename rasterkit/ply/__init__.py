@@ -62,7 +62,7 @@ import os
 
 import numpy as np
 
-from rasterkit.material.material import Material
+from rasterkit.material import Material
 from rasterkit.mesh import Mesh
 from rasterkit.ply.body import read_body
 from rasterkit.ply.cloud import PointCloud

@@ -348,3 +348,15 @@ def test_docstring_examples(module):
 
     result = doctest.testmod(importlib.import_module(module))
     assert result.attempted > 0 and result.failed == 0
+
+
+@pytest.mark.parametrize("encoding", ENCODINGS)
+def test_faces_before_the_vertices_and_a_property_named_twice(tmp_path, encoding):
+    """Elements are read in the header's order, whatever it is; the first of two properties
+    of one name is the one read."""
+    elements = [("face", FACES, [([0, 1, 2],)]),
+                ("vertex", [("float", "x"), ("float", "y"), ("double", "x"), ("float", "z")],
+                 [(0, 0, 9, 0), (1, 0, 9, 0), (0, 1, 9, 0)])]
+    mesh = read_ply(write_ply(tmp_path / "t.ply", encoding, elements))
+    assert mesh.faces.tolist() == [[0, 1, 2]]
+    assert mesh.vertices.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
