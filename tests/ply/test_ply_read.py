@@ -378,7 +378,8 @@ def test_memory_peaks_below_three_times_the_meshs_arrays(tmp_path, encoding, cor
     a = (np.arange(side - 1)[:, None] * side + np.arange(side - 1)).ravel()
     quads = np.stack([a, a + 1, a + side + 1, a + side], axis=1).tolist()
     faces = quads if corners == 4 else [q[:3] for q in quads] + [[q[0], q[2], q[3]] for q in quads]
-    path = write_ply(tmp_path / "grid.ply", encoding, [("vertex", XYZ, vertices), ("face", FACES, [(f,) for f in faces])])
+    elements = [("vertex", XYZ, vertices), ("face", FACES, [(f,) for f in faces])]
+    path = write_ply(tmp_path / "grid.ply", encoding, elements)
     data = path.read_bytes()
     _read(str(path), data, True)  # kernels compiled or loaded outside the measurement
     tracemalloc.start()
