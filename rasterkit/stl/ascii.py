@@ -96,12 +96,7 @@ class _Reader:
             if status == SCAN_FULL:
                 continue
             if status == SCAN_BAD:
-                word = FACET[slot]
-                got = "the end of the file" if pos == len(self.data) else shown(self.data[pos:self.token(pos).end()])
-                reason = f"expected {'a number' if word is None else repr(word.decode())}, got {got}"
-                if word == b"endloop" and got == "'vertex'":
-                    reason += " (a facet of more than 3 vertices: STL facets are triangles)"
-                self.fail(pos, reason)
+                self.bad_facet(pos, count, slot)
             token = self.token(pos)
             if token is None:
                 self.warnings.append(f"no 'endsolid' at the end of the file (block {self.names[-1]!r} is not closed)")
@@ -110,12 +105,21 @@ class _Reader:
                 self.fail(token.start(), f"expected 'facet' or 'endsolid', got {shown(token.group())}")
             return self.after_line(token)
 
-    def keep(self, count: int) -> None:
-        """Keep the ``count`` facets of the kernel's arrays, converting their flagged numbers."""
-        if not count:
-            return
-        values, offsets, starts, ends, flags = (a[:count] for a in self.batch)
-        values = values.copy()
+    def bad_facet(self, pos: int, row: int, slot: int):
+        """Raise the error of the facet the kernel stopped in, in row ``row`` of its arrays,
+        at the token at byte ``pos`` (slot ``slot`` of :data:`FACET`); a number before it
+        that is no number comes first."""
+        numbers = FACET[:slot].count(None)
+        self.convert(self.batch[0][row, :numbers], *(a[row, :numbers] for a in self.batch[2:]))
+        word = FACET[slot]
+        got = "the end of the file" if pos == len(self.data) else shown(self.token(pos).group())
+        reason = f"expected {'a number' if word is None else repr(word.decode())}, got {got}"
+        if word == b"endloop" and got == "'vertex'":
+            reason += " (a facet of more than 3 vertices: STL facets are triangles)"
+        self.fail(pos, reason)
+
+    def convert(self, values: np.ndarray, starts: np.ndarray, ends: np.ndarray, flags: np.ndarray) -> None:
+        """Convert the numbers of ``values`` that the kernel flagged, from their tokens."""
         flagged = np.flatnonzero(flags)
         if len(flagged):
             tokens = Tokens(self.buf, starts.ravel()[flagged], ends.ravel()[flagged])
@@ -123,6 +127,14 @@ class _Reader:
                 values.ravel()[flagged] = floats(tokens, np.arange(len(flagged)))
             except BadToken as e:
                 self.fail(tokens.starts[e.index], e.reason)
+
+    def keep(self, count: int) -> None:
+        """Keep the ``count`` facets of the kernel's arrays, converting their flagged numbers."""
+        if not count:
+            return
+        values, offsets, starts, ends, flags = (a[:count] for a in self.batch)
+        values = values.copy()
+        self.convert(values, starts, ends, flags)
         self.values.append(values)
         self.offsets.append(offsets.copy())
         self.blocks.append(len(self.names) - 1)

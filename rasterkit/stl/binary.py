@@ -47,7 +47,7 @@ def size_error(name: str, data: bytes, ascii_note: str) -> StlError:
     if need > len(data):
         what = f"the file has {len(data)} bytes ({whole} whole facets): truncated?"
     else:
-        what = f"the file has {len(data)} bytes, {len(data) - need} more"
+        what = f"the file has {len(data)} bytes ({len(data) - need} more)"
     return StlError(name, None, f"the facet count of a binary STL header is {count} ({need} bytes), but {what} "
                                 f"(and {ascii_note})", location="byte 80")
 

@@ -16,11 +16,12 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["COLLIDING", "FULL", "PROBES_PER_CORNER", "facet_normals", "finite_rows", "triangle_edges", "weld"]
+__all__ = ["COLLIDING", "FULL", "M1", "M2", "M3", "PROBES_PER_CORNER", "facet_normals", "finite_rows", "triangle_edges", "weld"]
 
-_M1 = np.uint64(0x9E3779B97F4A7C15)
-_M2 = np.uint64(0xC2B2AE3D27D4EB4F)
-_M3 = np.uint64(0x165667B19E3779F9)
+#: The multipliers of the hash of a row (MurmurHash3's and the golden ratio's).
+M1 = np.uint64(0x9E3779B97F4A7C15)
+M2 = np.uint64(0xC2B2AE3D27D4EB4F)
+M3 = np.uint64(0x165667B19E3779F9)
 
 #: Probes per corner, on average, before :func:`weld` gives up (a table at most half full
 #: needs about 1.5 with a good hash).
@@ -51,9 +52,9 @@ def weld(keys, bits):
         a = keys[i, 0]
         b = keys[i, 1]
         c = keys[i, 2]
-        h = (np.uint64(a) * _M1) ^ (np.uint64(b) * _M2) ^ (np.uint64(c) * _M3)
+        h = (np.uint64(a) * M1) ^ (np.uint64(b) * M2) ^ (np.uint64(c) * M3)
         h ^= h >> np.uint64(33)  # MurmurHash3's finaliser: every bit moves every bit
-        h *= _M2
+        h *= M2
         h ^= h >> np.uint64(29)
         s = np.int64(h & np.uint64(mask))
         while True:
@@ -92,7 +93,7 @@ def finite_rows(values):
     return out
 
 
-@kernel
+@kernel(fastmath=False)  # IEEE division: a reciprocal of a subnormal length would be infinite
 def facet_normals(given, vertices, faces, out):
     """Fill ``out`` (M, 3) float64 with a unit normal per facet: the file's normal ``given``
     (M, 3) float64 where it is finite, not zero and not pointing against the winding of the
@@ -109,6 +110,10 @@ def facet_normals(given, vertices, faces, out):
         vx = vertices[c, 0] - vertices[a, 0]
         vy = vertices[c, 1] - vertices[a, 1]
         vz = vertices[c, 2] - vertices[a, 2]
+        su = max(abs(ux), abs(uy), abs(uz))  # the sides scaled first: no overflow or underflow
+        sv = max(abs(vx), abs(vy), abs(vz))
+        if su > 0.0 and sv > 0.0:
+            ux, uy, uz, vx, vy, vz = ux / su, uy / su, uz / su, vx / sv, vy / sv, vz / sv
         ox, oy, oz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
         nx, ny, nz = given[f, 0], given[f, 1], given[f, 2]
         if not (np.isfinite(nx) and np.isfinite(ny) and np.isfinite(nz)) or (nx == 0.0 and ny == 0.0 and nz == 0.0):
