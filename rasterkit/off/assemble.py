@@ -11,6 +11,7 @@ import numpy as np
 from rasterkit.mesh import Mesh, unique_edges
 from rasterkit.obj.assemble import split_polygons
 from rasterkit.off.body import Faces, Vertices
+from rasterkit.off.colors import count
 
 __all__ = ["to_mesh"]
 
@@ -26,11 +27,12 @@ def to_mesh(vertices: Vertices, faces: Faces, warnings: list) -> Mesh:
     if not finite.all():
         keep = np.add.reduceat((~finite[faces.corners]).astype(np.int64), faces.offsets[:-1]) == 0 \
             if len(sizes) else keep
-        warnings.append(f"{np.count_nonzero(~finite)} vertices with NaN or infinite coordinates; "
-                        f"{np.count_nonzero(~keep)} faces using them dropped")
+        bad = np.count_nonzero(~finite)
+        warnings.append(f"{count(bad, 'vertex')} with NaN or infinite coordinates; "
+                        f"{count(np.count_nonzero(~keep), 'face')} using {'it' if bad == 1 else 'them'} dropped")
     triangles, counts, inexact = split_polygons(positions, faces.corners, faces.offsets, keep)
     if inexact.any():
-        warnings.append(f"{np.count_nonzero(inexact)} polygons too irregular to split exactly (self-intersecting?): "
+        warnings.append(f"{count(np.count_nonzero(inexact), 'polygon')} too irregular to split exactly (self-intersecting?): "
                         f"split as a fan (the first on line {faces.lines[np.argmax(inexact)]})")
     polygon = np.repeat(np.arange(len(sizes)), counts)
     return Mesh(positions, faces.corners[triangles], edges=_polygon_edges(faces, keep, len(positions)),

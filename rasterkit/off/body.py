@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rasterkit.off.colors import DEFAULT, unit_colors
+from rasterkit.off.colors import DEFAULT, count, unit_colors
 from rasterkit.off.errors import OffError
 from rasterkit.off.header import Header
 from rasterkit.off.records import Records
@@ -83,8 +83,9 @@ class _Reader:
         out = np.repeat(DEFAULT[None, :], len(has), axis=0)
         out[has] = rgb
         if not has.all():
-            self.warnings.append(f"{np.count_nonzero(~has)} of {len(has)} {what}s have no colour: drawn in the "
-                                 "default colour")
+            missing = np.count_nonzero(~has)
+            self.warnings.append(f"{missing} of {count(len(has), what)} {'has' if missing == 1 else 'have'} no colour: "
+                                 "drawn in the default colour")
         return out
 
 
@@ -173,8 +174,10 @@ def read_faces(name: str, records: Records, header: Header, warnings: list) -> F
                                                        f"{header.n_vertices} vertices, numbered from 0")
     ignored = (extra == 1) | (extra == 2)
     if ignored.any():
-        warnings.append(f"{np.count_nonzero(ignored)} faces have 1 or 2 numbers after their vertex indices (a colour "
-                        f"map index?): ignored (the first on line {lines[np.argmax(ignored)]})")
+        one = np.count_nonzero(ignored) == 1
+        warnings.append(f"{count(np.count_nonzero(ignored), 'face')} {'has' if one else 'have'} 1 or 2 numbers after "
+                        f"{'its' if one else 'their'} vertex indices (a colour map index?): ignored (the first on line "
+                        f"{lines[np.argmax(ignored)]})")
     has = np.isin(extra, COLOR_NUMBERS)
     colors = None
     if has.any():

@@ -14,10 +14,16 @@ import numpy as np
 
 from rasterkit.material import DEFAULT_DIFFUSE
 
-__all__ = ["DEFAULT", "unit_colors"]
+__all__ = ["DEFAULT", "count", "unit_colors"]
 
 DEFAULT = np.asarray(DEFAULT_DIFFUSE, np.float32)
 """The colour of a face (or vertex) without one in a file where others have one."""
+
+
+def count(n: int, noun: str) -> str:
+    """'1 face', '2 faces', '3 vertices'."""
+    plural = noun[:-2] + "ices" if noun.endswith("ex") else noun + "s"
+    return f"{int(n)} {noun if n == 1 else plural}"
 
 
 def unit_colors(values: np.ndarray, integral: bool, what: str) -> tuple[np.ndarray, list[str]]:
@@ -32,9 +38,9 @@ def unit_colors(values: np.ndarray, integral: bool, what: str) -> tuple[np.ndarr
         outside = finite & ((rgb < 0.0) | (rgb > 1.0)).any(axis=1)
     warnings = []
     if outside.any():
-        warnings.append(f"{np.count_nonzero(outside)} {what} colours outside 0..{scale:g}: clipped")
+        warnings.append(f"{count(np.count_nonzero(outside), what + ' colour')} outside 0..{scale:g}: clipped")
     if not finite.all():
-        warnings.append(f"{np.count_nonzero(~finite)} {what} colours with NaN or infinite values: drawn in the "
-                        "default colour")
+        warnings.append(f"{count(np.count_nonzero(~finite), what + ' colour')} with NaN or infinite values: drawn "
+                        "in the default colour")
     out = np.clip(np.where(finite[:, None], rgb, DEFAULT), 0.0, 1.0).astype(np.float32)
     return out, warnings
