@@ -145,7 +145,8 @@ def floats(tokens: Tokens, which: np.ndarray, what: str = "a number") -> np.ndar
             k = short[_first(bad)]
             raise BadToken(k, f"expected {what}, got {tokens.shown(which[k])}")
         try:
-            out[short] = block.view(f"S{width}").ravel().astype(np.float64)
+            with np.errstate(over="ignore"):  # 1e400 is inf, as Python's float says, without a warning
+                out[short] = block.view(f"S{width}").ravel().astype(np.float64)
         except ValueError:
             k = short[_first_unreadable(block)]
             raise BadToken(k, f"expected {what}, got {tokens.shown(which[k])}") from None
