@@ -48,7 +48,6 @@ from rasterkit.off.body import read_faces, read_vertices
 from rasterkit.off.errors import OffError, OffLimitError, read_bytes
 from rasterkit.off.header import read_header
 from rasterkit.off.records import read_records
-from rasterkit.runtime.files import readable
 
 __all__ = ["OffError", "OffLimitError", "read_off", "sniff"]
 
@@ -107,7 +106,7 @@ def read_off(path=None, *, data: bytes | None = None) -> Mesh:
                         f"{records.line[len(records) - left]})")
     if not header.n_faces:
         warnings.append("no faces: the vertices alone (a point cloud)")
-    return to_mesh(vertices, faces, [f"{readable(name)}: {w}" for w in warnings])
+    return to_mesh(name, vertices, faces, warnings)
 
 
 def sniff(head: bytes) -> bool:

@@ -12,14 +12,15 @@ from rasterkit.mesh import Mesh, unique_edges
 from rasterkit.obj.assemble import split_polygons
 from rasterkit.off.body import Faces, Vertices
 from rasterkit.off.colors import count
+from rasterkit.runtime.files import readable
 
 __all__ = ["to_mesh"]
 
 
-def to_mesh(vertices: Vertices, faces: Faces, warnings: list) -> Mesh:
-    """The :class:`~rasterkit.mesh.Mesh` of ``vertices`` and ``faces``; ``warnings`` (one-line
-    strings, the file's name first) go with it, and so does one about polygons dropped or split
-    as a fan."""
+def to_mesh(name: str, vertices: Vertices, faces: Faces, warnings: list) -> Mesh:
+    """The :class:`~rasterkit.mesh.Mesh` of ``vertices`` and ``faces`` of the file ``name``;
+    ``warnings`` (one-line strings) go with it, and so do those about faces dropped or split
+    as a fan, each after the file's name."""
     positions = vertices.positions
     finite = np.isfinite(positions).all(axis=1)
     sizes = np.diff(faces.offsets)
@@ -39,7 +40,7 @@ def to_mesh(vertices: Vertices, faces: Faces, warnings: list) -> Mesh:
                 normals=vertices.normals, vertex_colors=vertices.colors,
                 texcoords=vertices.texcoords, uv=vertices.texcoords,
                 face_colors=None if faces.colors is None else faces.colors[polygon],
-                warnings=tuple(warnings))
+                warnings=tuple(f"{readable(name)}: {w}" for w in warnings))
 
 
 def _polygon_edges(faces: Faces, keep: np.ndarray, n_vertices: int) -> np.ndarray:

@@ -83,6 +83,12 @@ def test_a_face_of_twenty_thousand_corners_and_giant_tokens_take_little_time():
     assert time.perf_counter() - start < 5
 
 
+def test_numbers_beyond_float64_are_infinite_without_a_numpy_warning():
+    mesh = read_off("h.off", data=b"OFF\n4 2 0\n1e400 0 0\n1 0 0\n0 1 0\n1 1 -1e999\n3 0 1 2\n3 1 2 3 1e400 0 0\n")
+    assert mesh.faces.shape == (0, 3) and mesh.warnings[-1] == "h.off: 2 vertices with NaN or infinite coordinates; 2 faces using them dropped"
+    assert outcome(b"OFF\n3 1 0\n1e400 0 0\n1 0 0\n0 1 0\n3 0 1 2\n") == "mesh"
+
+
 @pytest.mark.parametrize("data", [b"", b"\n\n\n", b"# nothing\n", b"\xff\xfe", b"OFF", b"OFF\n0 0 0\n",
                                   b"\x00" * 100, "OFF\n1 0 0\n\u00e9 0 0\n".encode("latin-1")])
 def test_degenerate_files(data):

@@ -55,6 +55,8 @@ def check(path: Path, reader) -> str:
         except Exception as e:  # noqa: BLE001 - the oracle judges every exception
             return clean(e, reader.__name__, name_needed=True)
         check_mesh(mesh)
+        if any(not w.startswith(f"{path}: ") for w in mesh.warnings):
+            raise Failure(f"a warning that does not start with the file's name: {mesh.warnings}")
         if len(mesh.faces) == 0:
             return "ok"
         try:
