@@ -11,10 +11,11 @@ What is read
   correctly rounded float64 of their text (``nan`` and ``inf`` too: such facets are dropped,
   below). Several blocks give ``Mesh.face_groups`` and ``group_names`` (the blocks' names).
 - **Welding** (``rasterkit.stl.weld``): corners with equal coordinates (as numbers: ``-0.0``
-  is ``0.0``) become one vertex, numbered in order of first appearance, so the output does not
-  depend on anything but the file; ``edges`` are then the mesh's real edges (each side of two
-  facets once), which ``hidden``, ``solid+wire`` and smooth shading need. Vertices are float64
-  (a binary file's float32 converted exactly). Facets keep the file's winding.
+  is ``0.0``, and is read as ``0.0``) become one vertex, numbered in order of first appearance
+  among the facets kept, so the output depends on nothing but the file; ``edges`` are then the
+  mesh's real edges (each side of two facets once), which ``hidden``, ``solid+wire`` and smooth
+  shading need. Vertices are float64 (a binary file's float32 converted exactly). Facets keep
+  the file's winding.
 - **Normals** (``rasterkit.stl.normals``): the file's facet normals become ``corner_normals``
   (one unit row per facet) with ``normal_index`` (each facet's three corners index its row), so
   a smooth render draws the facets flat, as the file describes them; flat shading and culling
@@ -28,8 +29,9 @@ What is read
 
 What is dropped, with a warning in ``Mesh.warnings``
 ----------------------------------------------------
-Facets with a NaN or infinite coordinate; facets that welding makes degenerate (two corners at
-one place: no area, and no edges of their own); a missing final ``endsolid``.
+Facets with a NaN or infinite coordinate; facets with two equal corners (which welding would
+make one vertex: no area, no edges of their own); a missing final ``endsolid``. Their corners
+are no vertices.
 
 What fails
 ----------
@@ -55,7 +57,7 @@ from rasterkit.mesh import Mesh
 from rasterkit.stl.ascii import read_ascii
 from rasterkit.stl.binary import HEADER_BYTES, RECORD, is_binary, read_binary, size_error
 from rasterkit.stl.errors import StlError, StlLimitError, read_bytes
-from rasterkit.stl.facets import to_mesh
+from rasterkit.stl.facets import to_mesh, usable
 
 __all__ = ["StlError", "StlLimitError", "read_stl", "sniff"]
 
@@ -117,6 +119,8 @@ def read_stl(path=None, *, data: bytes | None = None) -> Mesh:
         raise size_error(name, data, "not ASCII STL either: no 'solid' at the start")
     if len(facets.corners) == 0:
         raise StlError(name, None, "no facets, nothing to draw")
+    del data  # the text of a file read here goes with the facets' places, before the welding
+    facets = usable(name, facets)
     return to_mesh(name, facets)
 
 

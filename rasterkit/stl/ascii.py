@@ -54,7 +54,8 @@ class _Reader:
         self.buf = np.frombuffer(data, np.uint8)
         self.batch = (np.empty((BATCH, 12)), np.empty(BATCH, np.int64), np.empty((BATCH, 12), np.int64),
                       np.empty((BATCH, 12), np.int64), np.empty((BATCH, 12), bool))
-        self.values: list[np.ndarray] = []  # (F, 12) numbers of each batch
+        self.corners: list[np.ndarray] = []  # (F, 3, 3) corners of each batch
+        self.normals: list[np.ndarray] = []  # (F, 3) normals of each batch
         self.offsets: list[np.ndarray] = []  # (F,) byte offset of each facet
         self.blocks: list[int] = []  # the block of each batch
         self.names: list[str] = []
@@ -133,9 +134,9 @@ class _Reader:
         if not count:
             return
         values, offsets, starts, ends, flags = (a[:count] for a in self.batch)
-        values = values.copy()
         self.convert(values, starts, ends, flags)
-        self.values.append(values)
+        self.corners.append(values[:, 3:].reshape(-1, 3, 3).copy())
+        self.normals.append(values[:, :3].copy())
         self.offsets.append(offsets.copy())
         self.blocks.append(len(self.names) - 1)
 
@@ -145,12 +146,14 @@ def read_ascii(name: str, data: bytes) -> Facets:
     check(name, assembly_bytes(len(data) // _MIN_FACET_BYTES + 1), "reading it")
     reader = _Reader(name, data)
     reader.read()
-    values = np.concatenate(reader.values) if reader.values else np.zeros((0, 12))
+    corners = np.concatenate(reader.corners) if reader.corners else np.zeros((0, 3, 3))
+    reader.corners.clear()
+    normals = np.concatenate(reader.normals) if reader.normals else np.zeros((0, 3))
     offsets = np.concatenate(reader.offsets) if reader.offsets else np.zeros(0, np.int64)
     solids = None
     if len(reader.names) > 1:
-        solids = np.repeat(np.array(reader.blocks, np.int32), [len(v) for v in reader.values])
+        solids = np.repeat(np.array(reader.blocks, np.int32), [len(n) for n in reader.normals])
+    reader.normals.clear()
     names = tuple(n or f"solid {i}" for i, n in enumerate(reader.names))
-    return Facets(np.ascontiguousarray(values[:, 3:].reshape(-1, 3, 3)), np.ascontiguousarray(values[:, :3]),
-                  lambda f: f"line {reader.line(offsets[f])}", solids=solids, solid_names=names,
-                  warnings=tuple(reader.warnings))
+    return Facets(corners, normals, lambda f: f"line {reader.line(offsets[f])}", solids=solids,
+                  solid_names=names, warnings=tuple(reader.warnings))

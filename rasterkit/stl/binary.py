@@ -63,5 +63,6 @@ def read_binary(name: str, data: bytes) -> Facets:
     check(name, count * (RECORD.itemsize + 48) + assembly_bytes(count), f"reading its {count} facets")
     records = np.frombuffer(data, RECORD, count, HEADER_BYTES)
     colors, note = face_colors(data[:80], records["attribute"])
-    return Facets(np.ascontiguousarray(records["corners"]), np.ascontiguousarray(records["normal"]), where,
+    # copies, always: a view of one record is contiguous, read-only, and would keep the file
+    return Facets(records["corners"].copy(), records["normal"].copy(), where,
                   colors=colors, warnings=() if note is None else (note,))

@@ -1,7 +1,7 @@
-"""The facets of an STL file as read (:class:`Facets`), and the Mesh made of them
-(:func:`to_mesh`): facets with a NaN or infinite corner dropped, corners welded into vertices,
-facets that welding makes degenerate dropped, the edges, and the file's normals kept per facet
-where they can be trusted (:mod:`rasterkit.stl.normals`)."""
+"""The facets of an STL file as read (:class:`Facets`), and the Mesh made of them: facets with
+a NaN or infinite corner or two equal corners dropped (:func:`usable`), then corners welded into
+vertices, the edges, and the file's normals kept per facet where they can be trusted
+(:func:`to_mesh`, :mod:`rasterkit.stl.normals`)."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from rasterkit.stl.kernels.mesh import finite_rows, triangle_edges
 from rasterkit.stl.normals import facet_normals
 from rasterkit.stl.weld import BYTES_PER_CORNER, weld_corners
 
-__all__ = ["Facets", "assembly_bytes", "to_mesh"]
+__all__ = ["Facets", "assembly_bytes", "to_mesh", "usable"]
 
 #: Bytes per facet while the Mesh is made, besides the Mesh's own (:func:`rasterkit.mesh.mesh_bytes`):
 #: welding its three corners, the vertices and faces, the edges' buckets, the normals' work.
@@ -34,14 +34,16 @@ class Facets:
         The three corners of each facet, in object space, in the file's order.
     normals : (F, 3), the dtype of ``corners``
         The normal the file gives each facet (zero when the writer left it out).
-    where : callable
-        ``where(k)``: the place of facet k for a message (``"line 12"``, ``"facet 3 (byte 234)"``).
+    where : callable, or None
+        ``where(k)``: the place of facet k for a message (``"line 12"``, ``"facet 3 (byte 234)"``);
+        None once :func:`usable` has used it.
     colors : (F, 3) float32 in [0, 1], or None
     solids : (F,) int32, or None
         The ``solid`` block of each facet, in a file with several.
     solid_names : tuple of str
         The name of each block (``solid <name>``).
     warnings : tuple of str
+        What the reader noticed (without the file's name; :func:`usable` adds it).
     """
 
     corners: np.ndarray
@@ -65,23 +67,35 @@ def assembly_bytes(n_facets: int) -> int:
     return n_facets * BYTES_PER_FACET + mesh_bytes(3 * n_facets, n_facets, 3 * n_facets, 0, n_facets, 1)
 
 
-def to_mesh(name: str, facets: Facets) -> Mesh:
-    """The :class:`~rasterkit.mesh.Mesh` of ``facets`` (read from the file ``name``)."""
-    warnings = [f"{readable(name)}: {w}" for w in facets.warnings]
+def usable(name: str, facets: Facets) -> Facets:
+    """``facets`` without those with a NaN or infinite coordinate or with two equal corners
+    (which welding would make one vertex: no area), with a warning for each kind naming the
+    first; ``where`` is dropped (so the file's text may go before the mesh is made)."""
     check(name, assembly_bytes(len(facets.corners)), f"welding its {len(facets.corners)} facets")
+    warnings = [f"{readable(name)}: {w}" for w in facets.warnings]
     finite = _finite(facets.corners)
     if not finite.all():
         warnings.append(_dropped(name, facets, ~finite, "with a NaN or infinite coordinate"))
-        facets = facets.subset(finite)
+    c = facets.corners
+    same = [(c[:, i, 0] == c[:, j, 0]) & (c[:, i, 1] == c[:, j, 1]) & (c[:, i, 2] == c[:, j, 2])
+            for i, j in ((0, 1), (1, 2), (2, 0))]
+    flat = finite & (same[0] | same[1] | same[2])
+    if flat.any():
+        warnings.append(_dropped(name, facets, flat, "with two corners at one place (no area)"))
+    keep = finite & ~flat
+    facets = facets if keep.all() else facets.subset(keep)
+    return Facets(facets.corners, facets.normals, None, facets.colors, facets.solids, facets.solid_names,
+                  tuple(warnings))
+
+
+def to_mesh(name: str, facets: Facets) -> Mesh:
+    """The :class:`~rasterkit.mesh.Mesh` of ``facets`` (read from the file ``name``, and
+    :func:`usable`): their corners welded, in place (``-0.0`` becomes ``0.0``)."""
+    warnings = list(facets.warnings)
     corners = facets.corners.reshape(-1, 3)
     inverse, first = weld_corners(corners)
     vertices = corners[first].astype(np.float64)
     faces = inverse.reshape(-1, 3)
-    a, b, c = faces.T
-    whole = (a != b) & (b != c) & (c != a)
-    if not whole.all():
-        warnings.append(_dropped(name, facets, ~whole, "with two corners at one place (no area)"))
-        facets, faces = facets.subset(whole), faces[whole]
     corner_normals, normal_index, note = facet_normals(facets.normals, vertices, faces)
     if note:
         warnings.append(f"{readable(name)}: {note}")

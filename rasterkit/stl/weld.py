@@ -15,17 +15,17 @@ from rasterkit.stl.kernels.mesh import COLLIDING, weld
 
 __all__ = ["BYTES_PER_CORNER", "weld_corners", "weld_by_sorting"]
 
-#: Bytes per corner while welding: its key (a copy of its coordinates), its number, the first
-#: corner of each number and the hash table (a slot per corner at most).
-BYTES_PER_CORNER = 24 + 8 + 8 + 16
+#: Bytes per corner while welding: its number, the first corner of each number and the hash
+#: table (half a slot per corner, of 4 keys of 8 bytes; a slot per corner when it grows).
+BYTES_PER_CORNER = 8 + 8 + 32
 
 
 def weld_corners(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``inverse`` (K,) int64, the vertex of each corner of ``corners`` (K, 3) float32 or
-    float64 (finite), and ``first`` (V,) int64, the first corner of each vertex: the vertices
-    are ``corners[first]``."""
-    keys = corners + corners.dtype.type(0)  # -0.0 + 0.0 is 0.0: equal numbers, equal bits
-    keys = keys.view(np.uint32 if corners.dtype == np.float32 else np.uint64)
+    float64 (finite, C-contiguous, changed in place: ``-0.0`` becomes ``0.0``), and ``first``
+    (V,) int64, the first corner of each vertex: the vertices are ``corners[first]``."""
+    corners += corners.dtype.type(0)  # -0.0 + 0.0 is 0.0: equal numbers, equal bits (no copy)
+    keys = corners.view(np.uint32 if corners.dtype == np.float32 else np.uint64)
     k = len(keys)
     bits = max(10, int(k // 2).bit_length())  # room for k / 4 vertices: a closed mesh has k / 6
     while True:

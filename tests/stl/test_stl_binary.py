@@ -27,6 +27,11 @@ def test_a_tetrahedron_welds_into_four_vertices_in_order_of_first_appearance():
     assert mesh.warnings == () and mesh.face_colors is None and mesh.face_groups is None
 
 
+def test_a_file_of_one_facet():
+    mesh = read(binary_stl(TETRA[:1]))
+    assert mesh.faces.tolist() == [[0, 1, 2]] and mesh.vertices.tolist() == TETRA_VERTICES[:3]
+
+
 def test_the_file_normals_are_kept_one_row_per_facet():
     normals = normals_of(TETRA) * np.array([[1], [2], [0.5], [3]])  # not unit length in the file
     mesh = read(binary_stl(TETRA, normals=normals))
