@@ -1,6 +1,6 @@
 """ASCII STL: ``solid`` blocks of facets.
 
-The grammar (keywords in any case, tokens separated by any whitespace: LF, CRLF, tabs)::
+The grammar (keywords in any case, tokens separated by any whitespace; lines end with LF, CRLF or CR)::
 
     solid [name to the end of the line]
       facet normal nx ny nz
@@ -125,7 +125,7 @@ class _Reader:
         if len(flagged):
             tokens = Tokens(self.buf, starts.ravel()[flagged], ends.ravel()[flagged])
             try:
-                values.ravel()[flagged] = floats(tokens, np.arange(len(flagged)))
+                np.put(values, flagged, floats(tokens, np.arange(len(flagged))))  # in place, by flat index
             except BadToken as e:
                 self.fail(tokens.starts[e.index], e.reason)
 
@@ -144,6 +144,8 @@ class _Reader:
 def read_ascii(name: str, data: bytes) -> Facets:
     """The facets of the ASCII STL file ``name`` whose bytes are ``data``."""
     check(name, assembly_bytes(len(data) // _MIN_FACET_BYTES + 1), "reading it")
+    if b"\n" not in data and b"\r" in data:  # lines ended by CR alone (old Mac files)
+        data = data.replace(b"\r", b"\n")
     reader = _Reader(name, data)
     reader.read()
     corners = np.concatenate(reader.corners) if reader.corners else np.zeros((0, 3, 3))

@@ -32,10 +32,10 @@ def test_ascii_reads_as_the_same_facets_in_binary():
     assert sniff(ascii_stl(TETRA).encode()[:100])
 
 
-@pytest.mark.parametrize("end", ["\n", "\r\n"])
+@pytest.mark.parametrize("end", ["\n", "\r\n", "\r"])
 def test_any_whitespace_and_any_case(end):
     text = ascii_stl(TETRA, end=end).replace("facet normal", "FACET\t\tNormal").replace("vertex", "VERTEX")
-    text = "\ufeff  \n" + text.replace("outer loop", "outer   \t loop").replace(" ", "  ")
+    text = "\ufeff  " + end + text.replace("outer loop", "outer   \t loop").replace(" ", "  ")
     assert read(text).faces.tolist() == read(binary_stl(TETRA)).faces.tolist()
 
 
