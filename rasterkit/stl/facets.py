@@ -48,17 +48,15 @@ class Facets:
 
     corners: np.ndarray
     normals: np.ndarray
-    where: Callable[[int], str]
+    where: Callable[[int], str] | None
     colors: np.ndarray | None = None
     solids: np.ndarray | None = None
     solid_names: tuple = ()
     warnings: tuple = ()
 
     def subset(self, keep: np.ndarray) -> "Facets":
-        """The facets where ``keep`` (F,) bool is True (``where`` still counts in the file)."""
-        places = np.flatnonzero(keep)
-        return Facets(self.corners[keep], self.normals[keep], lambda k: self.where(int(places[k])),
-                      None if self.colors is None else self.colors[keep],
+        """The facets where ``keep`` (F,) bool is True (without ``where``: it would count anew)."""
+        return Facets(self.corners[keep], self.normals[keep], None, None if self.colors is None else self.colors[keep],
                       None if self.solids is None else self.solids[keep], self.solid_names, self.warnings)
 
 
