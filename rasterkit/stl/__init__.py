@@ -55,7 +55,7 @@ import os
 
 from rasterkit.mesh import Mesh
 from rasterkit.stl.ascii import read_ascii
-from rasterkit.stl.binary import HEADER_BYTES, RECORD, is_binary, read_binary, size_error
+from rasterkit.stl.binary import FIRST_FACET, RECORD, is_binary, read_binary, size_error
 from rasterkit.stl.errors import StlError, StlLimitError, read_bytes
 from rasterkit.stl.facets import to_mesh, usable
 
@@ -130,7 +130,7 @@ def _looks_ascii(head: bytes) -> bool:
     text = head.removeprefix(b"\xef\xbb\xbf").lstrip(b" " + _TEXT_SPACES)
     if text[:5].lower() != b"solid" or not (len(text) == 5 or text[5:6] in b" " + _TEXT_SPACES):
         return False
-    start = head[:HEADER_BYTES + RECORD.itemsize].translate(None, _TEXT_SPACES)
+    start = head[:FIRST_FACET + RECORD.itemsize].translate(None, _TEXT_SPACES)
     return not any(b < 32 or b == 127 for b in start)
 
 

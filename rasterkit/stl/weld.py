@@ -3,7 +3,7 @@ are equal as numbers become one vertex, numbered in order of first appearance.
 
 Equal as numbers: the bit patterns are compared after ``-0.0`` is made ``0.0``; the caller
 drops corners that are NaN or infinite first. The hash table of
-:func:`rasterkit.stl.kernels.weld` does it in O(corners); corners made to collide in it are
+:func:`rasterkit.stl.kernels.mesh.weld` does it in O(corners); corners made to collide in it are
 welded by sorting instead (:func:`weld_by_sorting`, O(n log n)), with the same result.
 """
 
