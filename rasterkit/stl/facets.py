@@ -13,7 +13,7 @@ import numpy as np
 from rasterkit.mesh import Mesh, mesh_bytes
 from rasterkit.runtime.files import readable
 from rasterkit.stl.errors import check
-from rasterkit.stl.kernels.mesh import finite_rows, triangle_edges
+from rasterkit.stl.kernels.mesh import NOT_FINITE, TWO_EQUAL, facet_flaws, triangle_edges
 from rasterkit.stl.normals import facet_normals
 from rasterkit.stl.weld import BYTES_PER_CORNER, weld_corners
 
@@ -71,13 +71,10 @@ def usable(name: str, facets: Facets) -> Facets:
     first; ``where`` is dropped (so the file's text may go before the mesh is made)."""
     check(name, assembly_bytes(len(facets.corners)), f"welding its {len(facets.corners)} facets")
     warnings = [f"{readable(name)}: {w}" for w in facets.warnings]
-    finite = _finite(facets.corners)
+    flaws = facet_flaws(facets.corners)
+    finite, flat = flaws != NOT_FINITE, flaws == TWO_EQUAL
     if not finite.all():
         warnings.append(_dropped(name, facets, ~finite, "with a NaN or infinite coordinate"))
-    c = facets.corners
-    same = [(c[:, i, 0] == c[:, j, 0]) & (c[:, i, 1] == c[:, j, 1]) & (c[:, i, 2] == c[:, j, 2])
-            for i, j in ((0, 1), (1, 2), (2, 0))]
-    flat = finite & (same[0] | same[1] | same[2])
     if flat.any():
         warnings.append(_dropped(name, facets, flat, "with two corners at one place (no area)"))
     keep = finite & ~flat
@@ -100,13 +97,6 @@ def to_mesh(name: str, facets: Facets) -> Mesh:
     return Mesh(vertices, faces, edges=triangle_edges(faces, len(vertices)), face_colors=facets.colors,
                 face_groups=facets.solids, group_names=facets.solid_names if facets.solids is not None else (),
                 corner_normals=corner_normals, normal_index=normal_index, warnings=tuple(warnings))
-
-
-def _finite(corners: np.ndarray) -> np.ndarray:
-    """(F,) bool: facets whose corners are all finite (one pass over the numbers when all are)."""
-    if np.isfinite(corners).all():
-        return np.ones(len(corners), bool)
-    return finite_rows(corners)
 
 
 def _dropped(name: str, facets: Facets, dropped: np.ndarray, why: str) -> str:

@@ -86,10 +86,15 @@ def test_triangle_edges_of_a_vertex_with_a_hundred_thousand_sides_take_linear_ti
     assert np.array_equal(edges, unique_edges(faces_sides(faces), m + 2))
 
 
-def test_finite_rows():
-    values = np.zeros((5, 3, 3), np.float32)
-    values[1, 2, 0], values[3, 0, 1] = np.nan, -np.inf
-    assert kernels.finite_rows(values).tolist() == [True, False, True, False, True]
+def test_facet_flaws():
+    corners = np.zeros((5, 3, 3), np.float32)
+    corners[:] = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+    corners[1, 2, 0], corners[3, 0, 1] = np.nan, -np.inf
+    corners[2, 2] = corners[2, 0]
+    corners[4, 1] = [-0.0, 0, 0]  # equal to corner 0 as a number
+    corners[3, 1] = corners[3, 2]  # both: not finite first
+    assert kernels.facet_flaws(corners).tolist() == [kernels.SOUND, kernels.NOT_FINITE, kernels.TWO_EQUAL,
+                                                     kernels.NOT_FINITE, kernels.TWO_EQUAL]
 
 
 def test_facet_normals_of_huge_and_tiny_facets_are_unit_vectors():

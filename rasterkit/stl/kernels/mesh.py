@@ -16,7 +16,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["COLLIDING", "FULL", "M1", "M2", "M3", "PROBES_PER_CORNER", "facet_normals", "finite_rows", "triangle_edges", "weld"]
+__all__ = ["COLLIDING", "FULL", "M1", "M2", "M3", "PROBES_PER_CORNER", "NOT_FINITE", "SOUND", "TWO_EQUAL", "facet_flaws", "facet_normals", "triangle_edges", "weld"]
 
 #: The multipliers of the hash of a row (MurmurHash3's and the golden ratio's).
 M1 = np.uint64(0x9E3779B97F4A7C15)
@@ -80,16 +80,27 @@ def weld(keys, bits):
     return inverse, first[:n], n
 
 
+#: What :func:`facet_flaws` finds in a facet: nothing; a NaN or infinite coordinate; two equal corners.
+SOUND, NOT_FINITE, TWO_EQUAL = 0, 1, 2
+
+
 @kernel
-def finite_rows(values):
-    """(F,) bool: the rows of ``values`` (F, ...) whose every number is finite."""
-    flat = values.reshape(values.shape[0], -1)
-    out = np.ones(flat.shape[0], np.bool_)
-    for f in range(flat.shape[0]):
-        for j in range(flat.shape[1]):
-            if not np.isfinite(flat[f, j]):
-                out[f] = False
-                break
+def facet_flaws(corners):
+    """(F,) uint8: for each facet of ``corners`` (F, 3, 3), :data:`NOT_FINITE` when one of its
+    numbers is NaN or infinite, else :data:`TWO_EQUAL` when two corners are equal (as numbers:
+    ``-0.0 == 0.0``), else :data:`SOUND`."""
+    out = np.zeros(corners.shape[0], np.uint8)
+    for f in range(corners.shape[0]):
+        for i in range(3):
+            for j in range(3):
+                if not np.isfinite(corners[f, i, j]):
+                    out[f] = NOT_FINITE
+        if out[f] == SOUND:
+            for i in range(3):
+                k = i + 1 if i < 2 else 0
+                if corners[f, i, 0] == corners[f, k, 0] and corners[f, i, 1] == corners[f, k, 1] and \
+                        corners[f, i, 2] == corners[f, k, 2]:
+                    out[f] = TWO_EQUAL
     return out
 
 
