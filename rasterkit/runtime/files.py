@@ -38,6 +38,8 @@ _FLAGS = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0) | getattr(os, 
 
 #: Largest single read: Linux returns at most 0x7ffff000 bytes from one read() call anyway.
 _CHUNK = 1 << 30
+#: Smallest read once fstat's size has been read (a file may grow while it is read).
+_SMALL_READ = 1 << 16
 
 
 def readable(text: str) -> str:
@@ -118,7 +120,10 @@ def _read_regular(fd: int, name: str, limit: int) -> bytes:
     size = 0
     try:
         while size <= limit:
-            chunk = os.read(fd, min(limit + 1 - size, _CHUNK))
+            # os.read allocates what it is asked for: ask for what fstat says is left (and a
+            # byte more, to see the end), not a GiB for every file
+            left = max(info.st_size + 1 - size, _SMALL_READ)
+            chunk = os.read(fd, min(limit + 1 - size, _CHUNK, left))
             if not chunk:
                 break
             chunks.append(chunk)
