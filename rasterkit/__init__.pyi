@@ -6,6 +6,7 @@ from rasterkit import transform as transform
 from rasterkit.batch import render_many as render_many
 from rasterkit.camera import Camera as Camera
 from rasterkit.colors import parse_color as parse_color
+from rasterkit.formats import load as load
 from rasterkit.material import Material as Material
 from rasterkit.material import Texture as Texture
 from rasterkit.mesh import Mesh as Mesh

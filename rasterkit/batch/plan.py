@@ -24,6 +24,7 @@ from rasterkit.runtime import stop as _stop
 from rasterkit.batch.manifest import up_to_date
 from rasterkit.batch.outputs import check_distinct, check_writable
 from rasterkit.batch.render_one import render_model
+from rasterkit.formats import MODEL_SUFFIXES
 from rasterkit.batch.report import UsageError
 
 __all__ = ["Job", "Request", "jobs", "render_jobs"]
@@ -42,9 +43,9 @@ def model_inputs(models: list[str]) -> list[Path]:
     for name in models:
         path = Path(name)
         if path.is_dir():
-            found = sorted(p for p in path.iterdir() if p.suffix.lower() == ".obj" and not p.is_dir())
+            found = sorted(p for p in path.iterdir() if p.suffix.lower() in MODEL_SUFFIXES and not p.is_dir())
             if not found:
-                raise UsageError(f"{path}: no .obj files in this folder")
+                raise UsageError(f"{path}: no model files in this folder ({', '.join(MODEL_SUFFIXES)})")
             paths.extend(found)
         else:
             paths.append(path)

@@ -22,15 +22,21 @@ from rasterkit.options import SVG_MODES, RenderOptions
 __all__ = ["render_model"]
 
 
-def _turntable(mesh, camera, center, frames: int, options):
-    """The frames of a turntable, rendered one at a time as they are asked for."""
+def _turntable(mesh, cloud, camera, center, frames: int, options):
+    """The frames of a turntable, rendered one at a time as they are asked for (a point
+    ``cloud``'s points spun with the mesh)."""
     from rasterkit.raster.render import render
     from rasterkit.scene import Scene
-    from rasterkit.transform import rotate_axis
+    from rasterkit.transform import apply_points, rotate_axis
 
     for k in range(frames):
         spin = rotate_axis(2 * math.pi * k / frames, (0, 1, 0), center)
-        yield render(Scene(camera).add(mesh, spin), options=options).color
+        if cloud is None:
+            yield render(Scene(camera).add(mesh, spin), options=options).color
+        else:
+            points = cloud.render_arguments()
+            points["points"] = apply_points(spin, points["points"])
+            yield render(mesh, camera, options=options, **points).color
 
 
 def render_model(source: Path | None, output: Path, task, say=None) -> int:
@@ -41,8 +47,9 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
     from rasterkit.runtime import warm as _warm
     from rasterkit.image.atomic import all_or_none
     from rasterkit.image.files import save_animation
-    from rasterkit.obj import load_obj
+    from rasterkit.formats import as_drawn, load
     from rasterkit.raster.modes import mode
+    from rasterkit.scene import Scene
     from rasterkit.raster.render import render
     from rasterkit.shapes import demo
 
@@ -59,13 +66,19 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
         _warm.start(RenderOptions(mode="hidden", ids=True), depth=False, loading=source is not None)
     # textures are read only where they are drawn (shaded faces, into an image)
     textures = options.textures and not svg and mode(options.mode).shaded
-    mesh = demo() if source is None else load_obj(source, textures=textures)
-    if len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:  # all dropped (NaN vertices)
+    model = demo() if source is None else load(source, textures=textures)
+    mesh, cloud = as_drawn(model)
+    if cloud is None and len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:  # all dropped
         raise UsageError(f"{'; '.join(map(_report.one_line, mesh.warnings)) or source}: nothing left to draw")
     if say is not None:
-        for warning in mesh.warnings:
+        for warning in (mesh if cloud is None else cloud).warnings:
             say(f"rasterkit: warning: {_report.one_line(warning)}")
-    camera, center = task.view.frame(mesh)
+    # a glTF scene is framed itself: it may bring its own camera (--camera gltf)
+    camera, center = task.view.frame(cloud if cloud is not None else model if isinstance(model, Scene) else mesh)
+    if cloud is not None:
+        if svg:
+            raise UsageError(f"{source}: a point cloud is drawn into an image, not an SVG drawing")
+        mesh = cloud.as_mesh()  # no faces: what the memory check and the render take with the points
     if svg:
         from rasterkit.svg import render_svg, save_svg
 
@@ -74,9 +87,9 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
         return len(mesh.faces)
     check_job(mesh, camera, task, output)  # the whole job's memory, before any of it is allocated
     if task.turntable:  # streamed: one frame in memory at a time
-        save_animation(_turntable(mesh, camera, center, task.turntable, options), output)
+        save_animation(_turntable(mesh, cloud, camera, center, task.turntable, options), output)
         return len(mesh.faces)
-    fb = render(mesh, camera, options=options)
+    fb = render(mesh, camera, options=options, **({} if cloud is None else cloud.render_arguments()))
     with all_or_none():
         if task.depth:
             fb.save_depth(task.depth)

@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from rasterkit import values
-from rasterkit.options import MAX_IMAGE_SIZE, PROJECTIONS
+from rasterkit.options import MAX_IMAGE_SIZE, MODEL_CAMERAS, PROJECTIONS
 
 __all__ = ["View"]
 
@@ -44,6 +44,9 @@ class View:
         An OpenCV camera (:mod:`rasterkit.camera.opencv_file`: ``K``, ``R``, ``t``,
         ``width``, ``height``, optional ``dist``, ``near``, ``far``), read and checked when
         the View is made; it replaces the framing and ``size``.
+    camera : {"gltf"} or None
+        ``"gltf"``: the model's own camera, the first camera node of a glTF scene
+        (:func:`rasterkit.gltf.camera_of`, ``size`` pixels), in place of the framing.
     """
 
     size: tuple = (800, 600)
@@ -60,6 +63,7 @@ class View:
     aperture: float = 0.0
     focus: float | None = None
     camera_opencv: dict | None = field(default=None, hash=False)
+    camera: str | None = None
 
     def __post_init__(self):
         checked = {
@@ -70,6 +74,7 @@ class View:
             **{name: values.optional(values.real, name, getattr(self, name)) for name in ("near", "far", "distance")},
             "focus": values.optional(values.positive, "focus", self.focus),
             "camera_opencv": None if self.camera_opencv is None else _opencv(self.camera_opencv),
+            "camera": values.optional(values.choice, "camera", self.camera, MODEL_CAMERAS),
         }
         for name, value in checked.items():
             object.__setattr__(self, name, value)
@@ -92,6 +97,13 @@ class View:
         center, radius = mesh.bounding_sphere()
         if radius == 0.0:
             raise ValueError(("" if name is None else f"{name}: ") + "the model has no extent (all vertices coincide)")
+        if self.camera == "gltf":
+            if getattr(mesh, "gltf_camera", None) is None:
+                raise ValueError(("" if name is None else f"{name}: ") + "camera 'gltf' takes a glTF model with a "
+                                 "camera node, and this model has none")
+            from rasterkit.gltf import camera_of
+
+            return camera_of(mesh, *self.size), center
         if self.camera_opencv is not None:
             from rasterkit.camera.opencv_file import opencv_camera
 

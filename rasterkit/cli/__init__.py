@@ -123,6 +123,8 @@ def _parser() -> argparse.ArgumentParser:
                            "with --aperture (1 to 256, default 1)")
     look.add_argument("--vignette", type=unit_interval, default=0.0, metavar="V",
                       help="natural cos^4 falloff towards the corners, 0 (none, default) to 1 (full)")
+    look.add_argument("--point-size", type=positive_int, default=1, metavar="PX",
+                      help="side in pixels (1 to 64) of the squares a point cloud's points are drawn as (default 1)")
     look.add_argument("--no-textures", dest="textures", action="store_false",
                       help="draw textured materials in their plain colour (and read no texture file)")
     look.add_argument("--texture-filter", choices=TEXTURE_FILTERS, default="trilinear",
@@ -254,10 +256,12 @@ def _explained_mesh(args):
         return shapes.demo() if args.demo else shapes.cube()
     _without_scipy()
     from rasterkit.runtime.notice import compile_notice
-    from rasterkit.obj import load_obj
+    from rasterkit.formats import as_drawn, load
 
     with _report.model(args.model), compile_notice():
-        mesh = load_obj(args.model, textures=False)  # the camera needs the geometry only
+        mesh, cloud = as_drawn(load(args.model, textures=False))  # the camera needs the geometry only
+    if cloud is not None:
+        mesh = cloud.as_mesh()
     for warning in mesh.warnings:
         print(f"rasterkit: warning: {args.model}: {_report.one_line(warning)}", file=sys.stderr)
     return mesh

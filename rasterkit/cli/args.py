@@ -18,7 +18,7 @@ import math
 import re
 
 from rasterkit import limits
-from rasterkit.options import MAX_IMAGE_SIZE, PROJECTIONS
+from rasterkit.options import MAX_IMAGE_SIZE, MODEL_CAMERAS, PROJECTIONS
 
 __all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite", "focus", "integers",
            "point", "positive_int", "samples", "size", "size_limit", "task_from_args", "unit_interval", "view_from_args",
@@ -170,6 +170,8 @@ def add_view_arguments(parser: argparse.ArgumentParser) -> None:
                      help="lens diameter, world units: depth of field with --samples (default 0, a pinhole)")
     cam.add_argument("--focus", type=focus, default=None, metavar="F",
                      help="distance of the plane in focus, or 'auto' (default): the distance to the target")
+    cam.add_argument("--camera", choices=MODEL_CAMERAS, default=None,
+                     help="gltf: the model's own camera (a glTF file's first camera node) in place of the framing")
     cam.add_argument("--camera-opencv", metavar="CAM.json",
                      help='an OpenCV camera: {"K": 3x3, "R": 3x3, "t": [3], "width": W, "height": H, '
                           'optional "dist", "near", "far"}; replaces the framing and --size')

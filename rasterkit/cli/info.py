@@ -18,22 +18,27 @@ def run(args) -> int:
 
 
 def _models(models: list[str]) -> int:
-    from rasterkit.obj import load_obj
+    from rasterkit.formats import as_drawn, detect, load
 
     codes = []
     for name in models:
         with _report.model(name):
             try:
-                mesh = load_obj(name, textures=True)
+                kind = detect(name)
+                mesh, cloud = as_drawn(load(name, format=kind, textures=True))
             except Exception as e:
                 code, line = _report.error_line(e)
                 print(line, file=sys.stderr)
                 codes.append(code)
                 continue
-        print(_describe(name, mesh), flush=True)  # a closed stdout stops all (main)
+        text = _describe(name, kind, mesh) if cloud is None else _describe_cloud(name, cloud)
+        print(text, flush=True)  # a closed stdout stops all (main)
         codes.append(0)
     return 1 if 1 in codes else max(codes)
 
+
+#: How ``info`` names each format.
+FORMAT_NAMES = {"obj": "OBJ", "stl": "STL", "ply": "PLY", "off": "OFF", "gltf": "glTF 2.0 (the default scene, in world space)"}
 
 #: The optional arrays of a Mesh that ``info`` names when the model has them.
 ATTRIBUTES = ("vertex_colors", "normals", "texcoords", "uv", "corner_normals", "face_colors")
@@ -56,16 +61,32 @@ def _textures(mesh) -> list[str]:
     return lines
 
 
-def _describe(name: str, mesh) -> str:
+def _bounds(lo, hi) -> str:
+    fmt = ", ".join
+    return f"({fmt(f'{v:.6g}' for v in lo)}) .. ({fmt(f'{v:.6g}' for v in hi)})"
+
+
+def _describe_cloud(name: str, cloud) -> str:
+    """A point cloud's block: its points, bounds, attributes and warnings."""
+    lines = [f"{name}", "  format    PLY point cloud", f"  points    {len(cloud.points)}",
+             f"  bounds    {_bounds(*cloud.bounds)}",
+             f"  attributes {', '.join(a for a in ('colors', 'normals') if getattr(cloud, a) is not None) or 'none'}",
+             f"  warnings  {len(cloud.warnings)}"]
+    lines += [f"    {w}" for w in cloud.warnings]
+    return "\n".join(lines)
+
+
+def _describe(name: str, kind: str, mesh) -> str:
     lo, hi = mesh.bounds
     fmt = ", ".join
     lines = [
         f"{name}",
+        f"  format    {FORMAT_NAMES[kind]}",
         f"  vertices  {len(mesh.vertices)}",
         f"  triangles {len(mesh.faces)}",
         f"  edges     {len(mesh.edges)}",
         f"  lines     {len(mesh.lines)}",
-        f"  bounds    ({fmt(f'{v:.6g}' for v in lo)}) .. ({fmt(f'{v:.6g}' for v in hi)})",
+        f"  bounds    {_bounds(lo, hi)}",
         f"  attributes {fmt(a for a in ATTRIBUTES if getattr(mesh, a) is not None) or 'none'}",
         f"  groups    {len(mesh.group_names)}: {fmt(mesh.group_names[:8])}{' ...' if len(mesh.group_names) > 8 else ''}",
         f"  materials {len(mesh.material_names)}: {fmt(mesh.material_names[:8])}{' ...' if len(mesh.material_names) > 8 else ''}",

@@ -63,6 +63,7 @@ class Document:
         self.spent = 0
         self.limit = memory_limit()  # read once: it reads the environment
         self.cache: dict = {}  # what was read once: buffers, images, materials, meshes
+        self.textures = True  # whether materials' images are read (read_gltf's textures)
         if not isinstance(root, dict):
             raise self.error(None, f"the JSON must be an object, got {shown(root)}")
         self.root = Obj(self, root, "")

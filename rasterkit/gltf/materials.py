@@ -117,6 +117,8 @@ def _texture_of(doc: Document, info: Obj):
     """``(Texture or None, uv_set)`` of a ``textureInfo``."""
     uv_set = info.int("texCoord", 0)
     t = doc.item("textures", info.ref("index", "textures"))
+    if not doc.textures:  # read_gltf(textures=False): no image is decoded
+        return None, uv_set
     source = t.ref("source", "images", None)
     if source is None:
         doc.warn(t.where, "has no source image that rasterkit reads (an extension's?): drawn without it")

@@ -68,9 +68,9 @@ class GltfScene(Scene):
     warnings: tuple = ()
 
 
-def read_gltf(path) -> GltfScene:
+def read_gltf(path, *, textures: bool = True) -> GltfScene:
     """The default scene of the ``.gltf`` or ``.glb`` file ``path`` (see
-    :mod:`rasterkit.gltf`).
+    :mod:`rasterkit.gltf`); ``textures=False`` reads no image (materials keep their colours).
 
     Raises
     ------
@@ -82,6 +82,7 @@ def read_gltf(path) -> GltfScene:
         file size or memory limit, :class:`GltfLimitError`.
     """
     doc = open_document(path)
+    doc.textures = textures
     check_extensions(doc)
     if doc.binary is not None and doc.table("buffers") and not doc.item("buffers", 0).has("uri"):
         buffer(doc, 0)  # the binary chunk's declared length, checked whether or not it is used

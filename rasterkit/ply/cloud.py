@@ -70,15 +70,16 @@ class PointCloud:
     @property
     def bounds(self) -> np.ndarray:
         """(2, 3) float64: minimum and maximum corner of the finite points' bounding box."""
-        return self._as_mesh().bounds
+        return self.as_mesh().bounds
 
     def bounding_sphere(self) -> tuple[np.ndarray, float]:
         """Centre (3,) and radius of a sphere holding every finite point, as
         :meth:`rasterkit.Mesh.bounding_sphere` (to frame a camera on it)."""
-        return self._as_mesh().bounding_sphere()
+        return self.as_mesh().bounding_sphere()
 
-    def _as_mesh(self) -> Mesh:
-        # a Mesh of no faces shares the sealed points (no copy) and has the framing helpers
+    def as_mesh(self) -> Mesh:
+        """A :class:`rasterkit.Mesh` of the points and no faces (sharing the sealed points, no
+        copy): what a render draws the points with, and its framing helpers."""
         return Mesh(self.points, np.zeros((0, 3), np.int64))
 
     def __len__(self) -> int:

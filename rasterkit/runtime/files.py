@@ -28,7 +28,7 @@ import stat
 
 from rasterkit.limits import LimitError, format_bytes, max_file_size
 
-__all__ = ["FileError", "FileLimitError", "read_file", "readable"]
+__all__ = ["FileError", "FileLimitError", "read_file", "read_head", "readable"]
 
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"),
           (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
@@ -105,6 +105,38 @@ def read_file(name: str | os.PathLike) -> bytes:
         raise FileError(name, f"cannot read: {e.strerror or e}") from None
     try:
         return _read_regular(fd, name, limit)
+    finally:
+        os.close(fd)
+
+
+def read_head(name: str | os.PathLike, n: int) -> tuple[bytes, int]:
+    """``(first bytes, size)`` of the regular file ``name``: at most ``n`` bytes, read with the
+    same checks as :func:`read_file` (no size limit: only ``n`` bytes are read), for telling a
+    file's format before its reader reads it whole.
+
+    Raises
+    ------
+    FileError
+        As :func:`read_file`: the file cannot be opened or is not a regular file.
+    """
+    name = os.fsdecode(name) if isinstance(name, (bytes, os.PathLike)) else name
+    try:
+        info = os.stat(name)
+    except (OSError, ValueError) as e:
+        raise FileError(name, f"cannot read: {getattr(e, 'strerror', None) or e}") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise _not_regular(name, info.st_mode)
+    try:
+        fd = os.open(name, _FLAGS)
+    except OSError as e:
+        raise FileError(name, f"cannot read: {e.strerror or e}") from None
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise _not_regular(name, info.st_mode)
+        return os.read(fd, n), info.st_size
+    except OSError as e:
+        raise FileError(name, f"cannot read: {e.strerror or e}") from None
     finally:
         os.close(fd)
 

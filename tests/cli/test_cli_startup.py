@@ -89,7 +89,7 @@ def test_each_list_of_choices_has_one_home(monkeypatch):
     assert choices == {"mode": options.MODES, "projection": options.PROJECTIONS,
                        "cull": options.CULL, "shading": options.SHADING, "edges": options.EDGES,
                        "hidden": tuple(h for h in options.HIDDEN if h is not None),
-                       "texture_filter": options.TEXTURE_FILTERS}
+                       "texture_filter": options.TEXTURE_FILTERS, "camera": options.MODEL_CAMERAS}
     svg_module = importlib.import_module("rasterkit.svg")
     assert svg_module.SVG_MODES is options.SVG_MODES and svg_module.HIDDEN is options.HIDDEN
     assert importlib.import_module("rasterkit.raster.features").EDGES is options.EDGES
