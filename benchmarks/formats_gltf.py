@@ -8,7 +8,7 @@ are Pillow images decoded on first use), ``trimesh.load(path, process=False)``, 
 ``trimesh.load(path)`` with its materials' images decoded. Work: the file's MiB (for a
 ``.gltf``, its ``.bin`` and images too).
 
-Not registered in ``benchmarks/__main__.py`` yet; run on its own::
+Part of the ``loading`` family (:mod:`benchmarks.loading`); run on its own::
 
     python -m benchmarks.formats_gltf [--quick]
 """

@@ -10,7 +10,7 @@ the temporary folder (``rasterkit-bench-ply/``): binary and ASCII as trimesh wri
 triangles and quads mixed (rows of different lengths: the walk). Each side's work is the
 file size, reported as MiB/s.
 
-Not registered in ``benchmarks/__main__.py`` yet; run alone with::
+Part of the ``loading`` family (:mod:`benchmarks.loading`); run alone with::
 
     python -c "from benchmarks import formats_ply; formats_ply.main()"
 """

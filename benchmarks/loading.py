@@ -1,4 +1,6 @@
-"""OBJ loading: rasterkit.load_obj against trimesh and a line-by-line Python parser.
+"""Loading: OBJ (rasterkit.load_obj against trimesh and a line-by-line Python parser), then a
+row per other format (:mod:`benchmarks.formats_ply`, :mod:`benchmarks.formats_gltf`: each
+reader against trimesh and, where installed, plyfile).
 
 trimesh loads with ``force='mesh', process=False`` (no merging or cleaning, like
 rasterkit). The Python baseline is :func:`benchmarks.bench_obj.python_baseline`: ``v`` and
@@ -12,6 +14,7 @@ from functools import partial
 
 import rasterkit
 
+from . import formats_gltf, formats_ply
 from .bench_obj import python_baseline
 from .compare import RASTERKIT, compare, start
 from .settings import model_path
@@ -34,3 +37,8 @@ def run(settings, results, peers) -> None:
         mib = path.stat().st_size / 2**20
         compare(results, FAMILY, f"loading/{name}", sides, repeat=settings.repeat,
                 warmup=settings.warmup, sizes={"MiB": round(mib, 2)}, work=mib, unit="MiB/s")
+    if settings.name == "tiny":  # their generated files take seconds to write and to read
+        results.skip(FAMILY, "ply, gltf", "the tiny profile leaves out the other formats' rows (files of 20-35 MiB)")
+        return
+    for other in (formats_ply, formats_gltf):
+        other.run(settings, results, peers)

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 from rasterkit import values
 from rasterkit.raster.kernels.limits import MAX_IMAGE_SIZE
 
-__all__ = ["CULL", "EDGES", "FIELDS", "HIDDEN", "MAX_IMAGE_SIZE", "MAX_POINT_SIZE", "MAX_SAMPLES", "MODEL_CAMERAS", "MODES", "PROJECTIONS",
-           "RenderOptions", "SHADING", "SVG_MODES", "TEXTURE_FILTERS", "check_choice"]
+__all__ = ["CULL", "EDGES", "FIELDS", "HIDDEN", "MAX_IMAGE_SIZE", "MAX_POINT_SIZE", "MAX_SAMPLES", "MODEL_CAMERAS",
+           "MODES", "PROJECTIONS", "RenderOptions", "SHADING", "SVG_MODES", "TEXTURE_FILTERS", "check_choice"]
 
 #: What ``View(camera=...)`` and ``--camera`` may name: a camera the model file brings (a glTF
 #: file's first camera node).
