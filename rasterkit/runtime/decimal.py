@@ -1,18 +1,19 @@
 """Numba kernels that read a decimal number from the bytes of a text file, for the readers'
 own kernels (OBJ ``v`` lines, ASCII STL facets).
 
-Every value they give as :data:`NUMBER_OK` is the correctly rounded float64 of its text: exact
-where one rounding suffices (Clinger's fast path: at most 15 significant digits and a power of
-ten up to 22), else by the Eisel-Lemire algorithm for up to 19 significant digits (Daniel
-Lemire, "Number Parsing at a Gigabyte per Second", 2021, section 5-6, as Rust's ``dec2flt`` and
-``fast_float`` implement it: the 128-bit product of the digits and a truncated power of five,
-which is exact or says it is not). What neither can round for sure (more than 19 significant
-digits, or the rare product too close to a halfway point) is flagged :data:`NUMBER_INEXACT`
-for the caller to convert again (Python's or NumPy's conversion of the few tokens). A token that is not a
-plain decimal number is :data:`NUMBER_OTHER`: the caller reads NaN and infinity (``nan``,
-``inf``...), rare enough that compiling them here would cost every first run more than it
-saves, and names the token when it is no number at all. The kernels never raise on bad input:
-they return status codes.
+Every value :func:`parse_decimal` gives as :data:`NUMBER_OK` is the correctly rounded float64
+of its text: exact where one rounding suffices (Clinger's fast path: at most 15 significant
+digits and a power of ten up to 22); it flags the other tokens :data:`NUMBER_INEXACT` for the
+caller to convert again. :func:`exact_decimals` is that second conversion for the tokens of up
+to 19 significant digits, in a kernel of its own (compiled only when a file needs it): the
+Eisel-Lemire algorithm (Daniel Lemire, "Number Parsing at a Gigabyte per Second", 2021,
+sections 5-6, as Rust's ``dec2flt`` implements it: the 128-bit product of the digits and a
+truncated power of five, which is exact or says it is not). What neither can round for sure
+(more than 19 significant digits, or the rare product too close to a halfway point) is left to
+Python's or NumPy's conversion of the few tokens. A token that is not a plain decimal number is
+:data:`NUMBER_OTHER`: the caller reads NaN and infinity (``nan``, ``inf``...), rare enough that
+compiling them here would cost every first run more than it saves, and names the token when it
+is no number at all. The kernels never raise on bad input: they return status codes.
 
 A kernel that calls :func:`parse_decimal` needs IEEE division (no ``arcp``: a division by a
 reciprocal would round twice), as the jit policy's fast-math set gives it where it is called
@@ -26,7 +27,7 @@ import numpy as np
 from rasterkit.runtime.intrinsics import bits_float
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["NUMBER_INEXACT", "NUMBER_OK", "NUMBER_OTHER", "parse_decimal"]
+__all__ = ["NUMBER_INEXACT", "NUMBER_OK", "NUMBER_OTHER", "exact_decimals", "parse_decimal"]
 
 PLUS, MINUS, ZERO, _NINE = 43, 45, 48, 57
 
@@ -67,10 +68,11 @@ _POW5 = _powers_of_five()
 _LOW32 = np.uint64(0xFFFFFFFF)
 _ALL = np.uint64(0xFFFFFFFFFFFFFFFF)
 _ONE = np.uint64(1)
+_TOP = np.uint64(1 << 63)
 _INF_BITS = 0x7FF << 52
 
 
-@kernel(inline="always")
+@kernel
 def _multiply(a, b):
     """The 128-bit product of uint64 a and b: (high word, low word)."""
     a0, a1, b0, b1 = a & _LOW32, a >> np.uint64(32), b & _LOW32, b >> np.uint64(32)
@@ -89,10 +91,9 @@ def _eisel_lemire(w, q):
     if q > 308:
         return _INF_BITS, True
     lz = 0
-    for step in (32, 16, 8, 4, 2, 1):  # normalise: the top bit set
-        if w < (_ONE << np.uint64(64 - step)):
-            w <<= np.uint64(step)
-            lz += step
+    while w < _TOP:  # normalise: the top bit set
+        w <<= _ONE
+        lz += 1
     high, low = _multiply(w, _POW5[q + 342, 0])
     if high & np.uint64(0x1FF) == np.uint64(0x1FF):  # 9 bits below the 55 kept: the low word may carry
         second, _ = _multiply(w, _POW5[q + 342, 1])
@@ -128,10 +129,9 @@ def _eisel_lemire(w, q):
 def _scale(mantissa, exponent):
     """mantissa * 10**exponent, and whether that result is correctly rounded.
 
-    Exact operands make one rounding (Clinger's fast path), else Eisel-Lemire decides. The
-    jit's fast-math set allows LLVM to replace a division by a reciprocal multiplication, which
-    would break the fast path; test_any_decimal_text_reads_as_pythons_float checks it does not
-    happen here.
+    Exact operands make one rounding (Clinger's fast path). The jit's fast-math set allows
+    LLVM to replace a division by a reciprocal multiplication, which would break that;
+    test_any_decimal_text_reads_as_pythons_float checks it does not happen here.
     """
     if mantissa == 0:
         return 0.0, True
@@ -140,9 +140,6 @@ def _scale(mantissa, exponent):
         if exponent >= 0:
             return m * _POW10[exponent], True
         return m / _POW10[-exponent], True
-    bits, sure = _eisel_lemire(mantissa, exponent)
-    if sure:
-        return bits_float(bits), True
     return m * 10.0 ** max(min(exponent, 400), -400), False
 
 
@@ -162,29 +159,18 @@ def _parse_exponent(buf, i, b):
     return sign * e, i, i > start
 
 
-@kernel
-def parse_decimal(buf, a, b):
-    """Parse the number token buf[a:b].
-
-    Accepts ``[+-]digits[.digits][(e|E)[+-]digits]`` (digits on at least one side of the
-    point).
-
-    Returns
-    -------
-    value : float
-    status : int
-        NUMBER_OK; NUMBER_INEXACT when the value may be off by one unit in the last place
-        (more than 19 significant digits, or Eisel-Lemire could not decide: the caller
-        re-parses those tokens exactly); NUMBER_OTHER when the token is not a plain decimal
-        number.
-    """
+@kernel(inline="always")
+def _parts(buf, a, b):
+    """The parts of the plain decimal number buf[a:b], ``[+-]digits[.digits][(e|E)[+-]digits]``
+    (digits on at least one side of the point): ``(sign, mantissa, exponent, truncated, ok)``,
+    the number being ``sign * mantissa * 10**exponent``; ``mantissa`` holds its first 19
+    significant digits (leading zeros are skipped, later digits only scale it), ``truncated``
+    says a later one is not zero; ``ok`` False when it is no plain decimal."""
     i = a
     sign = 1.0
     if buf[i] == PLUS or buf[i] == MINUS:
         sign = -1.0 if buf[i] == MINUS else 1.0
         i += 1
-    # The digits make an integer mantissa of at most 19 significant digits (leading zeros are
-    # skipped, later digits only scale it); each digit after the point lowers the exponent.
     mantissa = np.uint64(0)
     digits = 0
     exponent = 0
@@ -204,13 +190,49 @@ def parse_decimal(buf, a, b):
             truncated = truncated or buf[i] > ZERO
         i += 1
     if i - first == (1 if point else 0):  # no digit at all
-        return 0.0, NUMBER_OTHER
+        return sign, mantissa, exponent, truncated, False
     if i < b and buf[i] | 32 == 101:  # e or E
         e, i, ok = _parse_exponent(buf, i + 1, b)
         if not ok:
-            return 0.0, NUMBER_OTHER
+            return sign, mantissa, exponent, truncated, False
         exponent += e
-    if i != b:
+    return sign, mantissa, exponent, truncated, i == b
+
+
+@kernel
+def parse_decimal(buf, a, b):
+    """Parse the number token buf[a:b] (see :func:`_parts` for the syntax).
+
+    Returns
+    -------
+    value : float
+    status : int
+        NUMBER_OK; NUMBER_INEXACT when the value may be off by one unit in the last place
+        (more than 15 significant digits or an exponent beyond +-22: the caller converts those
+        tokens again, exactly); NUMBER_OTHER when the token is not a plain decimal number.
+    """
+    sign, mantissa, exponent, truncated, ok = _parts(buf, a, b)
+    if not ok:
         return 0.0, NUMBER_OTHER
     value, exact = _scale(mantissa, exponent)
     return sign * value, NUMBER_OK if exact and not truncated else NUMBER_INEXACT
+
+
+@kernel(fastmath=False)
+def exact_decimals(buf, starts, ends, out):
+    """Convert the number tokens ``buf[starts[k]:ends[k]]`` exactly where this can be sure:
+    ``out[k]`` the correctly rounded float64 of plain decimals of up to 19 significant digits
+    (Clinger's fast path, else Eisel-Lemire); returns (K,) bool, which ``out[k]`` are so (the
+    others are for the caller to convert: more digits, ``nan``, ``inf``, no number)."""
+    sure = np.zeros(len(starts), np.bool_)
+    for k in range(len(starts)):
+        sign, mantissa, exponent, truncated, ok = _parts(buf, starts[k], ends[k])
+        if not ok or truncated:
+            continue
+        value, exact = _scale(mantissa, exponent)
+        if not exact:
+            bits, exact = _eisel_lemire(mantissa, exponent)
+            value = bits_float(bits)
+        out[k] = sign * value
+        sure[k] = exact
+    return sure

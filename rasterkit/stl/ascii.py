@@ -15,8 +15,8 @@ The grammar (keywords in any case, tokens separated by any whitespace; lines end
     (more solid ... endsolid blocks)
 
 The facets are read by one kernel pass over the bytes (:func:`rasterkit.stl.kernels.text.scan_facets`,
-:data:`BATCH` facets a call); the few numbers it cannot round exactly, and ``nan`` or ``inf``,
-are converted here by :func:`rasterkit.runtime.tokens.floats` (a token that is no number is
+:data:`BATCH` facets a call); the numbers it cannot round exactly (more than 15 digits), and
+``nan`` or ``inf``, are converted here (:meth:`_Reader.convert`; a token that is no number is
 refused there). This module reads the ``solid`` and ``endsolid`` lines between the kernel's
 calls. A file whose last block has no ``endsolid`` is read with a warning; anything else out of
 place (a facet of more than three vertices, a number missing, a token that is no number, text
@@ -30,6 +30,7 @@ import re
 
 import numpy as np
 
+from rasterkit.runtime.decimal import exact_decimals
 from rasterkit.runtime.tokens import BadToken, Tokens, decode, floats, shown
 from rasterkit.stl.errors import StlError, check
 from rasterkit.stl.facets import Facets, assembly_bytes
@@ -120,14 +121,23 @@ class _Reader:
         self.fail(pos, reason)
 
     def convert(self, values: np.ndarray, starts: np.ndarray, ends: np.ndarray, flags: np.ndarray) -> None:
-        """Convert the numbers of ``values`` that the kernel flagged, from their tokens."""
+        """Convert the numbers of ``values`` that the kernel flagged, from their tokens: of up to
+        19 digits by :func:`rasterkit.runtime.decimal.exact_decimals` (compiled on the first
+        file that has such numbers), the rest (``nan``, ``inf``, more digits, no number) by
+        :func:`rasterkit.runtime.tokens.floats`."""
         flagged = np.flatnonzero(flags)
-        if len(flagged):
-            tokens = Tokens(self.buf, starts.ravel()[flagged], ends.ravel()[flagged])
+        if not len(flagged):
+            return
+        starts, ends = starts.ravel()[flagged], ends.ravel()[flagged]
+        exact = np.empty(len(flagged))
+        rest = np.flatnonzero(~exact_decimals(self.buf, starts, ends, exact))
+        if len(rest):
+            tokens = Tokens(self.buf, starts[rest], ends[rest])
             try:
-                np.put(values, flagged, floats(tokens, np.arange(len(flagged))))  # in place, by flat index
+                exact[rest] = floats(tokens, np.arange(len(rest)))
             except BadToken as e:
                 self.fail(tokens.starts[e.index], e.reason)
+        np.put(values, flagged, exact)  # in place, by flat index
 
     def keep(self, count: int) -> None:
         """Keep the ``count`` facets of the kernel's arrays, converting their flagged numbers."""

@@ -1,9 +1,9 @@
-"""Numba kernels of the STL reader's Mesh: welding identical corners into vertices, finite rows,
-the facet normals kept, and the edges of the welded triangles.
+"""Numba kernels of the STL reader's Mesh: the flaws of each facet, welding identical corners
+into vertices, the facet normals kept, and the edges of the welded triangles.
 
-Both run in O(corners) on real meshes: the weld with an open-addressing hash table over the
-corners' bit patterns (each vertex numbered where it first appears, so the result does not
-depend on the hash), the edges with a counting sort by their lower vertex (so they come out
+The weld and the edges run in O(corners) on real meshes: the weld with an open-addressing hash
+table over the corners' bit patterns (each vertex numbered where it first appears, so the
+result does not depend on the hash), the edges with two counting sorts (so they come out
 sorted, as :func:`rasterkit.mesh.unique_edges` gives them, without its O(n log n) sort of
 every side). Neither can be made slow by a file: the weld gives up after a fixed amount of
 probing per corner (corners made to collide), for its caller to weld by sorting instead, and

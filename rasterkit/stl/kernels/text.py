@@ -42,7 +42,7 @@ def _is_space(c):
     return c == 32 or c == 10 or c == 13 or c == 9 or c == 11 or c == 12
 
 
-@kernel(inline="always")
+@kernel
 def _is_word(buf, a, b, w):
     """Whether buf[a:b] is word w of _WORDS, in any case."""
     if b - a != _WORD_LENGTHS[w]:
