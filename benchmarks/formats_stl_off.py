@@ -12,7 +12,7 @@ as binary STL, as ASCII STL with numbers like most CAD writers' (``%e``, 7 digit
 Python's ``repr`` (17 digits, as trimesh writes them: these need the exact second conversion of
 :func:`rasterkit.runtime.tokens.floats`), and as OFF (``%.6f``). Their sizes follow the profile.
 
-Not registered in ``benchmarks/__main__.py`` yet; by itself::
+Part of the ``loading`` family (:mod:`benchmarks.loading`); by itself::
 
     python -m benchmarks.formats_stl_off [--tiny | --quick]
 """

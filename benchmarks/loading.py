@@ -1,6 +1,7 @@
 """Loading: OBJ (rasterkit.load_obj against trimesh and a line-by-line Python parser), then a
-row per other format (:mod:`benchmarks.formats_ply`, :mod:`benchmarks.formats_gltf`: each
-reader against trimesh and, where installed, plyfile).
+row per other format (:mod:`benchmarks.formats_stl_off`, :mod:`benchmarks.formats_ply`,
+:mod:`benchmarks.formats_gltf`: each reader against trimesh and, where installed, numpy-stl
+or plyfile).
 
 trimesh loads with ``force='mesh', process=False`` (no merging or cleaning, like
 rasterkit). The Python baseline is :func:`benchmarks.bench_obj.python_baseline`: ``v`` and
@@ -14,7 +15,7 @@ from functools import partial
 
 import rasterkit
 
-from . import formats_gltf, formats_ply
+from . import formats_gltf, formats_ply, formats_stl_off
 from .bench_obj import python_baseline
 from .compare import RASTERKIT, compare, start
 from .settings import model_path
@@ -37,8 +38,9 @@ def run(settings, results, peers) -> None:
         mib = path.stat().st_size / 2**20
         compare(results, FAMILY, f"loading/{name}", sides, repeat=settings.repeat,
                 warmup=settings.warmup, sizes={"MiB": round(mib, 2)}, work=mib, unit="MiB/s")
+    formats_stl_off.run(settings, results, peers)  # its files are sized by the profile
     if settings.name == "tiny":  # their generated files take seconds to write and to read
-        results.skip(FAMILY, "ply, gltf", "the tiny profile leaves out the other formats' rows (files of 20-35 MiB)")
+        results.skip(FAMILY, "ply, gltf", "the tiny profile leaves out the PLY and glTF rows (files of 20-35 MiB)")
         return
     for other in (formats_ply, formats_gltf):
         other.run(settings, results, peers)
