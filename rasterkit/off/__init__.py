@@ -104,6 +104,7 @@ def read_off(path=None, *, data: bytes | None = None) -> Mesh:
     if left:
         warnings.append(f"{left} lines after the {header.n_faces} faces ignored (the first: line "
                         f"{records.line[len(records) - left]})")
+    del records  # the token tables go before the triangles are made
     if not header.n_faces:
         warnings.append("no faces: the vertices alone (a point cloud)")
     return to_mesh(name, vertices, faces, warnings)

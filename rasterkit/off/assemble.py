@@ -44,9 +44,20 @@ def to_mesh(name: str, vertices: Vertices, faces: Faces, warnings: list) -> Mesh
 
 
 def _polygon_edges(faces: Faces, keep: np.ndarray, n_vertices: int) -> np.ndarray:
-    """The sides p[0]-p[1], ..., p[-1]-p[0] of the kept polygons, each once, sorted."""
-    corners = faces.corners
-    following = np.arange(1, len(corners) + 1)
-    following[faces.offsets[1:] - 1] = faces.offsets[:-1]  # the last corner's side closes the polygon
-    mine = np.repeat(keep, np.diff(faces.offsets))
-    return unique_edges(np.stack([corners[mine], corners[following[mine]]], axis=1), n_vertices)
+    """The sides p[0]-p[1], ..., p[-1]-p[0] of the kept polygons, each once, sorted (as keys
+    ``lo * N + hi`` made unique in place first: a third of the memory of sorting the pairs)."""
+    a = faces.corners
+    b = np.empty_like(a)  # the next corner of each: the last one's is its polygon's first
+    b[:-1] = a[1:]
+    b[faces.offsets[1:] - 1] = a[faces.offsets[:-1]]
+    if not keep.all():
+        mine = np.repeat(keep, np.diff(faces.offsets))
+        a, b = a[mine], b[mine]
+    keys = np.minimum(a, b)
+    keys *= max(n_vertices, 1)
+    keys += np.maximum(a, b)
+    keys = keys[a != b]
+    del a, b
+    keys.sort()
+    keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
+    return unique_edges(np.zeros((0, 2), np.int64), n_vertices, keys=keys)

@@ -165,7 +165,8 @@ def read_faces(name: str, records: Records, header: Header, warnings: list) -> F
         p = int(np.argmax(bad))
         reader.fail(lines[p], next(message(p) for test, message in problems if test[p]))
     offsets = np.concatenate([[0], np.cumsum(counts)])
-    corner_tokens = np.repeat(first + 1 - offsets[:-1], counts) + np.arange(offsets[-1])
+    corner_tokens = np.repeat((first + 1 - offsets[:-1]).astype(records.first.dtype), counts)
+    corner_tokens += np.arange(offsets[-1], dtype=corner_tokens.dtype)
     corners = reader.integers(corner_tokens, "a vertex index")
     out = (corners < 0) | (corners >= header.n_vertices)
     if out.any():

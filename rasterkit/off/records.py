@@ -25,7 +25,7 @@ _BOM = b"\xef\xbb\xbf"
 #: Bytes per byte of text while it is split (the byte classes), and per token (its offsets,
 #: its line, and what reading the numbers makes of it).
 BYTES_PER_BYTE = 4
-BYTES_PER_TOKEN = 64
+BYTES_PER_TOKEN = 48
 
 
 @dataclass(frozen=True)
@@ -34,9 +34,9 @@ class Records:
     ``tokens``, on line ``line[r]`` (1-based) of the file."""
 
     tokens: Tokens
-    first: np.ndarray  # (R,) int64
-    size: np.ndarray  # (R,) int64
-    line: np.ndarray  # (R,) int64
+    first: np.ndarray  # (R,) int32 (int64 beyond 2 GiB of text)
+    size: np.ndarray  # (R,) likewise
+    line: np.ndarray  # (R,) int32
 
     def __len__(self) -> int:
         return len(self.first)
@@ -61,8 +61,11 @@ def read_records(name: str, data: bytes) -> Records:
     buf = np.frombuffer(text, np.uint8)
     tokens = tokenize(buf)
     check(name, BYTES_PER_BYTE * len(text) + BYTES_PER_TOKEN * len(tokens), f"reading its {len(tokens)} tokens")
-    token_line = np.searchsorted(np.flatnonzero(buf == 10), tokens.starts)
-    first = np.flatnonzero(np.diff(token_line, prepend=-1))
+    token_line = np.searchsorted(np.flatnonzero(buf == 10), tokens.starts).astype(np.int32)
+    new_line = np.empty(len(token_line), bool)
+    new_line[:1] = True
+    np.not_equal(token_line[1:], token_line[:-1], out=new_line[1:])
+    first = np.flatnonzero(new_line).astype(tokens.starts.dtype)
     if not len(first):
         raise OffError(name, None, "an empty file (no header, no numbers)")
     return Records(tokens, first, np.diff(np.append(first, len(tokens))), token_line[first] + 1)

@@ -86,7 +86,7 @@ def _multiply(a, b):
 def _eisel_lemire(w, q):
     """The bits (int64) of the float64 nearest to w * 10**q (w: uint64, 1 to 19 digits), and
     whether they are sure (False: the product was too close to call)."""
-    if q < -342:
+    if q < -342 or w == 0:
         return 0, True
     if q > 308:
         return _INF_BITS, True

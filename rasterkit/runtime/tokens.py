@@ -39,6 +39,8 @@ _NUMBER_BYTE[list(b"+-.eEnNaAiIfFtTyY")] = True
 
 #: Tokens longer than this are converted one by one (a 400-digit number is valid, but rare).
 LONG_TOKEN = 40
+#: Tokens converted at a time (the temporaries take some 100 bytes per token).
+CHUNK = 1 << 18
 
 _WORDS = (b"nan", b"inf", b"infinity")
 
@@ -55,11 +57,11 @@ class BadToken(ValueError):
 
 @dataclass(frozen=True)
 class Tokens:
-    """The tokens of ``buf`` (uint8 text): token k is ``buf[starts[k]:ends[k]]`` (int64 offsets
-    into ``buf``, in order)."""
+    """The tokens of ``buf`` (uint8 text): token k is ``buf[starts[k]:ends[k]]`` (integer
+    offsets into ``buf``, in order)."""
 
     buf: np.ndarray
-    starts: np.ndarray
+    starts: np.ndarray  # int32 or int64
     ends: np.ndarray
 
     def __len__(self) -> int:
@@ -83,16 +85,16 @@ class Tokens:
 
 
 def tokenize(buf: np.ndarray, start: int = 0, end: int | None = None) -> Tokens:
-    """The tokens of ``buf[start:end]`` (offsets into ``buf``). Takes about 3 bytes of
-    temporaries per byte of text and 16 bytes per token."""
+    """The tokens of ``buf[start:end]`` (offsets into ``buf``: int32 when they fit, else
+    int64). Takes about 3 bytes of temporaries per byte of text and 8 bytes per token (16
+    beyond 2 GiB)."""
     end = len(buf) if end is None else end
-    text = ~_SPACE[buf[start:end]]
-    change = np.flatnonzero(text[1:] != text[:-1]) + (start + 1)
-    if len(text) and text[0]:
-        change = np.concatenate([[start], change])
-    if len(text) and text[-1]:
-        change = np.concatenate([change, [end]])
-    return Tokens(buf, change[0::2], change[1::2])
+    text = np.zeros(end - start + 2, bool)  # a space before and after: every token starts and ends
+    np.logical_not(_SPACE[buf[start:end]], out=text[1:-1])
+    offsets = np.int32 if end < 2**31 else np.int64
+    starts = (np.flatnonzero(text[1:] & ~text[:-1]) + start).astype(offsets)
+    ends = (np.flatnonzero(text[:-1] & ~text[1:]) + start).astype(offsets)
+    return Tokens(buf, starts, ends)
 
 
 def decode(raw: bytes) -> str:
@@ -126,13 +128,27 @@ def _first(bad: np.ndarray) -> int:
     return int(np.argmax(bad))
 
 
+def _in_chunks(convert, tokens: Tokens, which, what: str, dtype) -> np.ndarray:
+    """``convert(tokens, which[chunk], what)`` for chunks of :data:`CHUNK` tokens, so that the
+    temporaries of a conversion stay small whatever the file; a BadToken counts in ``which``."""
+    which = np.asarray(which, np.int64)
+    out = np.empty(len(which), dtype)
+    for start in range(0, len(which), CHUNK):
+        try:
+            out[start:start + CHUNK] = convert(tokens, which[start:start + CHUNK], what)
+        except BadToken as e:
+            raise BadToken(start + e.index, e.reason) from None
+    return out
+
+
 def floats(tokens: Tokens, which: np.ndarray, what: str = "a number") -> np.ndarray:
     """(K,) float64 values of tokens ``which`` (int64 token indices); :class:`BadToken` (with
     ``what`` was expected) at the first one that is not a number (see the module's rules)."""
-    which = np.asarray(which, np.int64)
+    return _in_chunks(_floats, tokens, which, what, np.float64)
+
+
+def _floats(tokens: Tokens, which: np.ndarray, what: str) -> np.ndarray:
     out = np.empty(len(which), np.float64)
-    if not len(which):
-        return out
     lengths = tokens.ends[which] - tokens.starts[which]
     long = lengths > LONG_TOKEN
     short = np.flatnonzero(~long)
@@ -178,9 +194,10 @@ def _one_float(tokens: Tokens, which: np.ndarray, k: int, what: str) -> float:
 def integers(tokens: Tokens, which: np.ndarray, what: str = "an integer") -> np.ndarray:
     """(K,) int64 values of tokens ``which``: ``[+-]`` and 1 to 18 decimal digits;
     :class:`BadToken` (``what`` was expected) at the first other one."""
-    which = np.asarray(which, np.int64)
-    if not len(which):
-        return np.zeros(0, np.int64)
+    return _in_chunks(_integers, tokens, which, what, np.int64)
+
+
+def _integers(tokens: Tokens, which: np.ndarray, what: str) -> np.ndarray:
     starts = tokens.starts[which]
     lengths = tokens.ends[which] - starts
     first = tokens.buf[starts]

@@ -30,7 +30,9 @@ def facet_normals(normals: np.ndarray, vertices: np.ndarray, faces: np.ndarray):
     (M, 3) of ``vertices`` (N, 3) float64 whose file normals are ``normals`` (M, 3); the first
     two None when no file normal is kept. ``note``: a warning (normals replaced), or None."""
     unit = np.empty((len(faces), 3))
-    missing, backwards = kernels.facet_normals(np.ascontiguousarray(normals, np.float64), vertices, faces, unit)
+    with np.errstate(invalid="ignore"):  # a signalling NaN of a binary file is a NaN, without a warning
+        given = np.ascontiguousarray(normals, np.float64)
+    missing, backwards = kernels.facet_normals(given, vertices, faces, unit)
     total = len(faces)
     if missing == total:
         return None, None, None

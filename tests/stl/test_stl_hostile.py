@@ -103,6 +103,16 @@ def test_mutations_of_a_binary_file_end_in_a_mesh_or_one_line():
         outcome(bytes(mutated))
 
 
+def test_signalling_nans_in_a_binary_file_are_nans_without_a_warning():
+    data = bytearray(binary_stl(TETRA))
+    snan = np.array([0x7F800001], np.uint32).tobytes()
+    data[84:88] = snan  # facet 0's normal x
+    data[84 + 50 + 12:84 + 50 + 16] = snan  # facet 1's first corner x
+    assert outcome(bytes(data)) == "mesh"
+    mesh = read_stl("h.stl", data=bytes(data))
+    assert len(mesh.faces) == 3 and "1 facet with a NaN or infinite coordinate dropped" in mesh.warnings[0]
+
+
 def test_ascii_text_of_coordinates_at_the_edge_of_float64():
     given = np.array([[0, 0, -1], [0, -1, 0], [-1, 0, 0], [1, 1, 1]])
     for scale in (1e308, -1e308, 1e-320):
