@@ -93,16 +93,7 @@ def read_file(name: str | os.PathLike) -> bytes:
     """
     name = os.fsdecode(name) if isinstance(name, (bytes, os.PathLike)) else name
     limit = max_file_size()
-    try:
-        info = os.stat(name)
-    except (OSError, ValueError) as e:  # ValueError: a NUL byte in the name
-        raise FileError(name, f"cannot read: {getattr(e, 'strerror', None) or e}") from None
-    if not stat.S_ISREG(info.st_mode):
-        raise _not_regular(name, info.st_mode)
-    try:
-        fd = os.open(name, _FLAGS)
-    except OSError as e:
-        raise FileError(name, f"cannot read: {e.strerror or e}") from None
+    fd = _open_regular(name)
     try:
         return _read_regular(fd, name, limit)
     finally:
@@ -120,16 +111,7 @@ def read_head(name: str | os.PathLike, n: int) -> tuple[bytes, int]:
         As :func:`read_file`: the file cannot be opened or is not a regular file.
     """
     name = os.fsdecode(name) if isinstance(name, (bytes, os.PathLike)) else name
-    try:
-        info = os.stat(name)
-    except (OSError, ValueError) as e:
-        raise FileError(name, f"cannot read: {getattr(e, 'strerror', None) or e}") from None
-    if not stat.S_ISREG(info.st_mode):
-        raise _not_regular(name, info.st_mode)
-    try:
-        fd = os.open(name, _FLAGS)
-    except OSError as e:
-        raise FileError(name, f"cannot read: {e.strerror or e}") from None
+    fd = _open_regular(name)
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
@@ -139,6 +121,21 @@ def read_head(name: str | os.PathLike, n: int) -> tuple[bytes, int]:
         raise FileError(name, f"cannot read: {e.strerror or e}") from None
     finally:
         os.close(fd)
+
+
+def _open_regular(name: str) -> int:
+    """A descriptor of ``name`` opened for reading once ``stat`` says it is a regular file
+    (checked before opening: opening a FIFO or a device may block or never end)."""
+    try:
+        info = os.stat(name)
+    except (OSError, ValueError) as e:  # ValueError: a NUL byte in the name
+        raise FileError(name, f"cannot read: {getattr(e, 'strerror', None) or e}") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise _not_regular(name, info.st_mode)
+    try:
+        return os.open(name, _FLAGS)
+    except OSError as e:
+        raise FileError(name, f"cannot read: {e.strerror or e}") from None
 
 
 def _read_regular(fd: int, name: str, limit: int) -> bytes:

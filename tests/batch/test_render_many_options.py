@@ -27,7 +27,7 @@ def test_every_option_of_the_render_command_is_a_field_of_a_record():
     not_per_model = {"models", "demo", "output", "threads", "jobs", "scheduler", "resume", "contact_sheet",
                      "max_file_size", "max_memory", "command"}
     files = {"depth", "normals", "ids"}
-    not_on_the_command_line = {"light", "point_size", "point_color", "camera_depth", "uv"}
+    not_on_the_command_line = {"light", "point_color", "camera_depth", "uv"}
     assert args - not_per_model - files == (OPTION_FIELDS | VIEW_FIELDS | TASK_FIELDS) - not_on_the_command_line - files
 
 
