@@ -24,7 +24,9 @@ def shade(mesh: Mesh, options):
     face (a :class:`FlatLambert` that the rasterizer evaluates; the others None) or, smooth,
     per vertex ((N, 3) float32 0..255; ``corners`` None: the faces index them) or, where the
     corners of a vertex have different normals (an authored hard edge, which stays hard), per
-    distinct corner ((K, 3) float32, and each face corner's row (M, 3) int64).
+    distinct corner ((K, 3) float32, and each face corner's row (M, 3) int64); a mesh with
+    face colours (an OBJ's ``Kd``, an STL's or OFF's colours), per face corner: its face's
+    colour lit by the corner's normal, so no colour bleeds across an edge.
 
     The light has one direction for every face, so the triangles of one flat polygon get one
     colour.
@@ -39,6 +41,11 @@ def shade(mesh: Mesh, options):
         # Computed by the face setup, for the faces that are drawn only.
         return FlatLambert(mesh.face_normals, base, towards_light, AMBIENT, two_sided, scale), None, None
     normals, corners, split = mesh.smooth_corners
+    if mesh.face_colors is not None:  # each corner its face's colour, lit by the corner's normal
+        rows = normals[corners] if split else _vertex_normals(mesh)[mesh.faces]
+        base = np.repeat(mesh.face_colors * np.float32(255), 3, axis=0)
+        return (None, _lambert(rows.reshape(-1, 3), base, towards_light, two_sided),
+                np.arange(3 * len(mesh.faces), dtype=np.int64).reshape(-1, 3))
     if split:
         if mesh.vertex_colors is None:
             return None, _lambert(normals, options.color[None, :3].astype(np.float32), towards_light, two_sided), corners
@@ -47,15 +54,21 @@ def shade(mesh: Mesh, options):
         base = np.ascontiguousarray(mesh.vertex_colors[pairs[:, 0]] * np.float32(255))
         return (None, _lambert(normals[pairs[:, 1]], base, towards_light, two_sided),
                 np.ascontiguousarray(rows.reshape(-1, 3), np.int64))
-    # Faces with a NaN or inf corner are dropped by the rasterizer; keep them out of the
-    # normals too, so they cannot spoil their neighbours' vertex normals. (A Mesh's faces
-    # index its vertices: checked when it was made, and its arrays are immutable.)
+    base = _base_colors(mesh, options, per_face=False)
+    return None, _lambert(_vertex_normals(mesh), base, towards_light, two_sided), None
+
+
+def _vertex_normals(mesh: Mesh) -> np.ndarray:
+    """The mesh's vertex normals, or ones made from its faces. Faces with a NaN or inf corner
+    are dropped by the rasterizer; they are kept out of the normals too, so they cannot spoil
+    their neighbours'. (A Mesh's faces index its vertices: checked when it was made, and its
+    arrays are immutable.)"""
+    if mesh.normals is not None:
+        return mesh.normals
     faces = mesh.faces
     if not np.isfinite(mesh.vertices).all():
         faces = np.ascontiguousarray(faces[np.all(np.isfinite(mesh.vertices[faces]), axis=(1, 2))])
-    normals = mesh.normals if mesh.normals is not None else vertex_normals(mesh.vertices, faces)
-    base = _base_colors(mesh, options, per_face=False)
-    return None, _lambert(normals, base, towards_light, two_sided), None
+    return vertex_normals(mesh.vertices, faces)
 
 
 def light_direction(light, camera: Camera) -> np.ndarray:
