@@ -16,7 +16,9 @@ __all__ = ["choice", "flag", "optional", "point", "positive", "real", "size", "u
 
 
 def _is_bool(value) -> bool:
-    return isinstance(value, bool) or type(value).__name__ == "bool_"  # numpy.bool_ without NumPy
+    # numpy.bool_ without importing NumPy: named bool_ before NumPy 2, bool since
+    kind = type(value)
+    return isinstance(value, bool) or (kind.__name__ in ("bool_", "bool") and kind.__module__ == "numpy")
 
 
 def flag(name: str, value) -> bool:
