@@ -14,7 +14,7 @@ import numpy as np
 
 from rasterkit.svg.kernels import paths as _kernels
 
-__all__ = ["Polylines", "build_polylines", "pen_up_distance"]
+__all__ = ["Polylines", "chain", "pen_up_distance", "route"]
 
 
 @dataclass(frozen=True)
