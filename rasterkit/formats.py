@@ -143,9 +143,9 @@ def as_drawn(model):
     if isinstance(model, Mesh):
         return model, None
     if isinstance(model, Scene):
-        mesh = model.world_mesh()
-        warnings = tuple(w for obj in model.objects for w in obj.mesh.warnings)
-        if warnings and not mesh.warnings:
+        mesh = model.world_mesh()  # which keeps no warnings: the file's (a GltfScene's) and each object's
+        warnings = (*getattr(model, "warnings", ()), *(w for obj in model.objects for w in obj.mesh.warnings))
+        if warnings:
             from dataclasses import replace
 
             mesh = replace(mesh, warnings=tuple(dict.fromkeys(warnings)))

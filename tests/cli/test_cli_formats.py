@@ -125,3 +125,14 @@ def test_a_broken_file_is_one_line_and_exit_code_2(tmp_path, capsys, name, text)
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and str(path) in err[0], err
     assert not (tmp_path / "x.png").exists()
+
+
+def test_a_gltf_files_own_warnings_are_printed(tmp_path, capsys):
+    from support.gltffiles import triangle_builder
+
+    builder = triangle_builder()
+    builder.json["extensionsUsed"] = ["EXT_made_up"]
+    path = builder.write_glb(tmp_path / "warned.glb")
+    assert main(["render", str(path), "-o", str(tmp_path / "x.png"), "--size", "32x24"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"rasterkit: warning: {path}: extensionsUsed: uses extension 'EXT_made_up', which rasterkit ignores"]
