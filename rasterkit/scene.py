@@ -95,7 +95,9 @@ class Scene:
             _model_matrix(o.matrix)
         n = sum(len(o.mesh.vertices) for o in self.objects)
         m = sum(len(o.mesh.faces) for o in self.objects)
-        e = sum(len(o.mesh.edges) for o in self.objects)
+        # objects of triangles alone (no edges given, no lines): the world Mesh works out their sides itself
+        derived = all(o.mesh.derives_edges and not len(o.mesh.lines) for o in self.objects)
+        e = 0 if derived else sum(len(o.mesh.edges) for o in self.objects)
         n_uv = sum(_rows(o.mesh.uv) for o in self.objects)
         n_normals = sum(_rows(o.mesh.corner_normals) for o in self.objects)
         indexed = (n_uv > 0) + (n_normals > 0)
@@ -107,7 +109,7 @@ class Scene:
         offsets = np.cumsum([0] + [len(o.mesh.vertices) for o in self.objects])
         vertices = np.concatenate([apply_points(o.matrix, o.mesh.vertices) for o in self.objects])
         faces = np.concatenate([o.mesh.faces + k for o, k in zip(self.objects, offsets)])
-        edges = np.concatenate([o.mesh.edges + k for o, k in zip(self.objects, offsets)])
+        edges = None if derived else np.concatenate([o.mesh.edges + k for o, k in zip(self.objects, offsets)])
         vertex_colors = self._vertex_colors()
         face_colors = None if vertex_colors is not None else \
             self._face_colors(parse_color(default_color)[:3] / 255.0)

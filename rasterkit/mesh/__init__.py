@@ -12,7 +12,7 @@ renderer calls before any kernel runs. To move a mesh, make a new one
 (``dataclasses.replace(mesh, vertices=...)`` keeps its edges and every attribute).
 
 The package: the Mesh (here), the checks of its arrays (``checks``), edges of polygons and
-the faces across each side (``edges``), and the attributes of meshes from other libraries
+the faces across each side (``edges``, sorted by the kernel in ``kernels``), and the attributes of meshes from other libraries
 (``foreign``: trimesh's texture coordinates, materials and colours).
 """
 
@@ -27,10 +27,11 @@ from rasterkit.limits import check_memory
 from rasterkit.mesh.checks import (
     check_unit_colors, checked_array, corner_attributes, face_labels, immutable, seal, vertex_indices,
 )
-from rasterkit.mesh.edges import polygon_edges, side_neighbours, unique_edges
+from rasterkit.mesh.edges import polygon_edges, polygon_mesh_edges, side_neighbours, unique_edges
+from rasterkit.mesh.kernels import sorted_edges
 from rasterkit.mesh.foreign import visual_fields
 
-__all__ = ["Mesh", "as_mesh", "immutable", "mesh_bytes", "polygon_edges", "seal", "side_neighbours",
+__all__ = ["Mesh", "as_mesh", "immutable", "mesh_bytes", "polygon_edges", "polygon_mesh_edges", "seal", "side_neighbours",
            "unique_edges"]
 
 
@@ -38,14 +39,38 @@ def mesh_bytes(n_vertices: int, n_faces: int, n_edges: int, n_uv: int = 0, n_cor
                corner_indices: int = 0) -> int:
     """Bytes that making a Mesh needs, at most: per vertex its positions, colours, normals
     and texture coordinates, checked and then copied; per face its indices, colour, group
-    and material, and the temporaries of working out the edges (6 arrays of 3 pairs per
-    face); per edge its pair, checked and copied; the rows of the ``uv`` and
+    and material; per edge given its pair, checked and copied (edges worked out later are
+    checked then); the rows of the ``uv`` and
     ``corner_normals`` tables (``n_uv``, ``n_corner_normals``), checked and copied; and per
     face each of its ``corner_indices`` (M, 3) index arrays (``uv_index``, ``normal_index``:
     0 to 2), checked (with the temporaries of the check) and copied. For
     :func:`rasterkit.limits.check_memory`."""
-    return (n_vertices * 2 * (24 + 12 + 24 + 16) + n_faces * (2 * (24 + 12 + 4 + 4) + 3 * 16 * 6)
+    return (n_vertices * 2 * (24 + 12 + 24 + 16) + n_faces * 2 * (24 + 12 + 4 + 4)
             + n_edges * 2 * 16 + n_uv * 2 * 16 + n_corner_normals * 2 * 24 + corner_indices * n_faces * (2 * 24 + 32))
+
+
+class _Edges:
+    """The ``edges`` field of a Mesh: the array it was given, or, when it was given None, the
+    sides of its faces and its lines, worked out on first use (:func:`sorted_edges`) and
+    kept. Loading and solid renders never need them; the line modes do."""
+
+    def __get__(self, mesh, owner=None):
+        if mesh is None:
+            return None  # the field's default
+        edges = mesh.__dict__.get("edges")
+        if edges is None:
+            mesh.__dict__["_derived_edges"] = True
+            faces, lines = mesh.faces, mesh.lines
+            check_memory(56 * (3 * len(faces) + len(lines)) + 16 * len(mesh.vertices),
+                         f"the edges of a Mesh of {len(faces)} faces")
+            edges = seal(sorted_edges(faces, lines, len(mesh.vertices)))
+            mesh.__dict__["edges"] = edges
+            mesh._arrays["edges"] = (edges, edges.shape, edges.dtype)
+        return edges
+
+    def __set__(self, mesh, value):
+        mesh.__dict__["edges"] = value
+        mesh.__dict__["_derived_edges"] = value is None
 
 
 @dataclass(frozen=True, eq=False)
@@ -60,7 +85,8 @@ class Mesh:
         Triangles (indices into ``vertices``), counter-clockwise seen from the front.
     edges : (E, 2) int64
         Unique undirected edges of the original polygons (a quad gives its four sides, not the
-        diagonal of its triangulation) and of ``lines``. Computed from ``faces`` when omitted.
+        diagonal of its triangulation) and of ``lines``, each ``(lo, hi)`` with lo < hi, sorted.
+        When omitted (None), the sides of ``faces`` and ``lines``, worked out on first use.
     lines : (K, 2) int64
         Segments from OBJ ``l`` elements.
     vertex_colors : (N, 3) float32 in [0, 1], or None
@@ -115,7 +141,7 @@ class Mesh:
 
     vertices: np.ndarray
     faces: np.ndarray
-    edges: np.ndarray | None = None
+    edges: np.ndarray | None = _Edges()
     lines: np.ndarray | None = None
     vertex_colors: np.ndarray | None = None
     normals: np.ndarray | None = None
@@ -137,14 +163,15 @@ class Mesh:
         n = len(v)
         f = vertex_indices(self.faces, n, 3, "faces")
         lines = vertex_indices(self.lines if self.lines is not None else (), n, 2, "lines")
-        edges = None if self.edges is None else vertex_indices(self.edges, n, 2, "edges")
-        n_edges = 3 * len(f) + len(lines) if edges is None else len(edges)
+        given = self.__dict__.get("edges")
+        edges = None if given is None else vertex_indices(given, n, 2, "edges")
         indexed = sum(i is not None for i in (self.uv_index, self.normal_index))
-        check_memory(mesh_bytes(n, len(f), len(lines) + n_edges, _rows(self.uv), _rows(self.corner_normals), indexed),
+        check_memory(mesh_bytes(n, len(f), len(lines) + (0 if edges is None else len(edges)), _rows(self.uv),
+                                _rows(self.corner_normals), indexed),
                      f"a Mesh of {n} vertices and {len(f)} faces")
-        if edges is None:
-            edges = unique_edges(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]], lines]), n)
-        arrays = {"vertices": v, "faces": f, "lines": lines, "edges": edges}
+        arrays = {"vertices": v, "faces": f, "lines": lines}
+        if edges is not None:
+            arrays["edges"] = edges
         optional = {
             "vertex_colors": (np.float32, (3,), n),
             "normals": (np.float64, (3,), n),
@@ -192,9 +219,16 @@ class Mesh:
         set_(self, "_arrays", record)
 
     @property
+    def derives_edges(self) -> bool:
+        """Whether :attr:`edges` are the sides of ``faces`` and ``lines`` (the Mesh was made
+        without edges, and works them out on first use), rather than edges it was given."""
+        return self.__dict__.get("_derived_edges", False)
+
+    @property
     def nbytes(self) -> int:
-        """Bytes of the arrays the Mesh was made with (an array under two names counted
-        once), not of what it works out later (:attr:`face_normals`, ...)."""
+        """Bytes of the arrays the Mesh was made with and of its :attr:`edges` once worked
+        out (an array under two names counted once), not of what it works out later for
+        drawing (:attr:`face_normals`, ...)."""
         return sum({id(arr): arr.nbytes for arr, _, _ in self._arrays.values()}.values())
 
     def check_intact(self) -> "Mesh":
@@ -217,7 +251,7 @@ class Mesh:
     def __reduce__(self):
         """Pickled and copied through the constructor: the copy checks and seals its own
         arrays (a plain copy of the instance's state would hold writeable ones)."""
-        return (Mesh, tuple(getattr(self, f.name) for f in fields(self)))
+        return (Mesh, tuple(self.__dict__.get(f.name) for f in fields(self)))
 
     @cached_property
     def _feature_sides(self) -> tuple:
@@ -308,8 +342,9 @@ class Mesh:
         return centre, radius
 
     def __repr__(self) -> str:
+        edges = self.__dict__.get("edges")  # not worked out for a repr
         return (f"Mesh({len(self.vertices)} vertices, {len(self.faces)} faces, "
-                f"{len(self.edges)} edges, {len(self.lines)} lines)")
+                + ("" if edges is None else f"{len(edges)} edges, ") + f"{len(self.lines)} lines)")
 
 
 def _rows(value) -> int:

@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["polygon_edges", "side_neighbours", "unique_edges"]
+from rasterkit.mesh.kernels import polygon_sides, sorted_edges
+
+__all__ = ["polygon_edges", "polygon_mesh_edges", "side_neighbours", "unique_edges"]
 
 
 def polygon_edges(polygons) -> np.ndarray:
@@ -46,15 +48,29 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
     if pairs.dtype.kind not in "iu" and pairs.size:
         raise TypeError(f"pairs must hold integer vertex indices, got dtype {pairs.dtype}")
     pairs = pairs.astype(np.int64, copy=False).reshape(-1, 2)
-    # each pair's ends in order, column by column (NumPy's sort along rows of two is 8x slower)
-    lo, hi = np.minimum(pairs[:, 0], pairs[:, 1]), np.maximum(pairs[:, 0], pairs[:, 1])
     n = max(int(n_vertices), 1)
-    codes = (lo * n + hi)[lo != hi]
-    if keys is not None:
-        codes = np.concatenate([keys, codes])
-    codes = np.sort(codes)
-    codes = codes[np.diff(codes, prepend=-1) != 0]
-    return np.stack([codes // n, codes % n], axis=1)
+    if keys is not None and len(keys):
+        keys = np.asarray(keys, np.int64)
+        pairs = np.concatenate([pairs, np.stack([keys // n, keys % n], axis=1)])
+    if len(pairs) and (pairs.min() < 0 or pairs.max() >= n_vertices):
+        raise ValueError(f"pairs index out of range [0, {n_vertices})")
+    return sorted_edges(np.zeros((0, 3), np.int64), np.ascontiguousarray(pairs), int(n_vertices))
+
+
+def polygon_mesh_edges(corners: np.ndarray, offsets: np.ndarray, keep: np.ndarray, n_faces: int,
+                       lines: np.ndarray, n_vertices: int) -> np.ndarray | None:
+    """The ``edges`` to give a Mesh whose faces a reader split from polygons: the sorted
+    unique sides of the kept polygons (``corners[offsets[p]:offsets[p + 1]]`` (int64, in
+    [0, n_vertices), checked by the reader), ``keep`` (P,) bool) and the segments ``lines``
+    (K, 2) int64; or None when the Mesh's ``n_faces`` triangles are the polygons themselves
+    (every polygon a triangle, kept, and made one face), whose sides the Mesh works out
+    itself when they are first needed."""
+    sizes = np.diff(offsets)
+    if n_faces == len(sizes) and keep.all() and (sizes == 3).all():
+        return None
+    sides = polygon_sides(corners, offsets, keep)
+    return sorted_edges(np.zeros((0, 3), np.int64), np.concatenate([sides, lines]) if len(lines) else sides,
+                        int(n_vertices))
 
 
 def side_neighbours(faces: np.ndarray, n_vertices: int) -> np.ndarray:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit.mesh import Mesh, unique_edges
+from rasterkit.mesh import Mesh, polygon_mesh_edges
 from rasterkit.obj.assemble import split_polygons
 from rasterkit.off.body import Faces, Vertices
 from rasterkit.off.colors import count
@@ -36,28 +36,10 @@ def to_mesh(name: str, vertices: Vertices, faces: Faces, warnings: list) -> Mesh
         warnings.append(f"{count(np.count_nonzero(inexact), 'polygon')} too irregular to split exactly (self-intersecting?): "
                         f"split as a fan (the first on line {faces.lines[np.argmax(inexact)]})")
     polygon = np.repeat(np.arange(len(sizes)), counts)
-    return Mesh(positions, faces.corners[triangles], edges=_polygon_edges(faces, keep, len(positions)),
+    edges = polygon_mesh_edges(faces.corners, faces.offsets, keep, len(triangles), np.zeros((0, 2), np.int64),
+                               len(positions))
+    return Mesh(positions, faces.corners[triangles], edges=edges,
                 normals=vertices.normals, vertex_colors=vertices.colors,
                 texcoords=vertices.texcoords, uv=vertices.texcoords,
                 face_colors=None if faces.colors is None else faces.colors[polygon],
                 warnings=tuple(f"{readable(name)}: {w}" for w in warnings))
-
-
-def _polygon_edges(faces: Faces, keep: np.ndarray, n_vertices: int) -> np.ndarray:
-    """The sides p[0]-p[1], ..., p[-1]-p[0] of the kept polygons, each once, sorted (as keys
-    ``lo * N + hi`` made unique in place first: a third of the memory of sorting the pairs)."""
-    a = faces.corners
-    b = np.empty_like(a)  # the next corner of each: the last one's is its polygon's first
-    b[:-1] = a[1:]
-    b[faces.offsets[1:] - 1] = a[faces.offsets[:-1]]
-    if not keep.all():
-        mine = np.repeat(keep, np.diff(faces.offsets))
-        a, b = a[mine], b[mine]
-    keys = np.minimum(a, b)
-    keys *= max(n_vertices, 1)
-    keys += np.maximum(a, b)
-    keys = keys[a != b]
-    del a, b
-    keys.sort()
-    keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
-    return unique_edges(np.zeros((0, 2), np.int64), n_vertices, keys=keys)

@@ -63,12 +63,12 @@ import os
 import numpy as np
 
 from rasterkit.material import Material
-from rasterkit.mesh import Mesh
+from rasterkit.mesh import Mesh, polygon_mesh_edges
 from rasterkit.ply.body import read_body
 from rasterkit.ply.cloud import PointCloud
 from rasterkit.ply.corners import corner_texcoords, corner_uv, face_colors, texture_numbers
 from rasterkit.ply.errors import Notes, PlyError, PlyLimitError, count
-from rasterkit.ply.faces import MAX_VERTICES, check_face_element, polygon_edges, read_lines, read_polygons, triangulate
+from rasterkit.ply.faces import MAX_VERTICES, check_face_element, read_lines, read_polygons, triangulate
 from rasterkit.ply.header import read_header, sniff
 from rasterkit.ply.textures import read_textures, texture_files
 from rasterkit.ply.vertices import check_vertex_element, read_vertices
@@ -167,7 +167,7 @@ def _mesh_fields(name, header, face_rows, face, vertices, lines, notes: Notes, t
         raise PlyLimitError(name, None, f"{n} vertices: a mesh of more than {MAX_VERTICES} is not read")
     lines = np.zeros((0, 2), np.int64) if lines is None else lines
     if face is None or face.count == 0:
-        return dict(faces=np.zeros((0, 3), np.int64), edges=polygon_edges(None, None, n, lines), lines=lines)
+        return dict(faces=np.zeros((0, 3), np.int64), lines=lines)  # the Mesh's edges: the lines
     texcoord = corner_texcoords(face)
     polygons = read_polygons(face_rows, face, n, texcoord is not None)
     triangles = triangulate(polygons, vertices.positions, notes, face.line)
@@ -183,7 +183,7 @@ def _mesh_fields(name, header, face_rows, face, vertices, lines, notes: Notes, t
         fields.update(_materials(name, files, face_rows, face, triangles, notes))
     keep = triangles.keep
     del triangles  # its corners
-    fields["edges"] = polygon_edges(polygons, keep, n, lines)
+    fields["edges"] = polygon_mesh_edges(polygons.corners, polygons.offsets, keep, len(fields["faces"]), lines, n)
     return fields
 
 

@@ -21,9 +21,8 @@ from rasterkit.mesh import mesh_bytes
 from rasterkit.obj.assemble import split_polygons
 from rasterkit.ply.errors import Notes, PlyError, check_limit, count
 from rasterkit.ply.header import Element, Header
-from rasterkit.ply.kernels.edges import pairs_of_keys, side_keys
 
-__all__ = ["FACE_INDICES", "MAX_VERTICES", "Polygons", "Triangles", "check_face_element", "polygon_edges", "read_lines",
+__all__ = ["FACE_INDICES", "MAX_VERTICES", "Polygons", "Triangles", "check_face_element", "read_lines",
            "read_polygons",
            "triangulate"]
 
@@ -134,23 +133,6 @@ def triangulate(polygons: Polygons, positions: np.ndarray, notes: Notes, line: i
         notes.warn(line, f"{count(np.count_nonzero(inexact), 'face')} too irregular to split exactly "
                          "(self-intersecting?): split as a fan")
     return Triangles(corners[split], split, np.repeat(np.arange(p), counts), keep)
-
-
-def polygon_edges(polygons: Polygons | None, keep: np.ndarray | None, n_vertices: int,
-                  lines: np.ndarray) -> np.ndarray:
-    """(E, 2) int64: the sides of the kept polygons (none for None) and the ``lines`` (K, 2),
-    each once, sorted (as :func:`rasterkit.mesh.unique_edges` gives them); each pair one key
-    ``min << bits | max`` (:mod:`rasterkit.ply.kernels.edges`), sorted once."""
-    bits = max(int(n_vertices - 1).bit_length(), 1)  # at most 31: see MAX_VERTICES
-    if polygons is None:
-        keys = np.zeros(0, np.int64)
-    else:
-        keys = side_keys(polygons.corners, polygons.offsets, keep, bits)
-    if len(lines):
-        a, b = lines[:, 0], lines[:, 1]
-        keys = np.concatenate([keys, ((np.minimum(a, b) << bits) | np.maximum(a, b))[a != b]])
-    keys.sort()
-    return pairs_of_keys(keys, bits)
 
 
 def read_lines(rows, element: Element, n_vertices: int, finite: np.ndarray, notes: Notes) -> np.ndarray | None:

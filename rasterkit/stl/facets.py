@@ -13,7 +13,7 @@ import numpy as np
 from rasterkit.mesh import Mesh, mesh_bytes
 from rasterkit.runtime.files import readable
 from rasterkit.stl.errors import check
-from rasterkit.stl.kernels.mesh import NOT_FINITE, TWO_EQUAL, facet_flaws, triangle_edges
+from rasterkit.stl.kernels.mesh import NOT_FINITE, TWO_EQUAL, facet_flaws
 from rasterkit.stl.normals import facet_normals
 from rasterkit.stl.weld import BYTES_PER_CORNER, weld_corners
 
@@ -94,7 +94,7 @@ def to_mesh(name: str, facets: Facets) -> Mesh:
     corner_normals, normal_index, note = facet_normals(facets.normals, vertices, faces)
     if note:
         warnings.append(f"{readable(name)}: {note}")
-    return Mesh(vertices, faces, edges=triangle_edges(faces, len(vertices)), face_colors=facets.colors,
+    return Mesh(vertices, faces, face_colors=facets.colors,
                 face_groups=facets.solids, group_names=facets.solid_names if facets.solids is not None else (),
                 corner_normals=corner_normals, normal_index=normal_index, warnings=tuple(warnings))
 

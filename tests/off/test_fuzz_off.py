@@ -1,7 +1,8 @@
-"""The fuzz run of ``tests/support/fuzz_off.py`` in CI: a fixed, derandomized sample of hostile
-OFF files (from the grammar, and mutations of the public files when ``../shared/models`` is
-there), in a child process with a time and a memory limit, so that a crash or a hang fails
-this test instead of the session; and the oracle judged on made-up failures."""
+"""The fuzz run of ``tests/support/fuzz_off.py`` in CI: a fixed, derandomized sample of hostile OFF
+files (from the grammar, and mutations of the grammar's clean files and of the public files when
+``../shared/models`` is there), in a child process with a time and a memory limit, so that a
+crash or a hang fails this test instead of the session; and the oracle judged on made-up
+failures."""
 
 import sys
 import warnings

@@ -1,6 +1,5 @@
 """The PLY reader's kernels against slow, obvious Python: numbers against ``float``, walks of
-rows against a loop over ``struct``, the polygons' edges against
-:func:`rasterkit.mesh.polygon_edges`."""
+rows against a loop over ``struct``."""
 
 import struct
 
@@ -9,8 +8,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rasterkit.mesh import polygon_edges as reference_edges
-from rasterkit.ply.faces import Polygons, polygon_edges
 from rasterkit.ply.kernels.rows import WALKED, copy_runs, walk_binary, walk_tokens
 from rasterkit.ply.kernels.tokens import OK, OTHER, count_tokens, parse_tokens
 
@@ -119,19 +116,3 @@ def test_the_token_walk_and_copying_runs():
     assert copy_runs(values, starts + 1, counts[:, 0]).tolist() == [0, 1, 2, 5, 6]
     _, _, status, row, j, at, _ = walk_tokens(values[:11], 1, 3, np.array([0, 1]))
     assert (row, j) == (2, 1)  # row 2's scalar after its list is missing
-
-
-@settings(max_examples=200, deadline=None)
-@given(st.lists(st.lists(st.integers(0, 9), min_size=3, max_size=7), max_size=12), st.data())
-def test_polygon_edges_are_the_meshs_edges(polygons, data):
-    keep = np.array(data.draw(st.lists(st.booleans(), min_size=len(polygons), max_size=len(polygons))), bool)
-    lines = np.array(data.draw(st.lists(st.tuples(st.integers(0, 9), st.integers(0, 9)), max_size=4)),
-                     np.int64).reshape(-1, 2)
-    sizes = [len(p) for p in polygons]
-    offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
-    corners = np.array(sum(polygons, []), np.int64)
-    ours = polygon_edges(Polygons(corners, offsets), keep, 10, lines)
-    kept = [p for p, k in zip(polygons, keep) if k] + [list(pair) for pair in lines.tolist()]
-    want = reference_edges(kept) if kept else np.zeros((0, 2), np.int64)
-    want = want[want[:, 0] != want[:, 1]] if len(want) else want
-    assert ours.tolist() == want.tolist()

@@ -1,13 +1,12 @@
 """The STL reader's kernels against slow, obvious references: welding (the hash table, its
-retries, and the sort it falls back to when corners are made to collide), the sorted edges,
-and the facet normals."""
+retries, and the sort it falls back to when corners are made to collide) and the facet
+normals."""
 
 import time
 
 import numpy as np
 import pytest
 
-from rasterkit.mesh import unique_edges
 from rasterkit.stl.kernels import mesh as kernels
 from rasterkit.stl.weld import weld_by_sorting, weld_corners
 from support.stlfiles import reference_weld
@@ -64,26 +63,6 @@ def test_weld_by_sorting_agrees_with_the_hash_table():
     inverse, first = weld_corners(corners)
     inverse_sorted, first_sorted = weld_by_sorting(keys)
     assert np.array_equal(inverse, inverse_sorted) and np.array_equal(first, first_sorted)
-
-
-def faces_sides(faces):
-    return np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-
-
-@pytest.mark.parametrize("n", [1, 5, 60, 2000])
-def test_triangle_edges_are_the_sorted_unique_sides(n):
-    rng = np.random.default_rng(n)
-    faces = rng.integers(0, n, (3000, 3))  # with repeated corners: sides from a vertex to itself
-    assert np.array_equal(kernels.triangle_edges(faces, n), unique_edges(faces_sides(faces), n))
-
-
-def test_triangle_edges_of_a_vertex_with_a_hundred_thousand_sides_take_linear_time():
-    m = 100_000
-    faces = np.stack([np.zeros(m, np.int64), np.arange(1, m + 1), np.arange(2, m + 2)], axis=1)
-    start = time.perf_counter()
-    edges = kernels.triangle_edges(faces, m + 2)
-    assert time.perf_counter() - start < 2
-    assert np.array_equal(edges, unique_edges(faces_sides(faces), m + 2))
 
 
 def test_facet_flaws():

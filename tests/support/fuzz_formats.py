@@ -96,6 +96,11 @@ def check_mesh(mesh) -> None:
         raise Failure("a warning of several lines")
 
 
+#: Files of the grammar that read cleanly, kept to mutate besides the real files (all there is
+#: to mutate in a clone without ``../shared/models``).
+KEPT_TO_MUTATE = 40
+
+
 class Runner:
     """Writes each file, checks it under a watchdog, counts and keeps failures."""
 
@@ -104,6 +109,7 @@ class Runner:
         self.suffix, self.reader = suffix, reader
         self.counts = {"ok": 0, "error": 0, "failure": 0}
         self.messages: list[str] = []
+        self.read: list[bytes] = []  # the first files that read without error: more to mutate
 
     def __call__(self, data: bytes, name: str | None = None) -> None:
         path = self.work / (name or f"fuzz{self.suffix}")
@@ -119,6 +125,8 @@ class Runner:
         finally:
             faulthandler.cancel_dump_traceback_later()
         self.counts[verdict] += 1
+        if verdict == "ok" and len(self.read) < KEPT_TO_MUTATE:
+            self.read.append(data)
 
     def keep(self, path: Path, message: str) -> None:
         self.messages.append(message)
@@ -148,8 +156,9 @@ def run_grammar(runner: Runner, strategy, count: int, seed: int | None) -> None:
 
 def main(argv, description: str, suffix: str, reader, strategy, sources, mutate, first: bytes) -> int:
     """The command line of a fuzzer: ``strategy()`` draws documents (bytes), ``sources()`` gives
-    the real files to mutate (a list of bytes), ``mutate(data, rng)`` changes one, ``first`` is
-    a valid file checked before the others (its kernels compile outside the watchdog)."""
+    the real files to mutate (a list of bytes; the grammar's first clean files are mutated too),
+    ``mutate(data, rng)`` changes one, ``first`` is a valid file checked before the others (its
+    kernels compile outside the watchdog)."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--grammar", type=int, default=200, help="documents drawn from the grammar")
     parser.add_argument("--mutations", type=int, default=200, help="mutated real files")
@@ -162,12 +171,12 @@ def main(argv, description: str, suffix: str, reader, strategy, sources, mutate,
         runner = Runner(Path(work), args.failures, args.example_seconds, suffix, reader)
         runner(first)
         run_grammar(runner, strategy(), args.grammar, args.seed)
-        originals = sources()
+        originals = sources() + [first] + runner.read
         rng = random.Random(args.seed or 0)
-        for _ in range(args.mutations if originals else 0):
+        for _ in range(args.mutations):
             runner(mutate(rng.choice(originals), rng))
     total = sum(runner.counts.values())
-    print(f"checked {total} files ({args.grammar} from the grammar, {args.mutations if originals else 0} mutations of "
+    print(f"checked {total} files ({args.grammar} from the grammar, {args.mutations} mutations of "
           f"{len(originals)} files) in {time.perf_counter() - start:.0f} s: {runner.counts['ok']} read, "
           f"{runner.counts['error']} clean errors, {runner.counts['failure']} failures", flush=True)
     return 1 if runner.counts["failure"] else 0

@@ -7,10 +7,10 @@ Two sources of hostile files:
   their own line, on the keyword's or glued to it, right or wrong; vertex lines of the right
   width or not, with colours as integers or floats; faces of 0 to 7 corners with indices in
   range or not and colours of 0 to 5 numbers; hostile numbers, comments, blank lines, CRLF;
-- **mutations**: the public OFF files of ``../shared/models/formats/off`` and
-  ``robustness/off``, mostly with tokens replaced by hostile ones and bytes flipped (the line
-  count stays, so the file is read past its header), now and then with lines deleted,
-  duplicated or swapped, or cut short.
+- **mutations**: the public OFF files of ``../shared/models/formats/off`` and ``robustness/off``
+  (where they are) and the grammar's first clean documents, mostly with tokens replaced by
+  hostile ones and bytes flipped (the line count stays, so the file is read past its header),
+  now and then with lines deleted, duplicated or swapped, or cut short.
 
 Run by hand (a long run)::
 

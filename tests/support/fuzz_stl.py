@@ -7,9 +7,9 @@ Two sources of hostile files:
   line breaks, blocks not closed, bytes spliced in) and binary files (headers with ``solid`` or
   ``COLOR=``, counts that are right or wrong, float32 corners that repeat, are NaN, infinite,
   huge or tiny, attribute words with and without bit 15);
-- **mutations**: the public STL files of ``../shared/models/formats/stl`` and
-  ``robustness/stl``, with bytes flipped, ranges deleted or duplicated, the count changed,
-  or cut short.
+- **mutations**: the public STL files of ``../shared/models/formats/stl`` and ``robustness/stl``
+  (where they are) and the grammar's first clean documents, with bytes flipped, ranges deleted
+  or duplicated, the count changed, or cut short.
 
 Run by hand (a long run)::
 

@@ -1,13 +1,11 @@
 """Numba kernels of the STL reader's Mesh: the flaws of each facet, welding identical corners
-into vertices, the facet normals kept, and the edges of the welded triangles.
+into vertices, and the facet normals kept.
 
-The weld and the edges run in O(corners) on real meshes: the weld with an open-addressing hash
-table over the corners' bit patterns (each vertex numbered where it first appears, so the
-result does not depend on the hash), the edges with two counting sorts (so they come out
-sorted, as :func:`rasterkit.mesh.unique_edges` gives them, without its O(n log n) sort of
-every side). Neither can be made slow by a file: the weld gives up after a fixed amount of
-probing per corner (corners made to collide), for its caller to weld by sorting instead, and
-the edges are a radix sort, linear whatever the vertices' degrees.
+The weld runs in O(corners) on real meshes, with an open-addressing hash table over the
+corners' bit patterns (each vertex numbered where it first appears, so the result does not
+depend on the hash), and cannot be made slow by a file: it gives up after a fixed amount of
+probing per corner (corners made to collide), for its caller to weld by sorting instead. The
+Mesh works out its edges itself (:mod:`rasterkit.mesh.kernels`).
 """
 
 from __future__ import annotations
@@ -16,7 +14,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["COLLIDING", "FULL", "M1", "M2", "M3", "PROBES_PER_CORNER", "NOT_FINITE", "SOUND", "TWO_EQUAL", "facet_flaws", "facet_normals", "triangle_edges", "weld"]
+__all__ = ["COLLIDING", "FULL", "M1", "M2", "M3", "PROBES_PER_CORNER", "NOT_FINITE", "SOUND", "TWO_EQUAL", "facet_flaws", "facet_normals", "weld"]
 
 #: The multipliers of the hash of a row (MurmurHash3's and the golden ratio's).
 M1 = np.uint64(0x9E3779B97F4A7C15)
@@ -141,58 +139,3 @@ def facet_normals(given, vertices, faces, out):
         else:
             out[f, 0], out[f, 1], out[f, 2] = 0.0, 0.0, 0.0
     return missing, backwards
-
-
-@kernel
-def triangle_edges(faces, n_vertices):
-    """The unique undirected sides (E, 2) int64 ``(lo, hi)``, lo < hi, of the triangles
-    ``faces`` (M, 3) int64 (indices in [0, n_vertices)), sorted by lo, then hi; a side from a
-    vertex to itself is left out.
-
-    A radix sort of the sides in two counting passes (by hi, then stably by lo), so that each
-    lo's sides come in order and repeats are neighbours: O(M + n_vertices) whatever the mesh.
-    (Written with plain loops and conditional expressions: ``min``, ``%`` and slice copies
-    here took three times as long to compile.)"""
-    by_upper = np.zeros(n_vertices + 1, np.int64)
-    by_lower = np.zeros(n_vertices + 1, np.int64)
-    m = faces.shape[0]
-    for f in range(m):
-        for c in range(3):
-            a = faces[f, c]
-            b = faces[f, c + 1] if c < 2 else faces[f, 0]
-            if a != b:
-                by_lower[(a if a < b else b) + 1] += 1
-                by_upper[(b if a < b else a) + 1] += 1
-    for v in range(n_vertices):
-        by_lower[v + 1] += by_lower[v]
-        by_upper[v + 1] += by_upper[v]
-    total = by_upper[n_vertices]
-    lowers = np.empty(total, np.int64)  # the lower vertex of each side, bucketed by its upper one
-    fill = np.empty(n_vertices, np.int64)
-    for v in range(n_vertices):
-        fill[v] = by_upper[v]
-    for f in range(m):
-        for c in range(3):
-            a = faces[f, c]
-            b = faces[f, c + 1] if c < 2 else faces[f, 0]
-            if a != b:
-                hi = b if a < b else a
-                lowers[fill[hi]] = a if a < b else b
-                fill[hi] += 1
-    uppers = np.empty(total, np.int64)  # the upper vertex of each side, bucketed by its lower one
-    for v in range(n_vertices):
-        fill[v] = by_lower[v]
-    for hi in range(n_vertices):
-        for i in range(by_upper[hi], by_upper[hi + 1]):
-            lo = lowers[i]
-            uppers[fill[lo]] = hi
-            fill[lo] += 1
-    out = np.empty((total, 2), np.int64)
-    e = 0
-    for lo in range(n_vertices):
-        for i in range(by_lower[lo], by_lower[lo + 1]):
-            if i == by_lower[lo] or uppers[i] != uppers[i - 1]:
-                out[e, 0] = lo
-                out[e, 1] = uppers[i]
-                e += 1
-    return out[:e]

@@ -1,0 +1,97 @@
+"""The Numba kernels behind a Mesh's edges: the unique undirected sides of triangles and
+vertex pairs, sorted, in two passes over the sides; and the sides of polygons."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit.runtime.jit import kernel
+
+__all__ = ["polygon_sides", "sorted_edges"]
+
+#: Neighbour lists up to this long are sorted by insertion, longer ones by NumPy's sort.
+SHORT = 24
+
+
+@kernel
+def sorted_edges(faces, pairs, n_vertices):
+    """The unique undirected edges (E, 2) int64 ``(lo, hi)``, lo < hi, sorted by lo then hi,
+    of the sides of the triangles ``faces`` (M, 3) and of the pairs ``pairs`` (K, 2) (int64
+    indices in [0, n_vertices), which the caller has checked); a side or pair from a vertex
+    to itself is left out.
+
+    Each side's upper vertex is put in the list of its lower one (a counting sort by lower
+    vertex: one pass to count, one to place), then each list is sorted and its repeats
+    dropped: by insertion for the short lists of real meshes, by NumPy's O(d log d) sort for
+    a vertex of many sides, so that no mesh makes it quadratic."""
+    start = np.zeros(n_vertices + 1, np.int64)
+    m = faces.shape[0]
+    for f in range(m):
+        for c in range(3):
+            a = faces[f, c]
+            b = faces[f, c + 1] if c < 2 else faces[f, 0]
+            if a != b:
+                start[(a if a < b else b) + 1] += 1
+    for p in range(pairs.shape[0]):
+        a, b = pairs[p, 0], pairs[p, 1]
+        if a != b:
+            start[(a if a < b else b) + 1] += 1
+    for v in range(n_vertices):
+        start[v + 1] += start[v]
+    uppers = np.empty(start[n_vertices], np.int64)
+    fill = start[:n_vertices].copy()
+    for f in range(m):
+        for c in range(3):
+            a = faces[f, c]
+            b = faces[f, c + 1] if c < 2 else faces[f, 0]
+            if a != b:
+                lo = a if a < b else b
+                uppers[fill[lo]] = b if a < b else a
+                fill[lo] += 1
+    for p in range(pairs.shape[0]):
+        a, b = pairs[p, 0], pairs[p, 1]
+        if a != b:
+            lo = a if a < b else b
+            uppers[fill[lo]] = b if a < b else a
+            fill[lo] += 1
+    out = np.empty((len(uppers), 2), np.int64)
+    e = 0
+    for lo in range(n_vertices):
+        first, end = start[lo], start[lo + 1]
+        if end - first > SHORT:
+            uppers[first:end] = np.sort(uppers[first:end])
+        else:
+            for i in range(first + 1, end):
+                x = uppers[i]
+                j = i - 1
+                while j >= first and uppers[j] > x:
+                    uppers[j + 1] = uppers[j]
+                    j -= 1
+                uppers[j + 1] = x
+        for i in range(first, end):
+            if i == first or uppers[i] != uppers[i - 1]:
+                out[e, 0] = lo
+                out[e, 1] = uppers[i]
+                e += 1
+    return out[:e]
+
+
+@kernel
+def polygon_sides(corners, offsets, keep):
+    """(K, 2) int64: the sides ``c[0]-c[1], ..., c[-1]-c[0]`` of each kept polygon
+    ``corners[offsets[p]:offsets[p + 1]]`` (``offsets`` (P + 1,) rising from 0 to
+    ``len(corners)``, ``keep`` (P,) bool), none from a vertex to itself."""
+    out = np.empty((len(corners), 2), np.int64)
+    k = 0
+    for p in range(len(offsets) - 1):
+        if not keep[p]:
+            continue
+        first, end = offsets[p], offsets[p + 1]
+        for c in range(first, end):
+            a = corners[c]
+            b = corners[c + 1] if c + 1 < end else corners[first]
+            if a != b:
+                out[k, 0] = a
+                out[k, 1] = b
+                k += 1
+    return out[:k]
