@@ -1,5 +1,6 @@
 """The Numba kernels behind a Mesh's edges: the unique undirected sides of triangles and
-vertex pairs, sorted, in two passes over the sides; and the sides of polygons."""
+vertex pairs, sorted, in two passes over the sides; the sides of polygons; and the triangles
+with a repeated corner, which the readers leave out."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["polygon_sides", "sorted_edges"]
+__all__ = ["polygon_sides", "repeated_corners", "sorted_edges"]
 
 #: Neighbour lists up to this long are sorted by insertion, longer ones by NumPy's sort.
 SHORT = 24
@@ -95,3 +96,14 @@ def polygon_sides(corners, offsets, keep):
                 out[k, 1] = b
                 k += 1
     return out[:k]
+
+
+@kernel
+def repeated_corners(faces):
+    """(M,) bool: whether triangle ``faces[f]`` (M, 3) has a vertex at two corners (one pass
+    over the rows, where NumPy compares strided columns into three temporaries)."""
+    out = np.empty(faces.shape[0], np.bool_)
+    for f in range(faces.shape[0]):
+        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+        out[f] = a == b or b == c or c == a
+    return out

@@ -35,7 +35,7 @@ def corner_uv(rows, prop, polygons: Polygons, triangles: Triangles, notes: Notes
     one row per polygon corner, and each triangle corner's row (-1 rows where its polygon
     has none); ``(None, None)`` when no kept face has them."""
     values, offsets = rows.items(prop)
-    values = np.asarray(values, np.float64)
+    values = np.asarray(values, np.float64).reshape(-1)
     sizes = polygons.sizes
     good = np.diff(offsets) == 2 * sizes
     if good.all():

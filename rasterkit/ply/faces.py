@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rasterkit.mesh import mesh_bytes
+from rasterkit.mesh.kernels import repeated_corners
 from rasterkit.obj.assemble import split_polygons
 from rasterkit.ply.errors import Notes, PlyError, check_limit, count
 from rasterkit.ply.header import Element, Header
@@ -100,13 +101,13 @@ def read_polygons(rows, element: Element, n_vertices: int, corner_uv: bool) -> P
         row = int(np.argmax(small))
         raise rows.error(row, f"a face needs at least 3 vertices, got {int(sizes[row])}", prop)
     values, offsets = rows.items(prop)
-    values = np.asarray(values)
+    values = np.asarray(values).astype(np.int64, copy=False).reshape(-1)  # one copy of a binary file's view
     if len(values) and (values.min() < 0 or values.max() >= n_vertices):
         k = int(np.argmax((values < 0) | (values >= n_vertices)))
         row = rows.row_of_item(offsets, k)
         raise rows.error(row, f"vertex index {int(values[k])} is out of range (the file has "
                               f"{count(n_vertices, 'vertex', 'vertices')})", prop, k - int(offsets[row]))
-    return Polygons(values.astype(np.int64), offsets)
+    return Polygons(values, offsets)
 
 
 def triangulate(polygons: Polygons, positions: np.ndarray, notes: Notes, line: int) -> Triangles:
@@ -122,8 +123,7 @@ def triangulate(polygons: Polygons, positions: np.ndarray, notes: Notes, line: i
                          f"coordinates; {count(p - np.count_nonzero(keep), 'face')} using them dropped")
     if len(corners) == 3 * p:  # every polygon a triangle (each has 3 corners or more)
         tri = corners.reshape(-1, 3)
-        a, b, c = tri.T
-        kept = keep & (a != b) & (b != c) & (c != a)
+        kept = keep & ~repeated_corners(tri)
         if kept.all():
             return Triangles(tri, None, None, keep)
         index = np.flatnonzero(kept)

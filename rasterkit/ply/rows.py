@@ -110,16 +110,38 @@ class Rows:
             values = self.source.runs(self.starts + offset + into, 1, prop.dtype)
         return self.source.convert(values, prop, self)
 
+    def floats(self, props: tuple) -> np.ndarray:
+        """(n, len(props)) float64 values of the float scalar properties ``props`` (each as
+        :meth:`scalar` gives it); read as one strided view when they lie side by side in
+        each row with one type (x, y, z almost always do), so that they are converted in
+        one pass."""
+        out = np.empty((self.n, len(props)), np.float64)
+        places = [self.layout.places[p.name] for p in props]
+        size = self.source.size(props[0].dtype)
+        beside = all(p.dtype == props[0].dtype and p.dtype.kind == "f" for p in props) and \
+            all(place == (places[0][0], places[0][1] + k * size) for k, place in enumerate(places))
+        if beside and self.uniform:
+            segment, into = places[0]
+            view = self.source.strided(self.start + self.segment_start(segment) + into, self.n, self.stride,
+                                       props[0].dtype, len(props))
+            out[...] = self.source.convert(view, props[0], self)
+        else:
+            for k, p in enumerate(props):
+                out[:, k] = self.scalar(p)
+        return out
+
     def items(self, prop: Property) -> tuple[np.ndarray, np.ndarray]:
-        """The items of the list property ``prop``: values (C,) in row order and offsets
-        (n + 1,) int64 (row r's items are ``values[offsets[r]:offsets[r + 1]]``)."""
+        """The items of the list property ``prop``: values in row order, (C,) or, when every
+        row has as many (k), (n, k) (a binary file's: a strided view of its bytes, which the
+        caller's conversion copies once); and offsets (n + 1,) int64 (row r's items are
+        ``values.reshape(-1)[offsets[r]:offsets[r + 1]]``)."""
         j = self.layout.lists.index(prop)
         counts = self.list_counts(j)
         self.source.check_counts(np.atleast_1d(counts), prop, self)
         first = self.segment_start(j) + int(self.layout.segments[j] + self.layout.count_sizes[j])
         if self.uniform:
             offsets = np.arange(self.n + 1, dtype=np.int64) * counts
-            values = self.source.strided(self.start + first, self.n, self.stride, prop.dtype, counts).reshape(-1)
+            values = self.source.strided(self.start + first, self.n, self.stride, prop.dtype, counts)
         else:
             offsets = np.zeros(self.n + 1, np.int64)
             np.cumsum(counts, out=offsets[1:])

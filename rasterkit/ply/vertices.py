@@ -106,6 +106,8 @@ def read_vertices(rows, notes: Notes) -> VertexData:
 
 
 def _columns(rows, props: tuple, dtype) -> np.ndarray:
+    if all(p.dtype.kind == "f" for p in props):
+        return rows.floats(props)
     out = np.empty((rows.n, len(props)), dtype)
     for k, p in enumerate(props):
         out[:, k] = rows.scalar(p)

@@ -125,3 +125,12 @@ def test_a_scene_of_meshes_without_edges_gives_a_world_mesh_with_the_same_edges(
     n = len(sphere.vertices)
     assert world.edges.tolist() == reference(plain.faces) + (np.array(reference(plain.faces)) + n).tolist() + \
         (shapes.cube().edges + 2 * n).tolist()
+
+
+def test_repeated_corners():
+    from rasterkit.mesh.kernels import repeated_corners
+
+    faces = np.array([[0, 1, 2], [0, 0, 1], [1, 2, 2], [3, 1, 3], [4, 4, 4], [2, 1, 0]])
+    want = [len({int(x) for x in f}) < 3 for f in faces]
+    assert repeated_corners(faces).tolist() == want
+    assert repeated_corners(np.zeros((0, 3), np.int64)).shape == (0,)
