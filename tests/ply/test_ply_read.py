@@ -365,12 +365,10 @@ def test_faces_before_the_vertices_and_a_property_named_twice(tmp_path, encoding
 @pytest.mark.parametrize("encoding, corners", [(e, 3) for e in ENCODINGS] + [("binary_little_endian", 4)])
 def test_memory_peaks_below_three_times_the_meshs_arrays(tmp_path, encoding, corners):
     """Issue 28's bound, besides the file's bytes: reading (the body's values, the polygons,
-    the sorted edges of quads) and the Mesh's own copies stay within 3x the Mesh's arrays,
-    its edges included (a Mesh of triangles works them out on first use, after the loading
-    measured here: without them, ASCII triangles of this size are at 3.3x, the body's numbers
-    and the faces' values as floats, as int32 and as int64 at once). (Not for ASCII quads of
-    this size, 3.4x: the OBJ splitter's chunks of 32768 quads and the body's numbers together;
-    2.7x at 500k quads.)"""
+    the sorted edges of quads) and the Mesh's own copies stay within 3x the Mesh's arrays
+    (a Mesh of triangles has no edges yet: it works them out on first use). (Not for ASCII
+    quads of this size, 3.4x: the OBJ splitter's chunks of 32768 quads and the body's numbers
+    together; 2.7x at 500k quads.)"""
     import tracemalloc
 
     from rasterkit.ply import _read
@@ -391,5 +389,4 @@ def test_memory_peaks_below_three_times_the_meshs_arrays(tmp_path, encoding, cor
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
-    mesh.edges  # noqa: B018 (worked out, and counted in nbytes)
     assert peak <= 3 * mesh.nbytes, (peak, mesh.nbytes)
