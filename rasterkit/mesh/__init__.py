@@ -61,7 +61,7 @@ class _Edges:
         if edges is None:
             mesh.__dict__["_derived_edges"] = True
             faces, lines = mesh.faces, mesh.lines
-            check_memory(56 * (3 * len(faces) + len(lines)) + 16 * len(mesh.vertices),
+            check_memory(24 * (3 * len(faces) + len(lines)) + 24 * len(mesh.vertices),
                          f"the edges of a Mesh of {len(faces)} faces")
             edges = seal(sorted_edges(faces, lines, len(mesh.vertices)))
             mesh.__dict__["edges"] = edges

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit.mesh.kernels import polygon_sides, sorted_edges
+from rasterkit.mesh.kernels import sorted_edges, sorted_polygon_edges
+from rasterkit.runtime.jit import readonly
 
 __all__ = ["polygon_edges", "polygon_mesh_edges", "side_neighbours", "unique_edges"]
 
@@ -54,7 +55,7 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
         pairs = np.concatenate([pairs, np.stack([keys // n, keys % n], axis=1)])
     if len(pairs) and (pairs.min() < 0 or pairs.max() >= n_vertices):
         raise ValueError(f"pairs index out of range [0, {n_vertices})")
-    return sorted_edges(np.zeros((0, 3), np.int64), np.ascontiguousarray(pairs), int(n_vertices))
+    return sorted_edges(readonly(np.zeros((0, 3), np.int64)), readonly(np.ascontiguousarray(pairs)), int(n_vertices))
 
 
 def polygon_mesh_edges(corners: np.ndarray, offsets: np.ndarray, keep: np.ndarray, n_faces: int,
@@ -68,9 +69,8 @@ def polygon_mesh_edges(corners: np.ndarray, offsets: np.ndarray, keep: np.ndarra
     sizes = np.diff(offsets)
     if n_faces == len(sizes) and keep.all() and (sizes == 3).all():
         return None
-    sides = polygon_sides(corners, offsets, keep)
-    return sorted_edges(np.zeros((0, 3), np.int64), np.concatenate([sides, lines]) if len(lines) else sides,
-                        int(n_vertices))
+    return sorted_polygon_edges(readonly(corners), readonly(offsets), readonly(keep), readonly(lines),
+                                int(n_vertices))
 
 
 def side_neighbours(faces: np.ndarray, n_vertices: int) -> np.ndarray:

@@ -1,6 +1,13 @@
-"""The Numba kernels behind a Mesh's edges: the unique undirected sides of triangles and
-vertex pairs, sorted, in two passes over the sides; the sides of polygons; and the triangles
-with a repeated corner, which the readers leave out."""
+"""The Numba kernels behind a Mesh's edges: the unique undirected sides of triangles or
+polygons and of vertex pairs, sorted, in two passes over the sides; and the triangles with a
+repeated corner, which the readers leave out.
+
+Each side's upper vertex is put in the list of its lower one (a counting sort by lower
+vertex: one pass to count, one to place), then each list is sorted and its repeats dropped:
+by insertion for the short lists of real meshes, by NumPy's O(d log d) sort for a vertex of
+many sides, so that no mesh makes it quadratic. Memory: 8 bytes a side and 16 a vertex
+besides the result.
+"""
 
 from __future__ import annotations
 
@@ -8,54 +15,33 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["polygon_sides", "repeated_corners", "sorted_edges"]
+__all__ = ["repeated_corners", "sorted_edges", "sorted_polygon_edges"]
 
 #: Neighbour lists up to this long are sorted by insertion, longer ones by NumPy's sort.
 SHORT = 24
 
 
-@kernel
-def sorted_edges(faces, pairs, n_vertices):
-    """The unique undirected edges (E, 2) int64 ``(lo, hi)``, lo < hi, sorted by lo then hi,
-    of the sides of the triangles ``faces`` (M, 3) and of the pairs ``pairs`` (K, 2) (int64
-    indices in [0, n_vertices), which the caller has checked); a side or pair from a vertex
-    to itself is left out.
+@kernel(inline="always")
+def _tally(start, a, b):
+    """Count side a-b in the list of its lower vertex (``start[lo + 1]``); none for a == b."""
+    if a != b:
+        start[(a if a < b else b) + 1] += 1
 
-    Each side's upper vertex is put in the list of its lower one (a counting sort by lower
-    vertex: one pass to count, one to place), then each list is sorted and its repeats
-    dropped: by insertion for the short lists of real meshes, by NumPy's O(d log d) sort for
-    a vertex of many sides, so that no mesh makes it quadratic."""
-    start = np.zeros(n_vertices + 1, np.int64)
-    m = faces.shape[0]
-    for f in range(m):
-        for c in range(3):
-            a = faces[f, c]
-            b = faces[f, c + 1] if c < 2 else faces[f, 0]
-            if a != b:
-                start[(a if a < b else b) + 1] += 1
-    for p in range(pairs.shape[0]):
-        a, b = pairs[p, 0], pairs[p, 1]
-        if a != b:
-            start[(a if a < b else b) + 1] += 1
-    for v in range(n_vertices):
-        start[v + 1] += start[v]
-    uppers = np.empty(start[n_vertices], np.int64)
-    fill = start[:n_vertices].copy()
-    for f in range(m):
-        for c in range(3):
-            a = faces[f, c]
-            b = faces[f, c + 1] if c < 2 else faces[f, 0]
-            if a != b:
-                lo = a if a < b else b
-                uppers[fill[lo]] = b if a < b else a
-                fill[lo] += 1
-    for p in range(pairs.shape[0]):
-        a, b = pairs[p, 0], pairs[p, 1]
-        if a != b:
-            lo = a if a < b else b
-            uppers[fill[lo]] = b if a < b else a
-            fill[lo] += 1
-    out = np.empty((len(uppers), 2), np.int64)
+
+@kernel(inline="always")
+def _place(uppers, fill, a, b):
+    """Put side a-b's upper vertex at the next free place of its lower vertex's list."""
+    if a != b:
+        lo = a if a < b else b
+        uppers[fill[lo]] = b if a < b else a
+        fill[lo] += 1
+
+
+@kernel(inline="always")
+def _unique_lists(start, uppers, n_vertices):
+    """(E, 2) int64 ``(lo, hi)`` of the lists ``uppers[start[lo]:start[lo + 1]]`` (prefix
+    sums in ``start``), each sorted and without repeats."""
+    kept = np.empty(n_vertices, np.int64)
     e = 0
     for lo in range(n_vertices):
         first, end = start[lo], start[lo + 1]
@@ -69,33 +55,74 @@ def sorted_edges(faces, pairs, n_vertices):
                     uppers[j + 1] = uppers[j]
                     j -= 1
                 uppers[j + 1] = x
+        u = first
         for i in range(first, end):
-            if i == first or uppers[i] != uppers[i - 1]:
-                out[e, 0] = lo
-                out[e, 1] = uppers[i]
-                e += 1
-    return out[:e]
+            if i == first or uppers[i] != uppers[u - 1]:
+                uppers[u] = uppers[i]
+                u += 1
+        kept[lo] = u - first
+        e += u - first
+    out = np.empty((e, 2), np.int64)
+    e = 0
+    for lo in range(n_vertices):
+        for i in range(start[lo], start[lo] + kept[lo]):
+            out[e, 0] = lo
+            out[e, 1] = uppers[i]
+            e += 1
+    return out
 
 
 @kernel
-def polygon_sides(corners, offsets, keep):
-    """(K, 2) int64: the sides ``c[0]-c[1], ..., c[-1]-c[0]`` of each kept polygon
-    ``corners[offsets[p]:offsets[p + 1]]`` (``offsets`` (P + 1,) rising from 0 to
-    ``len(corners)``, ``keep`` (P,) bool), none from a vertex to itself."""
-    out = np.empty((len(corners), 2), np.int64)
-    k = 0
+def sorted_edges(faces, pairs, n_vertices):
+    """The unique undirected edges (E, 2) int64 ``(lo, hi)``, lo < hi, sorted by lo then hi,
+    of the sides of the triangles ``faces`` (M, 3) and of the pairs ``pairs`` (K, 2) (int64
+    indices in [0, n_vertices), which the caller has checked); a side or pair from a vertex
+    to itself is left out."""
+    start = np.zeros(n_vertices + 1, np.int64)
+    for f in range(faces.shape[0]):
+        _tally(start, faces[f, 0], faces[f, 1])
+        _tally(start, faces[f, 1], faces[f, 2])
+        _tally(start, faces[f, 2], faces[f, 0])
+    for p in range(pairs.shape[0]):
+        _tally(start, pairs[p, 0], pairs[p, 1])
+    for v in range(n_vertices):
+        start[v + 1] += start[v]
+    uppers = np.empty(start[n_vertices], np.int64)
+    fill = start[:n_vertices].copy()
+    for f in range(faces.shape[0]):
+        _place(uppers, fill, faces[f, 0], faces[f, 1])
+        _place(uppers, fill, faces[f, 1], faces[f, 2])
+        _place(uppers, fill, faces[f, 2], faces[f, 0])
+    for p in range(pairs.shape[0]):
+        _place(uppers, fill, pairs[p, 0], pairs[p, 1])
+    return _unique_lists(start, uppers, n_vertices)
+
+
+@kernel
+def sorted_polygon_edges(corners, offsets, keep, pairs, n_vertices):
+    """:func:`sorted_edges` of the sides ``c[0]-c[1], ..., c[-1]-c[0]`` of each kept polygon
+    ``c = corners[offsets[p]:offsets[p + 1]]`` (``offsets`` (P + 1,) rising from 0 to
+    ``len(corners)``, ``keep`` (P,) bool; indices checked by the caller) and of ``pairs``."""
+    start = np.zeros(n_vertices + 1, np.int64)
     for p in range(len(offsets) - 1):
-        if not keep[p]:
-            continue
-        first, end = offsets[p], offsets[p + 1]
-        for c in range(first, end):
-            a = corners[c]
-            b = corners[c + 1] if c + 1 < end else corners[first]
-            if a != b:
-                out[k, 0] = a
-                out[k, 1] = b
-                k += 1
-    return out[:k]
+        if keep[p]:
+            first, end = offsets[p], offsets[p + 1]
+            for c in range(first, end):
+                _tally(start, corners[c], corners[c + 1] if c + 1 < end else corners[first])
+    for p in range(pairs.shape[0]):
+        _tally(start, pairs[p, 0], pairs[p, 1])
+    for v in range(n_vertices):
+        start[v + 1] += start[v]
+    uppers = np.empty(start[n_vertices], np.int64)
+    fill = start[:n_vertices].copy()
+    for p in range(len(offsets) - 1):
+        if keep[p]:
+            first, end = offsets[p], offsets[p + 1]
+            for c in range(first, end):
+                _place(uppers, fill, corners[c], corners[c + 1] if c + 1 < end else corners[first])
+    for p in range(pairs.shape[0]):
+        _place(uppers, fill, pairs[p, 0], pairs[p, 1])
+    return _unique_lists(start, uppers, n_vertices)
 
 
 @kernel

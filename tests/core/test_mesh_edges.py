@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rasterkit.mesh import Mesh, polygon_mesh_edges, unique_edges
-from rasterkit.mesh.kernels import polygon_sides, sorted_edges
+from rasterkit.mesh.kernels import sorted_edges, sorted_polygon_edges
 
 
 def reference(faces, pairs=()):
@@ -49,11 +49,12 @@ def test_unique_edges_takes_pairs_and_keys_and_refuses_indices_out_of_range():
         unique_edges(np.array([[0, 2**63 + 1]], np.uint64), 10)
 
 
-def test_polygon_sides_of_kept_polygons():
+def test_sorted_polygon_edges_of_kept_polygons_and_pairs():
     corners = np.array([0, 1, 2, 3, 4, 4, 5, 6, 7, 8])
     offsets = np.array([0, 4, 7, 10])
     keep = np.array([True, True, False])
-    assert polygon_sides(corners, offsets, keep).tolist() == [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 4]]
+    edges = sorted_polygon_edges(corners, offsets, keep, np.array([[8, 2], [3, 3]]), 9)
+    assert edges.tolist() == [[0, 1], [0, 3], [1, 2], [2, 3], [2, 8], [4, 5]]
 
 
 def test_polygon_mesh_edges_leave_a_mesh_of_triangles_to_work_its_own():
