@@ -135,9 +135,13 @@ def load(path, *, format: str | None = None, textures: bool = True):
 
 def as_drawn(model):
     """``(mesh, cloud)``: what the command line draws of a loaded ``model`` — a Mesh as it
-    is, a Scene as its :meth:`~rasterkit.Scene.world_mesh` (every object placed in the
-    world, materials and textures kept), a point cloud as ``(None, cloud)``."""
+    is, ``(mesh, None)``; a Scene as its :meth:`~rasterkit.Scene.world_mesh` (every object
+    placed in the world, materials and textures kept), with a glTF scene's points primitives
+    as the cloud drawn with it (``None`` without); a point cloud as ``(None, cloud)``."""
+    import numpy as np
+
     from rasterkit.mesh import Mesh
+    from rasterkit.ply.cloud import PointCloud
     from rasterkit.scene import Scene
 
     if isinstance(model, Mesh):
@@ -149,5 +153,8 @@ def as_drawn(model):
             from dataclasses import replace
 
             mesh = replace(mesh, warnings=tuple(dict.fromkeys(warnings)))
-        return mesh, None
+        points, colors = getattr(model, "points", None), getattr(model, "point_colors", None)
+        if points is None or not len(points):
+            return mesh, None
+        return mesh, PointCloud(points, None if colors is None else colors[:, :3] / np.float32(255.0))
     return None, model

@@ -36,7 +36,8 @@ def _turntable(mesh, cloud, camera, center, frames: int, options):
         else:
             points = cloud.render_arguments()
             points["points"] = apply_points(spin, points["points"])
-            yield render(mesh, camera, options=options, **points).color
+            spun = mesh if not len(mesh.faces) and not len(mesh.lines) else Scene(camera).add(mesh, spin)
+            yield render(spun, camera, options=options, **points).color
 
 
 def render_model(source: Path | None, output: Path, task, say=None) -> int:
@@ -67,17 +68,21 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
     # textures are read only where they are drawn (shaded faces, into an image)
     textures = options.textures and not svg and mode(options.mode).shaded
     model = demo() if source is None else load(source, textures=textures)
-    mesh, cloud = as_drawn(model)
-    if cloud is None and len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:  # all dropped
+    mesh, cloud = as_drawn(model)  # mesh None: a point cloud alone; cloud with a mesh: a glTF scene's points
+    if mesh is not None and cloud is None and len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:
         raise UsageError(f"{'; '.join(map(_report.one_line, mesh.warnings)) or source}: nothing left to draw")
     if say is not None:
-        for warning in (mesh if cloud is None else cloud).warnings:
+        for warning in (cloud if mesh is None else mesh).warnings:
             say(f"rasterkit: warning: {_report.one_line(warning)}")
     # a glTF scene is framed itself: it may bring its own camera (--camera gltf)
-    camera, center = task.view.frame(cloud if cloud is not None else model if isinstance(model, Scene) else mesh)
-    if cloud is not None:
-        if svg:
+    camera, center = task.view.frame(cloud if mesh is None else model if isinstance(model, Scene) else mesh)
+    if cloud is not None and svg:
+        if mesh is None:
             raise UsageError(f"{source}: a point cloud is drawn into an image, not an SVG drawing")
+        if say is not None:
+            say(f"rasterkit: warning: {source}: its {len(cloud)} points are not drawn in an SVG drawing")
+        cloud = None
+    if mesh is None:
         mesh = cloud.as_mesh()  # no faces: what the memory check and the render take with the points
     if svg:
         from rasterkit.svg import render_svg, save_svg

@@ -260,7 +260,7 @@ def _explained_mesh(args):
 
     with _report.model(args.model), compile_notice():
         mesh, cloud = as_drawn(load(args.model, textures=False))  # the camera needs the geometry only
-    if cloud is not None:
+    if mesh is None:
         mesh = cloud.as_mesh()
     for warning in mesh.warnings:
         print(f"rasterkit: warning: {args.model}: {_report.one_line(warning)}", file=sys.stderr)

@@ -31,7 +31,7 @@ def _models(models: list[str]) -> int:
                 print(line, file=sys.stderr)
                 codes.append(code)
                 continue
-        text = _describe(name, kind, mesh) if cloud is None else _describe_cloud(name, cloud)
+        text = _describe_cloud(name, cloud) if mesh is None else _describe(name, kind, mesh, cloud)
         print(text, flush=True)  # a closed stdout stops all (main)
         codes.append(0)
     return 1 if 1 in codes else max(codes)
@@ -76,7 +76,8 @@ def _describe_cloud(name: str, cloud) -> str:
     return "\n".join(lines)
 
 
-def _describe(name: str, kind: str, mesh) -> str:
+def _describe(name: str, kind: str, mesh, cloud=None) -> str:
+    """A model's block; ``cloud``: the points drawn with it (a glTF scene's points primitives)."""
     lo, hi = mesh.bounds
     fmt = ", ".join
     lines = [
@@ -86,6 +87,7 @@ def _describe(name: str, kind: str, mesh) -> str:
         f"  triangles {len(mesh.faces)}",
         f"  edges     {len(mesh.edges)}",
         f"  lines     {len(mesh.lines)}",
+        *([] if cloud is None else [f"  points    {len(cloud)}"]),
         f"  bounds    {_bounds(lo, hi)}",
         f"  attributes {fmt(a for a in ATTRIBUTES if getattr(mesh, a) is not None) or 'none'}",
         f"  groups    {len(mesh.group_names)}: {fmt(mesh.group_names[:8])}{' ...' if len(mesh.group_names) > 8 else ''}",

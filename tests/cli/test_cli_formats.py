@@ -136,3 +136,39 @@ def test_a_gltf_files_own_warnings_are_printed(tmp_path, capsys):
     assert main(["render", str(path), "-o", str(tmp_path / "x.png"), "--size", "32x24"]) == 0
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [f"rasterkit: warning: {path}: extensionsUsed: uses extension 'EXT_made_up', which rasterkit ignores"]
+
+
+def test_a_gltf_scenes_points_are_drawn_with_its_faces_and_spun_in_a_turntable(tmp_path, capsys):
+    """A cube with three coloured points beside it (a mode-0 primitive): the command line
+    draws the points in their colours, as the API does with ``points=``, and spins them
+    with the cube."""
+    cube = rasterkit.shapes.cube()
+    b = GltfBuilder()
+    pos = b.accessor(cube.vertices.astype(np.float32))
+    idx = b.accessor(cube.faces.astype(np.uint16).ravel())
+    dots = b.accessor(np.array([[1.2, 0.4, 0], [1.2, 0, 0], [1.2, -0.4, 0]], np.float32))
+    colors = b.accessor(np.array([[255, 0, 0], [0, 255, 0], [0, 0, 255]], np.uint8), np.uint8, normalized=True)
+    b.scene(b.node(mesh=b.mesh({"attributes": {"POSITION": pos}, "indices": idx},
+                               {"attributes": {"POSITION": dots, "COLOR_0": colors}, "mode": 0})))
+    path = b.write_glb(tmp_path / "dots.glb")
+    out = tmp_path / "dots.png"
+    flags = ["--size", "96x72", "--point-size", "5", "--azimuth", "0", "--elevation", "0"]
+    assert main(["render", str(path), "-o", str(out), "--mode", "solid", *flags]) == 0
+    image = np.asarray(Image.open(out).convert("RGB"))
+    colours = {tuple(c) for c in image.reshape(-1, 3)}
+    assert {(255, 0, 0), (0, 255, 0), (0, 0, 255)} <= colours
+    scene = rasterkit.load(path)
+    camera = rasterkit.View(size=(96, 72), azimuth=0, elevation=0).frame(scene)[0]
+    api = rasterkit.render(scene.world_mesh(), camera, mode="solid", point_size=5, points=scene.points,
+                           point_color=scene.point_colors.astype(np.float32))
+    assert np.array_equal(api.color, image)
+    assert main(["info", str(path)]) == 0
+    assert "  points    3" in capsys.readouterr().out
+    spin = tmp_path / "dots.gif"
+    assert main(["render", str(path), "-o", str(spin), "--turntable", "4", *flags]) == 0
+    with Image.open(spin) as gif:
+        gif.seek(2)  # half a turn: the points are on the other side of the cube
+        half = np.asarray(gif.convert("RGB"))
+    red = np.argwhere((half == [255, 0, 0]).all(axis=2))
+    first = np.argwhere((image == [255, 0, 0]).all(axis=2))
+    assert len(red) and len(first) and np.sign(red[:, 1].mean() - 48) == -np.sign(first[:, 1].mean() - 48)
