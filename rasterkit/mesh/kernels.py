@@ -38,6 +38,25 @@ def _place(uppers, fill, a, b):
 
 
 @kernel(inline="always")
+def _open_lists(start, pairs, n_vertices):
+    """Count ``pairs`` (K, 2) into ``start`` too, turn the counts into the lists' starts
+    (prefix sums) and return the lists' storage and each list's next free place."""
+    for p in range(pairs.shape[0]):
+        _tally(start, pairs[p, 0], pairs[p, 1])
+    for v in range(n_vertices):
+        start[v + 1] += start[v]
+    return np.empty(start[n_vertices], np.int64), start[:n_vertices].copy()
+
+
+@kernel(inline="always")
+def _close_lists(start, uppers, fill, pairs, n_vertices):
+    """Place ``pairs`` in the lists too and return :func:`_unique_lists` of them."""
+    for p in range(pairs.shape[0]):
+        _place(uppers, fill, pairs[p, 0], pairs[p, 1])
+    return _unique_lists(start, uppers, n_vertices)
+
+
+@kernel(inline="always")
 def _unique_lists(start, uppers, n_vertices):
     """(E, 2) int64 ``(lo, hi)`` of the lists ``uppers[start[lo]:start[lo + 1]]`` (prefix
     sums in ``start``), each sorted and without repeats."""
@@ -83,19 +102,12 @@ def sorted_edges(faces, pairs, n_vertices):
         _tally(start, faces[f, 0], faces[f, 1])
         _tally(start, faces[f, 1], faces[f, 2])
         _tally(start, faces[f, 2], faces[f, 0])
-    for p in range(pairs.shape[0]):
-        _tally(start, pairs[p, 0], pairs[p, 1])
-    for v in range(n_vertices):
-        start[v + 1] += start[v]
-    uppers = np.empty(start[n_vertices], np.int64)
-    fill = start[:n_vertices].copy()
+    uppers, fill = _open_lists(start, pairs, n_vertices)
     for f in range(faces.shape[0]):
         _place(uppers, fill, faces[f, 0], faces[f, 1])
         _place(uppers, fill, faces[f, 1], faces[f, 2])
         _place(uppers, fill, faces[f, 2], faces[f, 0])
-    for p in range(pairs.shape[0]):
-        _place(uppers, fill, pairs[p, 0], pairs[p, 1])
-    return _unique_lists(start, uppers, n_vertices)
+    return _close_lists(start, uppers, fill, pairs, n_vertices)
 
 
 @kernel
@@ -109,20 +121,13 @@ def sorted_polygon_edges(corners, offsets, keep, pairs, n_vertices):
             first, end = offsets[p], offsets[p + 1]
             for c in range(first, end):
                 _tally(start, corners[c], corners[c + 1] if c + 1 < end else corners[first])
-    for p in range(pairs.shape[0]):
-        _tally(start, pairs[p, 0], pairs[p, 1])
-    for v in range(n_vertices):
-        start[v + 1] += start[v]
-    uppers = np.empty(start[n_vertices], np.int64)
-    fill = start[:n_vertices].copy()
+    uppers, fill = _open_lists(start, pairs, n_vertices)
     for p in range(len(offsets) - 1):
         if keep[p]:
             first, end = offsets[p], offsets[p + 1]
             for c in range(first, end):
                 _place(uppers, fill, corners[c], corners[c + 1] if c + 1 < end else corners[first])
-    for p in range(pairs.shape[0]):
-        _place(uppers, fill, pairs[p, 0], pairs[p, 1])
-    return _unique_lists(start, uppers, n_vertices)
+    return _close_lists(start, uppers, fill, pairs, n_vertices)
 
 
 @kernel
