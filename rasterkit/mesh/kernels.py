@@ -4,8 +4,8 @@ repeated corner, which the readers leave out.
 
 Each side's upper vertex is put in the list of its lower one (a counting sort by lower
 vertex: one pass to count, one to place), then each list is sorted and its repeats dropped:
-by insertion for the short lists of real meshes, by NumPy's O(d log d) sort for a vertex of
-many sides, so that no mesh makes it quadratic. Memory: 8 bytes a side and 16 a vertex
+by insertion for the short lists of real meshes, by a heap sort (O(d log d)) for a vertex
+of many sides, so that no mesh makes it quadratic. Memory: 8 bytes a side and 16 a vertex
 besides the result.
 """
 
@@ -17,7 +17,7 @@ from rasterkit.runtime.jit import kernel
 
 __all__ = ["repeated_corners", "sorted_edges", "sorted_polygon_edges"]
 
-#: Neighbour lists up to this long are sorted by insertion, longer ones by NumPy's sort.
+#: Neighbour lists up to this long are sorted by insertion, longer ones by a heap sort.
 SHORT = 24
 
 
@@ -56,6 +56,33 @@ def _close_lists(start, uppers, fill, pairs, n_vertices):
     return _unique_lists(start, uppers, n_vertices)
 
 
+@kernel
+def _heap_sort(a, first, end):
+    """Sort ``a[first:end]`` in place in O(d log d) (a heap sort: a few lines to compile,
+    where NumPy's sort in a kernel compiles for seconds)."""
+    n = end - first
+    for root in range(n // 2 - 1, -1, -1):
+        _sift(a, first, root, n)
+    for last in range(n - 1, 0, -1):
+        a[first], a[first + last] = a[first + last], a[first]
+        _sift(a, first, 0, last)
+
+
+@kernel(inline="always")
+def _sift(a, first, root, n):
+    """Move ``a[first + root]`` down the max-heap ``a[first:first + n]`` to its place."""
+    while True:
+        child = 2 * root + 1
+        if child >= n:
+            return
+        if child + 1 < n and a[first + child + 1] > a[first + child]:
+            child += 1
+        if a[first + root] >= a[first + child]:
+            return
+        a[first + root], a[first + child] = a[first + child], a[first + root]
+        root = child
+
+
 @kernel(inline="always")
 def _unique_lists(start, uppers, n_vertices):
     """(E, 2) int64 ``(lo, hi)`` of the lists ``uppers[start[lo]:start[lo + 1]]`` (prefix
@@ -65,7 +92,7 @@ def _unique_lists(start, uppers, n_vertices):
     for lo in range(n_vertices):
         first, end = start[lo], start[lo + 1]
         if end - first > SHORT:
-            uppers[first:end] = np.sort(uppers[first:end])
+            _heap_sort(uppers, first, end)
         else:
             for i in range(first + 1, end):
                 x = uppers[i]
