@@ -28,10 +28,10 @@ from rasterkit.mesh.checks import (
     check_unit_colors, checked_array, corner_attributes, face_labels, immutable, seal, vertex_indices,
 )
 from rasterkit.mesh.edges import polygon_edges, polygon_mesh_edges, side_neighbours, unique_edges
-from rasterkit.mesh.kernels import sorted_edges
+from rasterkit.mesh.kernels import repeated_corners, sorted_edges
 from rasterkit.mesh.foreign import visual_fields
 
-__all__ = ["Mesh", "as_mesh", "immutable", "mesh_bytes", "polygon_edges", "polygon_mesh_edges", "seal", "side_neighbours",
+__all__ = ["Mesh", "as_mesh", "immutable", "mesh_bytes", "polygon_edges", "polygon_mesh_edges", "repeated_corners", "seal", "side_neighbours",
            "unique_edges"]
 
 

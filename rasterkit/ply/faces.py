@@ -17,8 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rasterkit.mesh import mesh_bytes
-from rasterkit.mesh.kernels import repeated_corners
+from rasterkit.mesh import mesh_bytes, repeated_corners
 from rasterkit.obj.assemble import split_polygons
 from rasterkit.ply.errors import Notes, PlyError, check_limit, count
 from rasterkit.ply.header import Element, Header
