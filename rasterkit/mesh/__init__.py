@@ -31,8 +31,8 @@ from rasterkit.mesh.edges import polygon_edges, polygon_mesh_edges, side_neighbo
 from rasterkit.mesh.kernels import repeated_corners, sorted_edges
 from rasterkit.mesh.foreign import visual_fields
 
-__all__ = ["Mesh", "as_mesh", "immutable", "mesh_bytes", "polygon_edges", "polygon_mesh_edges", "repeated_corners", "seal", "side_neighbours",
-           "unique_edges"]
+__all__ = ["Mesh", "as_mesh", "immutable", "mesh_bytes", "polygon_edges", "polygon_mesh_edges", "repeated_corners",
+           "seal", "side_neighbours", "unique_edges"]
 
 
 def mesh_bytes(n_vertices: int, n_faces: int, n_edges: int, n_uv: int = 0, n_corner_normals: int = 0,
