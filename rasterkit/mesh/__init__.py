@@ -12,8 +12,9 @@ renderer calls before any kernel runs. To move a mesh, make a new one
 (``dataclasses.replace(mesh, vertices=...)`` keeps its edges and every attribute).
 
 The package: the Mesh (here), the checks of its arrays (``checks``), edges of polygons and
-the faces across each side (``edges``, sorted by the kernel in ``kernels``), and the attributes of meshes from other libraries
-(``foreign``: trimesh's texture coordinates, materials and colours).
+the faces across each side (``edges``, sorted by the kernels in ``kernels``), and the
+attributes of meshes from other libraries (``foreign``: trimesh's texture coordinates,
+materials and colours).
 """
 
 from __future__ import annotations
