@@ -115,7 +115,6 @@ from rasterkit.obj.document import Document
 from rasterkit.obj.errors import ObjError, ObjLimitError, Report, count
 from rasterkit.material.material import Material
 from rasterkit.obj.materials import DEFAULT_KD, face_colors, make_materials, material_names, read_libraries
-from rasterkit.obj.memory import check_statements
 from rasterkit.obj.statements import note_skipped, read_elements, read_numbers, read_vertices
 from rasterkit.obj.kernels.scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
 from rasterkit.mesh import Mesh, unique_edges
@@ -167,7 +166,6 @@ def load_obj(path, *, textures: bool = True) -> Mesh:
     [[0, 1], [0, 3], [1, 2], [2, 3]]
     """
     doc = Document.read(os.fsdecode(path))
-    check_statements(doc)
     report = Report(doc.name)
     vertices, colors = read_vertices(doc, report)
     texcoords = read_numbers(doc, KIND_VT, 3, report)

@@ -27,7 +27,7 @@ import numpy as np
 from rasterkit.runtime.intrinsics import bits_float
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["NUMBER_INEXACT", "NUMBER_OK", "NUMBER_OTHER", "exact_decimals", "parse_decimal"]
+__all__ = ["NUMBER_INEXACT", "NUMBER_OK", "NUMBER_OTHER", "exact_decimals", "parse_decimal", "read_decimal"]
 
 PLUS, MINUS, ZERO, _NINE = 43, 45, 48, 57
 
@@ -143,7 +143,7 @@ def _scale(mantissa, exponent):
     return m * 10.0 ** max(min(exponent, 400), -400), False
 
 
-@kernel
+@kernel(inline="always")
 def _parse_exponent(buf, i, b):
     """The exponent digits ``[+-]digits`` of a number at buf[i:b]: (value, end, ok). Values
     are capped at 100000, far beyond where every double is 0 or infinite."""
@@ -199,6 +199,18 @@ def _parts(buf, a, b):
     return sign, mantissa, exponent, truncated, i == b
 
 
+@kernel(inline="always")
+def read_decimal(buf, a, b):
+    """:func:`parse_decimal` inlined into the caller: for a reader's loop over many numbers,
+    which then makes no call (and, in a kernel without reference counting, no atomic
+    reference count update) per number."""
+    sign, mantissa, exponent, truncated, ok = _parts(buf, a, b)
+    if not ok:
+        return 0.0, NUMBER_OTHER
+    value, exact = _scale(mantissa, exponent)
+    return sign * value, NUMBER_OK if exact and not truncated else NUMBER_INEXACT
+
+
 @kernel
 def parse_decimal(buf, a, b):
     """Parse the number token buf[a:b] (see :func:`_parts` for the syntax).
@@ -211,11 +223,7 @@ def parse_decimal(buf, a, b):
         (more than 15 significant digits or an exponent beyond +-22: the caller converts those
         tokens again, exactly); NUMBER_OTHER when the token is not a plain decimal number.
     """
-    sign, mantissa, exponent, truncated, ok = _parts(buf, a, b)
-    if not ok:
-        return 0.0, NUMBER_OTHER
-    value, exact = _scale(mantissa, exponent)
-    return sign * value, NUMBER_OK if exact and not truncated else NUMBER_INEXACT
+    return read_decimal(buf, a, b)
 
 
 @kernel(fastmath=False)
