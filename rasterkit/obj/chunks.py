@@ -18,13 +18,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from rasterkit.obj.kernels import chunk as _chunk
-from rasterkit.obj.kernels.chunk import count_lines, read_lines
+from rasterkit.obj.kernels.chunk import read_lines
 from rasterkit.obj.kernels.corners import resolve_corners
 from rasterkit.obj.kernels.scan import KIND_F, KIND_L, KIND_V, KIND_VN, KIND_VT
 from rasterkit.runtime.threads import get_threads, run_parallel
 
-__all__ = ["CHUNK_BYTES", "Geometry", "Statements", "chunk_bounds", "count_line_breaks", "read_chunk",
-           "read_statements"]
+__all__ = ["CHUNK_BYTES", "Chunk", "Geometry", "Statements", "chunk_bounds", "read_chunk", "read_statements"]
 
 #: The smallest chunk worth a thread of its own: a smaller text is one chunk.
 CHUNK_BYTES = 1 << 20
@@ -88,123 +87,128 @@ def _in_parallel(task, n: int) -> list:
     return results
 
 
-#: Rows (and corners, and f and l statements) a chunk makes room for at first.
+#: Statements (and rows, corners, f and l statements) a chunk makes room for at first; then
+#: as many as the part read so far says the chunk needs, and a tenth more.
 FIRST_CAPACITY = 1024
-#: What read_lines fills, in the order it takes them after ``n``: the dtype and the
-#: numbers per row of each growing array, and which FULL_* grows it.
-_GROWING = ((np.float64, 6, _chunk.FULL_V), (np.int64, 1, _chunk.FULL_V),
+#: The arrays read_lines fills, in the order it takes them after ``n``: the dtype and the
+#: items per row of each, and which FULL_* grows it.
+_GROWING = ((np.int64, 1, _chunk.FULL_TABLE), (np.int64, 1, _chunk.FULL_TABLE), (np.int8, 1, _chunk.FULL_TABLE),
+            (np.int64, 1, _chunk.FULL_TABLE),
+            (np.float64, 6, _chunk.FULL_V), (np.int64, 1, _chunk.FULL_V),
             (np.float64, 3, _chunk.FULL_VT), (np.int64, 1, _chunk.FULL_VT),
             (np.float64, 3, _chunk.FULL_VN), (np.int64, 1, _chunk.FULL_VN),
             (np.int64, 3, _chunk.FULL_CORNERS), (np.int64, 1, _chunk.FULL_ELEMENTS))
+_TABLE = 4  # the first four are the statement table, the others the geometry
 #: The count (an index into read_lines' ``n``) of the rows of each FULL_*.
-_COUNTS = {_chunk.FULL_V: _chunk.NV, _chunk.FULL_VT: _chunk.NT, _chunk.FULL_VN: _chunk.NN,
-           _chunk.FULL_CORNERS: _chunk.NC, _chunk.FULL_ELEMENTS: _chunk.NE}
+_COUNTS = {_chunk.FULL_TABLE: _chunk.S, _chunk.FULL_V: _chunk.NV, _chunk.FULL_VT: _chunk.NT,
+           _chunk.FULL_VN: _chunk.NN, _chunk.FULL_CORNERS: _chunk.NC, _chunk.FULL_ELEMENTS: _chunk.NE}
 
 
-def read_chunk(buf: np.ndarray, lo: int, hi: int, lines: int, budget: int) -> tuple:
-    """Read the statements of buf[lo:hi] (whole lines, ``lines`` line breaks among them) with
-    :func:`~rasterkit.obj.kernels.chunk.read_lines`, its arrays grown twice as large each
-    time one is full while they take at most ``budget`` bytes.
+@dataclass
+class Chunk:
+    """What :func:`read_chunk` read of one chunk."""
 
-    Returns ``(starts, ends, kinds, ntokens, v, vt, vn, corners, malformed, over)``: the
-    statement table (absolute byte offsets into buf); for the v, vt and vn statements
-    ``(values (rows * width,) float64, flags (rows,) int64)`` (see ``read_lines``); the raw
-    (v, vt, vn) of each f and l corner token (3 * C,) int64; the first malformed token (E,)
-    of each f and l statement or -1; and whether the numbers and corners were over the
-    budget (then they are empty: the table is complete)."""
-    table = [np.empty(lines + 1, np.int64), np.empty(lines + 1, np.int64), np.empty(lines + 1, np.int8),
-             np.empty(lines + 1, np.int64)]
+    table: list  # starts, ends, kinds, ntokens (S,)
+    numbers: list  # per v, vt, vn: values (rows * width,) float64, flags (rows,) int64
+    corners: np.ndarray  # (3 * C,) int64 raw v, vt, vn of each f and l corner token
+    malformed: np.ndarray  # (E,) int64 first malformed token of each f and l statement, or -1
+    counts: np.ndarray  # read_lines' n
+    over: bool  # the geometry was over the budget: not kept (the table is complete)
+
+
+def read_chunk(buf: np.ndarray, lo: int, hi: int, budget: int) -> Chunk:
+    """Read the statements of buf[lo:hi] (whole lines) with
+    :func:`~rasterkit.obj.kernels.chunk.read_lines`, its arrays grown each time one is full
+    (the numbers and corners while they take at most ``budget`` bytes)."""
     growing = [np.empty(FIRST_CAPACITY * width, dtype) for dtype, width, _ in _GROWING]
-    spent = sum(a.nbytes for a in growing)
+    spent = sum(a.nbytes for a in growing[_TABLE:])
     keep = spent <= budget
-    n = np.zeros(6, np.int64)
+    n = np.zeros(8, np.int64)
     i = lo
     while True:
-        i, full = read_lines(buf, i, hi, keep, n, *table, *growing)
+        i, full = read_lines(buf, i, hi, keep, n, *growing)
         if full == _chunk.DONE:
             break
         grow = [k for k, (_, _, which) in enumerate(_GROWING) if which == full]
-        spent += sum(growing[k].nbytes for k in grow)
-        if spent > budget:
-            keep = False
-            growing = [a[:0] for a in growing]
-            continue
         used = int(n[_COUNTS[full]])
+        # as many as the chunk needs at this rate (at least twice as many)
+        capacity = max(2 * used, int(used * (hi - lo) / max(i - lo, 1) * 1.1) + FIRST_CAPACITY)
+        if full != _chunk.FULL_TABLE:
+            spent += sum((capacity - used) * growing[k].itemsize * _GROWING[k][1] for k in grow)
+            if spent > budget:
+                keep = False
+                growing[_TABLE:] = [a[:0] for a in growing[_TABLE:]]
+                continue
         for k in grow:
             a, width = growing[k], _GROWING[k][1]
-            b = np.empty(2 * len(a), a.dtype)
+            b = np.empty(capacity * width, a.dtype)
             b[:used * width] = a[:used * width]
             growing[k] = b
-    count = int(n[_chunk.S])
-    used = [0 if not keep else int(n[_COUNTS[which]]) * width for _, width, which in _GROWING]
-    parts = [a[:u] for a, u in zip(growing, used)]
-    return (*(a[:count] for a in table), tuple(parts[0:2]), tuple(parts[2:4]), tuple(parts[4:6]),
-            parts[6], parts[7], not keep)
+    if not keep:
+        n[1:] = 0
+    parts = [a[:int(n[_COUNTS[which]]) * width] for a, (_, width, which) in zip(growing, _GROWING)]
+    return Chunk(parts[:_TABLE], [parts[4:6], parts[6:8], parts[8:10]], parts[10], parts[11], n, not keep)
 
 
-def count_line_breaks(buf: np.ndarray, bounds: list[int]) -> list[int]:
-    """The line breaks of each chunk of buf."""
-    return _in_parallel(lambda k: int(count_lines(buf, bounds[k], bounds[k + 1])), len(bounds) - 1)
-
-
-def read_statements(buf: np.ndarray, bounds: list[int], lines: list[int], budget: int,
-                    attributes: bool) -> Statements:
-    """Read the chunks of buf (``bounds`` from :func:`chunk_bounds`, ``lines`` their line
-    breaks), keeping at most ``budget`` bytes of numbers and corners, and put them together;
-    ``attributes``: whether any corner may name a vt or vn (buf has a ``/``)."""
+def read_statements(buf: np.ndarray, bounds: list[int], budget: int, attributes: bool) -> Statements:
+    """Read the chunks of buf (``bounds`` from :func:`chunk_bounds`), keeping at most
+    ``budget`` bytes of numbers and corners, and put them together; ``attributes``: whether
+    any corner may name a vt or vn (buf has a ``/``)."""
     n = len(bounds) - 1
     share = budget // n
-    chunks = _in_parallel(lambda k: read_chunk(buf, bounds[k], bounds[k + 1], lines[k], share), n)
-    if n == 1:
-        (starts, ends, kinds, ntokens, *_, over), = chunks
-        return Statements(starts, ends, kinds, ntokens, None if over else _geometry(chunks, attributes))
-    table = [np.concatenate([c[f] for c in chunks]) for f in range(4)]
-    over = any(c[-1] for c in chunks)
-    return Statements(*table, None if over else _geometry(chunks, attributes))
+    chunks = _in_parallel(lambda k: read_chunk(buf, bounds[k], bounds[k + 1], share), n)
+    over = any(c.over for c in chunks)
+    return _put_together(chunks, attributes, table_only=over)
 
 
-def _geometry(chunks: list, attributes: bool) -> Geometry:
-    """The numbers and corners of the chunks (read within the budget), in file order; the
-    texture and normal indices of the corners only with ``attributes`` (else empty)."""
-    kinds = [KIND_V, KIND_VT, KIND_VN]
-    rows = np.array([[len(c[4 + j][1]) for j in range(3)] for c in chunks], np.int64)  # (chunks, 3)
-    before = np.cumsum(rows, axis=0) - rows
-    totals = rows.sum(axis=0)
-    element_kinds = [KIND_F, KIND_L]
-    # corners and elements of each chunk, per kind: from the kinds and token counts
-    sizes = [[_element_sizes(c[2], c[3], kind) for kind in element_kinds] for c in chunks]
-    numbers = {}
-    for j, kind in enumerate(kinds):
-        width = WIDTHS[kind]
-        numbers[kind] = (np.empty((totals[j], width)), np.empty(totals[j], np.int8), np.empty(totals[j], np.int64))
-    corners = {}
-    corner_at, element_at = {}, {}
-    for i, kind in enumerate(element_kinds):
-        e = np.array([s[i][0] for s in sizes], np.int64)
-        c = np.array([s[i][1] for s in sizes], np.int64)
-        element_at[kind], corner_at[kind] = np.cumsum(e) - e, np.cumsum(c) - c
-        total = int(c.sum())
-        corners[kind] = (np.empty(total, np.int64), np.empty(total if attributes else 0, np.int64),
-                         np.empty(total if attributes else 0, np.int64), np.empty((int(e.sum()), 3), np.int64))
+def _put_together(chunks: list, attributes: bool, table_only: bool) -> Statements:
+    """The statement table and (unless ``table_only``) the numbers and corners of the chunks,
+    in file order; the texture and normal indices of the corners only with ``attributes``
+    (else empty)."""
+    counts = np.array([c.counts for c in chunks], np.int64)  # (chunks, 8)
+    at = np.cumsum(counts, axis=0) - counts  # where each chunk's go
+    total = counts.sum(axis=0)
+    single = len(chunks) == 1
+    table = chunks[0].table if single else [np.empty(total[_chunk.S], a.dtype) for a in chunks[0].table]
+    kinds = [(KIND_V, _chunk.NV), (KIND_VT, _chunk.NT), (KIND_VN, _chunk.NN)]
+    numbers, corners = {}, {}
+    if not table_only:
+        for kind, count in kinds:
+            rows = total[count]
+            numbers[kind] = (chunks[0].numbers[count - 1][0].reshape(rows, WIDTHS[kind]) if single
+                             else np.empty((rows, WIDTHS[kind])), np.empty(rows, np.int8), np.empty(rows, np.int64))
+        # f corners and elements are those not of l statements
+        sizes = {KIND_F: (total[_chunk.NC] - total[_chunk.NLC], total[_chunk.NE] - total[_chunk.NLE]),
+                 KIND_L: (total[_chunk.NLC], total[_chunk.NLE])}
+        for kind, (c, e) in sizes.items():
+            corners[kind] = (np.empty(c, np.int64), np.empty(c if attributes else 0, np.int64),
+                             np.empty(c if attributes else 0, np.int64), np.empty((e, 3), np.int64))
+    before = at[:, [_chunk.NV, _chunk.NT, _chunk.NN]]
+    totals = total[[_chunk.NV, _chunk.NT, _chunk.NN]]
 
     def place(k):
-        chunk = chunks[k]
-        for j, kind in enumerate(kinds):
+        chunk, where = chunks[k], at[k]
+        if not single:
+            for a, b in zip(table, chunk.table):
+                a[where[_chunk.S]:where[_chunk.S] + len(b)] = b
+        if table_only:
+            return
+        for kind, count in kinds:
             values, status, inexact = numbers[kind]
-            a, b = before[k, j], before[k, j] + rows[k, j]
-            part_values, flags = chunk[4 + j]
-            values[a:b] = part_values.reshape(-1, WIDTHS[kind])
+            a, b = where[count], where[count] + counts[k, count]
+            part_values, flags = chunk.numbers[count - 1]
+            if not single:
+                values[a:b] = part_values.reshape(-1, WIDTHS[kind])
             np.right_shift(flags, _chunk.STATUS_SHIFT, out=status[a:b], casting="unsafe")
             np.bitwise_and(flags, (1 << _chunk.STATUS_SHIFT) - 1, out=inexact[a:b])
-        for kind in element_kinds:
-            resolve_corners(chunk[2], chunk[3], chunk[7], chunk[8], before[k], totals, *corners[kind],
-                            kind, corner_at[kind][k], element_at[kind][k])
+        lines = counts[k, _chunk.NLE]
+        for kind, corner, element, mine in (
+                (KIND_F, where[_chunk.NC] - where[_chunk.NLC], where[_chunk.NE] - where[_chunk.NLE],
+                 counts[k, _chunk.NE] - lines),
+                (KIND_L, where[_chunk.NLC], where[_chunk.NLE], lines)):
+            if mine:
+                resolve_corners(chunk.table[2], chunk.table[3], chunk.corners, chunk.malformed, before[k], totals,
+                                *corners[kind], kind, corner, element)
 
     _in_parallel(place, len(chunks))
-    return Geometry(numbers, corners)
-
-
-def _element_sizes(kinds: np.ndarray, ntokens: np.ndarray, kind: int) -> tuple[int, int]:
-    """The number of statements of one kind among a chunk's, and of their tokens."""
-    mine = kinds == kind
-    return int(np.count_nonzero(mine)), int(ntokens[mine].sum())
+    return Statements(*table, None if table_only else Geometry(numbers, corners))

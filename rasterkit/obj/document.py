@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rasterkit.obj.chunks import Geometry, chunk_bounds, count_line_breaks, read_statements
+from rasterkit.obj.chunks import Geometry, chunk_bounds, read_statements
 from rasterkit.obj.errors import ObjError
 from rasterkit.obj.files import read_file
 from rasterkit.obj.memory import check_scan, check_statements, parse_budget
@@ -44,21 +44,16 @@ class Document:
         statement table is made, and before the geometry is parsed, or kept: the chunks
         keep it while it takes less than the limit allows, see :func:`read_statements`)."""
         data = _text_bytes(read_file(name), name)
-        buf = np.frombuffer(data, np.uint8)
-        bounds = chunk_bounds(data, get_threads())
-        lines = count_line_breaks(buf, bounds)
-        check_scan(name, len(data), sum(lines) + 1)
+        lines = check_scan(name, data)
         text = _blank_continuations(data)
-        if text is not data:  # fewer line breaks: chunks of their own
-            buf = np.frombuffer(text, np.uint8)
-            bounds = chunk_bounds(text, get_threads())
-            lines = count_line_breaks(buf, bounds)
+        buf = np.frombuffer(text, np.uint8)
+        bounds = chunk_bounds(text, get_threads())
         attributes = b"/" in text
-        read = read_statements(buf, bounds, lines, parse_budget(len(text), sum(lines) + 1), attributes)
+        read = read_statements(buf, bounds, parse_budget(len(text), lines), attributes)
         doc = cls(name, data, text, buf, read.starts, read.ends, read.kinds, read.ntokens, read.geometry)
         check_statements(doc)
         if read.geometry is None:  # within the limit after all: read again, keeping everything
-            read = read_statements(buf, bounds, lines, 1 << 62, attributes)
+            read = read_statements(buf, bounds, 1 << 62, attributes)
             doc = cls(name, data, text, buf, read.starts, read.ends, read.kinds, read.ntokens, read.geometry)
         return doc
 

@@ -43,7 +43,7 @@ from rasterkit.runtime import jit as _jit
 from rasterkit.runtime import threads as _threads
 
 #: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
-PARSER = (("rasterkit.obj.kernels.chunk", "read_chunk"),
+PARSER = (("rasterkit.obj.kernels.chunk", "read_lines"),
           ("rasterkit.obj.kernels.corners", "resolve_corners"))
 
 _helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the helper compiling it

@@ -28,25 +28,17 @@ from rasterkit.obj.kernels.scan import (
 from rasterkit.runtime.decimal import NUMBER_INEXACT, NUMBER_OTHER, read_decimal
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["count_lines", "read_lines"]
+__all__ = ["read_lines"]
 
 _NL, _HASH = 10, 35
 _KEY_V, _KEY_F = ord("v"), ord("f")  # the keywords of most statements, packed as keyword_kind's
 
 
-@kernel
-def count_lines(buf, lo, hi):
-    """The number of line breaks (LF) in buf[lo:hi]."""
-    n = 0
-    for i in range(lo, hi):
-        n += buf[i] == _NL
-    return n
-
-
 #: What read_lines stopped for: the end of the text, or no room in one of the arrays.
-DONE, FULL_V, FULL_VT, FULL_VN, FULL_CORNERS, FULL_ELEMENTS = 0, 1, 2, 3, 4, 5
-#: The counts read_lines keeps in its ``n``: statements, v, vt, vn rows, corners, elements.
-S, NV, NT, NN, NC, NE = 0, 1, 2, 3, 4, 5
+DONE, FULL_V, FULL_VT, FULL_VN, FULL_CORNERS, FULL_ELEMENTS, FULL_TABLE = 0, 1, 2, 3, 4, 5, 6
+#: The counts read_lines keeps in its ``n``: statements, v, vt, vn rows, corners and f and l
+#: statements (elements), and of these the corners and elements of l statements.
+S, NV, NT, NN, NC, NE, NLC, NLE = 0, 1, 2, 3, 4, 5, 6, 7
 #: A row's flags (read_lines' ``*_flags``): bit k set when its token k is NUMBER_INEXACT,
 #: and its worst NUMBER_* status shifted by STATUS_SHIFT.
 STATUS_SHIFT = 8
@@ -56,7 +48,7 @@ STATUS_SHIFT = 8
 def read_lines(buf, i, hi, keep, n, starts, ends, kinds, ntokens, v_values, v_flags, t_values, t_flags,
                n_values, n_flags, corners, malformed):
     """Read the statements of buf[i:hi] (i at the start of a line) into the arrays, after
-    the ``n`` (6,) int64 counts of what they hold (updated): the statement table (starts,
+    the ``n`` (8,) int64 counts of what they hold (updated): the statement table (starts,
     ends, kinds, ntokens); the numbers of the v, vt and vn statements (values: 6, 3 and 3
     per row, NaN where the row has fewer tokens; flags per row, see STATUS_SHIFT) and the
     raw (v, vt, vn) of each corner token of the f and l statements (corners, 3 per corner)
@@ -65,7 +57,7 @@ def read_lines(buf, i, hi, keep, n, starts, ends, kinds, ntokens, v_values, v_fl
     for which an array had no room, and which (FULL_*; what the statement had put in the
     others is taken back). IEEE arithmetic (fastmath=False): the numbers are read by
     :func:`~rasterkit.runtime.decimal.read_decimal`, which needs it."""
-    count, nv, nt, nn, nc, ne = n[S], n[NV], n[NT], n[NN], n[NC], n[NE]
+    count, nv, nt, nn, nc, ne, nlc, nle = n[S], n[NV], n[NT], n[NN], n[NC], n[NE], n[NLC], n[NLE]
     full = DONE
     start = i
     while i < hi:
@@ -78,6 +70,9 @@ def read_lines(buf, i, hi, keep, n, starts, ends, kinds, ntokens, v_values, v_fl
             while i < hi and buf[i] != _NL:
                 i += 1
             continue
+        if count == len(starts):
+            full = FULL_TABLE
+            break
         key = 0
         while i < hi and BYTE_CLASS[buf[i]] == TOKEN:
             key = key * 256 + buf[i] if i - start < 7 else -1
@@ -170,10 +165,13 @@ def read_lines(buf, i, hi, keep, n, starts, ends, kinds, ntokens, v_values, v_fl
                 nn += 1
         elif element:
             ne += 1
+            if kind == KIND_L:
+                nle += 1
+                nlc += nc - first_corner
         starts[count] = start
         ends[count] = end
         kinds[count] = kind
         ntokens[count] = tokens
         count += 1
-    n[S], n[NV], n[NT], n[NN], n[NC], n[NE] = count, nv, nt, nn, nc, ne
+    n[S], n[NV], n[NT], n[NN], n[NC], n[NE], n[NLC], n[NLE] = count, nv, nt, nn, nc, ne, nlc, nle
     return (i if full == DONE else start), full
