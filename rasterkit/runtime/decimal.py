@@ -160,12 +160,14 @@ def _parse_exponent(buf, i, b):
 
 
 @kernel(inline="always")
-def _parts(buf, a, b):
-    """The parts of the plain decimal number buf[a:b], ``[+-]digits[.digits][(e|E)[+-]digits]``
-    (digits on at least one side of the point): ``(sign, mantissa, exponent, truncated, ok)``,
-    the number being ``sign * mantissa * 10**exponent``; ``mantissa`` holds its first 19
-    significant digits (leading zeros are skipped, later digits only scale it), ``truncated``
-    says a later one is not zero; ``ok`` False when it is no plain decimal."""
+def _prefix(buf, a, b):
+    """The parts of the plain decimal number at the start of buf[a:b],
+    ``[+-]digits[.digits][(e|E)[+-]digits]`` (digits on at least one side of the point):
+    ``(sign, mantissa, exponent, truncated, ok, end)``, the number being
+    ``sign * mantissa * 10**exponent``; ``mantissa`` holds its first 19 significant digits
+    (leading zeros are skipped, later digits only scale it), ``truncated`` says a later one is
+    not zero; ``ok`` False when it starts no plain decimal; ``end`` where it ends (only
+    digits, ``.``, ``e``, ``E`` and signs are read)."""
     i = a
     sign = 1.0
     if buf[i] == PLUS or buf[i] == MINUS:
@@ -190,25 +192,36 @@ def _parts(buf, a, b):
             truncated = truncated or buf[i] > ZERO
         i += 1
     if i - first == (1 if point else 0):  # no digit at all
-        return sign, mantissa, exponent, truncated, False
+        return sign, mantissa, exponent, truncated, False, i
     if i < b and buf[i] | 32 == 101:  # e or E
         e, i, ok = _parse_exponent(buf, i + 1, b)
         if not ok:
-            return sign, mantissa, exponent, truncated, False
+            return sign, mantissa, exponent, truncated, False, i
         exponent += e
-    return sign, mantissa, exponent, truncated, i == b
+    return sign, mantissa, exponent, truncated, True, i
 
 
 @kernel(inline="always")
-def read_decimal(buf, a, b):
-    """:func:`parse_decimal` inlined into the caller: for a reader's loop over many numbers,
-    which then makes no call (and, in a kernel without reference counting, no atomic
-    reference count update) per number."""
-    sign, mantissa, exponent, truncated, ok = _parts(buf, a, b)
+def _parts(buf, a, b):
+    """:func:`_prefix` of the whole of buf[a:b]: ``(sign, mantissa, exponent, truncated,
+    ok)``, ok False when buf[a:b] is no plain decimal number."""
+    sign, mantissa, exponent, truncated, ok, end = _prefix(buf, a, b)
+    return sign, mantissa, exponent, truncated, ok and end == b
+
+
+@kernel(inline="always")
+def read_decimal(buf, a, hi):
+    """The number at the start of buf[a:hi], for a reader's loop over many number tokens
+    (inlined into the caller: no call per number, and in a kernel without reference
+    counting no atomic reference count update): ``(value, status, end)``, ``end`` where the
+    number's characters (digits, ``.``, ``e``, ``E``, signs) end. ``value, status`` are
+    :func:`parse_decimal`'s of buf[a:end], so they are those of a token buf[a:b] when
+    end == b (the caller checks that the token ends there: else it is NUMBER_OTHER)."""
+    sign, mantissa, exponent, truncated, ok, end = _prefix(buf, a, hi)
     if not ok:
-        return 0.0, NUMBER_OTHER
+        return 0.0, NUMBER_OTHER, end
     value, exact = _scale(mantissa, exponent)
-    return sign * value, NUMBER_OK if exact and not truncated else NUMBER_INEXACT
+    return sign * value, NUMBER_OK if exact and not truncated else NUMBER_INEXACT, end
 
 
 @kernel
@@ -223,7 +236,11 @@ def parse_decimal(buf, a, b):
         (more than 15 significant digits or an exponent beyond +-22: the caller converts those
         tokens again, exactly); NUMBER_OTHER when the token is not a plain decimal number.
     """
-    return read_decimal(buf, a, b)
+    sign, mantissa, exponent, truncated, ok = _parts(buf, a, b)
+    if not ok:
+        return 0.0, NUMBER_OTHER
+    value, exact = _scale(mantissa, exponent)
+    return sign * value, NUMBER_OK if exact and not truncated else NUMBER_INEXACT
 
 
 @kernel(fastmath=False)

@@ -116,24 +116,23 @@ def read_lines(buf, i, hi, keep, n, starts, ends, kinds, ntokens, v_values, v_fl
             if i == hi or buf[i] == _NL or buf[i] == _HASH:
                 break
             a = i
-            while i < hi and BYTE_CLASS[buf[i]] == TOKEN:
-                i += 1
-            if row >= 0:
-                if flags >> STATUS_SHIFT != NUMBER_OTHER:
-                    value, status = read_decimal(buf, a, i)
-                    if status == NUMBER_OTHER:
-                        flags = (flags & 255) | (NUMBER_OTHER << STATUS_SHIFT)
-                    elif tokens < width:
-                        values[width * row + tokens] = value
-                        if status == NUMBER_INEXACT:
-                            flags |= (1 << tokens) | (NUMBER_INEXACT << STATUS_SHIFT)
+            if row >= 0 and flags >> STATUS_SHIFT != NUMBER_OTHER:
+                value, status, i = read_decimal(buf, a, hi)
+                if i < hi and BYTE_CLASS[buf[i]] == TOKEN:  # the token goes on: no number
+                    status = NUMBER_OTHER
+                if status == NUMBER_OTHER:
+                    flags = (flags & 255) | (NUMBER_OTHER << STATUS_SHIFT)
+                elif tokens < width:
+                    values[width * row + tokens] = value
+                    if status == NUMBER_INEXACT:
+                        flags |= (1 << tokens) | (NUMBER_INEXACT << STATUS_SHIFT)
             elif element:
                 if 3 * nc + 3 > len(corners):
                     full = FULL_CORNERS
                     break
                 v = vt = vn = ABSENT
                 if malformed[ne] < 0:
-                    v, vt, vn, present, ok = parse_corner(buf, a, i)
+                    v, vt, vn, present, ok, i = parse_corner(buf, a, hi)
                     if not ok:
                         malformed[ne] = tokens
                     if not ok or not present & 1:
@@ -146,6 +145,8 @@ def read_lines(buf, i, hi, keep, n, starts, ends, kinds, ntokens, v_values, v_fl
                 corners[3 * nc + 1] = vt
                 corners[3 * nc + 2] = vn
                 nc += 1
+            while i < hi and BYTE_CLASS[buf[i]] == TOKEN:  # the rest of the token
+                i += 1
             tokens += 1
             end = i
         if full != DONE:  # no room for this statement's corners: taken back

@@ -10,7 +10,9 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.runtime.jit import kernel
-from rasterkit.obj.kernels.scan import KIND_F, KIND_L, KIND_V, KIND_VN, KIND_VT, MINUS, PLUS, ZERO, is_digit
+from rasterkit.obj.kernels.scan import (
+    BYTE_CLASS, KIND_F, KIND_L, KIND_V, KIND_VN, KIND_VT, MINUS, PLUS, TOKEN, ZERO, is_digit,
+)
 
 #: The raw index of a corner field that is not given (``1//3`` has no vt), or of a corner
 #: not read (at and after a malformed one): no index of 18 digits or fewer is this.
@@ -19,7 +21,7 @@ ABSENT = np.iinfo(np.int64).min
 # Status codes of one face or line corner (code, corner, attribute) written by parse_corners.
 INDEX_OK, INDEX_ZERO, INDEX_BEFORE_FIRST, INDEX_OUT_OF_RANGE, INDEX_MALFORMED = 0, 1, 2, 3, 4
 
-_SLASH = 47
+_SLASH, _NL = 47, 10
 
 
 @kernel(inline="always")
@@ -37,12 +39,14 @@ def _resolve(raw, before, total):
 
 
 @kernel(inline="always")
-def parse_corner(buf, a, b):
-    """One corner token buf[a:b]: ``v``, ``v/vt``, ``v//vn`` or ``v/vt/vn``, where vt and vn
-    may be empty (``1//``). Each index is a signed integer of at most 18 digits.
+def parse_corner(buf, a, hi):
+    """The corner token that starts at buf[a] (and ends before the first blank or line
+    break, or at hi): ``v``, ``v/vt``, ``v//vn`` or ``v/vt/vn``, where vt and vn may be
+    empty (``1//``). Each index is a signed integer of at most 18 digits.
 
-    Returns (v, vt, vn, present, ok): raw indices (0 when absent), bit k of present set when
-    field k was given, ok False when the token is malformed.
+    Returns (v, vt, vn, present, ok, end): raw indices (0 when absent), bit k of present set
+    when field k was given, ok False when the token is malformed; end is where the token
+    ends (ok) or where it was found malformed (not ok: the token may go on).
     """
     v = vt = vn = 0
     present = 0
@@ -51,11 +55,12 @@ def parse_corner(buf, a, b):
     sign = 1
     digits = 0
     signed = False
-    for i in range(a, b + 1):
-        c = buf[i] if i < b else _SLASH  # the end of the token closes the last field
-        if c == _SLASH:
+    i = a
+    while True:
+        c = buf[i] if i < hi else _NL  # the end of the token closes the last field
+        if c == _SLASH or BYTE_CLASS[c] != TOKEN:
             if field > 2 or digits > 18 or (digits == 0 and (signed or field == 0)):
-                return 0, 0, 0, 0, False
+                return 0, 0, 0, 0, False, i
             if digits > 0:
                 present |= 1 << field
                 if field == 0:
@@ -64,6 +69,8 @@ def parse_corner(buf, a, b):
                     vt = sign * value
                 else:
                     vn = sign * value
+            if c != _SLASH:
+                return v, vt, vn, present, True, i
             field += 1
             value, sign, digits, signed = 0, 1, 0, False
         elif is_digit(c):
@@ -73,8 +80,8 @@ def parse_corner(buf, a, b):
             sign = -1 if c == MINUS else 1
             signed = True
         else:
-            return 0, 0, 0, 0, False
-    return v, vt, vn, present, True
+            return 0, 0, 0, 0, False, i
+        i += 1
 
 
 @kernel
