@@ -1,8 +1,12 @@
 """``load_obj(path) -> Mesh``: a fast Wavefront OBJ loader that takes what real files contain.
 
-The file's bytes are split into statements, and the common ones (``v``, ``vt``, ``vn``, ``f``,
-``l``) parsed and triangulated, by Numba kernels (``rasterkit.obj.kernels``: ``scan``,
-``numbers``, ``corners``) and NumPy (polygons: ``rasterkit.obj.split``; the rare ones
+The file's bytes are split into chunks of whole lines, read in parallel on the threads of
+:mod:`rasterkit.runtime.threads` (``rasterkit.obj.chunks``: each chunk in one pass by the
+kernel ``rasterkit.obj.kernels.chunk``, statements, numbers and corner tokens) and put together
+in file order (relative indices resolved against the whole file's counts by
+``rasterkit.obj.kernels.corners``), so the same file gives the same Mesh whatever the number
+of chunks and threads. Polygons are triangulated by kernels (triangles and convex quads:
+``rasterkit.obj.kernels.fans``) and NumPy (the others: ``rasterkit.obj.split``; the rare ones
 that need it, by ``rasterkit.obj.kernels.polygons``) with no Python loop over lines; only the rare
 lines (``g``, ``o``, ``usemtl``, ``mtllib``, unknown keywords), error messages and ``.mtl`` files
 go through Python.
@@ -11,7 +15,7 @@ This module holds the public names (:func:`load_obj`, :class:`ObjError`, :class:
 :data:`DEFAULT_KD`); the loader's parts, in the order it uses them: ``errors`` (the errors
 and the report of errors and warnings), ``files`` (reading a file, within the limits),
 ``memory`` (the memory loading will take, checked first), ``document`` (the file's
-bytes and statements), ``statements`` (the numbers and corners of the geometry
+bytes and statements, read by ``chunks``), ``statements`` (the numbers and corners of the geometry
 statements, checked), ``assemble`` (triangles as the corners of their polygons, by
 ``split`` and ``ears`` or the kernels, edges, groups and materials of the triangles),
 ``attributes`` (the texture coordinates and normals of the corners, and per vertex) and

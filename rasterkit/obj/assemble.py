@@ -11,7 +11,7 @@ from rasterkit.obj.errors import count
 from rasterkit.obj.split import split_in_numpy
 from rasterkit.obj.statements import Elements, latest_above
 from rasterkit.obj.kernels import polygons as obj_polygons
-from rasterkit.obj.kernels.fans import simple_polygons
+from rasterkit.obj.kernels.fans import side_keys, simple_polygons
 from rasterkit.obj.kernels.scan import KIND_USEMTL, KIND_V
 
 __all__ = ["face_labels", "face_materials", "finite_vertices", "polygon_sides", "split_polygons", "triangulate"]
@@ -112,18 +112,8 @@ def _in_polygon_order(parts, polygons: int, corners: np.ndarray):
 def polygon_sides(faces: Elements, keep: np.ndarray, n_vertices: int) -> np.ndarray:
     """(E,) int64 keys ``lo * N + hi`` of the sides of the kept polygons, for
     :func:`rasterkit.mesh.unique_edges`: p[0]-p[1], ..., p[-1]-p[0], none from a vertex to
-    itself, each side once."""
-    v = faces.vertex
-    following = np.arange(1, len(v) + 1)
-    following[faces.offsets[1:] - 1] = faces.offsets[:-1]  # the last corner's side closes
-    mine = np.repeat(keep, faces.sizes)
-    a, b = v[mine], v[following[mine]]
-    keys = np.minimum(a, b) * n_vertices + np.maximum(a, b)
-    keys = keys[a != b]
-    # Unique here already (NumPy's sort, in place): a polygon that walks round again
-    # repeats its sides, and unique_edges copies what it gets several times.
-    keys.sort()
-    return keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
+    itself, each side once, sorted (:func:`rasterkit.obj.kernels.fans.side_keys`)."""
+    return side_keys(faces.vertex, faces.offsets, keep, max(int(n_vertices), 1))
 
 
 def face_labels(doc, kinds, faces, triangle_polygon):

@@ -1,7 +1,8 @@
 """Numba kernels for the corners of OBJ ``f`` and ``l`` statements.
 
-A corner (``v``, ``v/vt``, ``v//vn``, ``v/vt/vn``) is parsed and its indices resolved to 0-based
-ones. The kernels never raise on bad input: they return status codes, so the caller
+A corner (``v``, ``v/vt``, ``v//vn``, ``v/vt/vn``) is parsed as the chunk reader scans it
+(:func:`parse_corner`), and its indices resolved to 0-based ones once the chunks are put
+together (:func:`resolve_corners`). The kernels never raise on bad input: they return status codes, so the caller
 (:mod:`rasterkit.obj.statements`) can name the first bad line of the file.
 """
 
@@ -18,7 +19,7 @@ from rasterkit.obj.kernels.scan import (
 #: not read (at and after a malformed one): no index of 18 digits or fewer is this.
 ABSENT = np.iinfo(np.int64).min
 
-# Status codes of one face or line corner (code, corner, attribute) written by parse_corners.
+# Status codes of one face or line corner (code, corner, attribute) written by resolve_corners.
 INDEX_OK, INDEX_ZERO, INDEX_BEFORE_FIRST, INDEX_OUT_OF_RANGE, INDEX_MALFORMED = 0, 1, 2, 3, 4
 
 _SLASH, _NL = 47, 10

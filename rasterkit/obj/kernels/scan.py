@@ -1,4 +1,6 @@
-"""Numba kernels that split OBJ text into statements and tokens (for :func:`rasterkit.load_obj`).
+"""How OBJ text splits into statements and tokens (for :func:`rasterkit.load_obj`): the byte
+classes, statement kinds and keywords the chunk reader (:mod:`~rasterkit.obj.kernels.chunk`)
+uses, and :func:`split_tokens`, which splits as it does, for Python code.
 
 Everything here works on the raw bytes of a file (a C-contiguous uint8 array). A *statement*
 is one OBJ line (ended by LF): a keyword and its tokens. ``#`` at the start of a token starts a
@@ -12,13 +14,8 @@ U+3000...) separate nothing, so a number or vertex reference that contains one i
 Python code splits a statement's text with :func:`split_tokens`, which agrees with the kernels
 on every byte. Line continuations (a
 backslash before the line break) are blanked out by the caller before the scan, so here every
-statement is one physical line. The byte classes and byte codes here are shared by the number
-(:mod:`~rasterkit.obj.kernels.numbers`) and corner (:mod:`~rasterkit.obj.kernels.corners`)
-parsers.
-
-Speed note: the per-byte loops call only helpers that take scalars. A helper taking the byte
-array, inlined into such a loop, adds atomic reference-count updates at every call (the scan was
-three times slower); helpers that take the array run once per token or statement.
+statement is one physical line. The byte classes and byte codes here are shared by the chunk
+reader and the corner parser (:mod:`~rasterkit.obj.kernels.corners`).
 """
 
 from __future__ import annotations
@@ -27,7 +24,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-# Statement kinds returned by scan_statements (blank and comment lines are not statements).
+# Statement kinds of the statement table (blank and comment lines are not statements).
 KIND_V, KIND_VT, KIND_VN, KIND_F, KIND_L, KIND_P = 1, 2, 3, 4, 5, 6
 KIND_G, KIND_O, KIND_S, KIND_USEMTL, KIND_MTLLIB, KIND_OTHER = 7, 8, 9, 10, 11, 12
 
@@ -74,19 +71,13 @@ def split_tokens(text: bytes) -> list:
 
 
 @kernel(inline="always")
-def in_token(c):
-    """True for a byte that continues a token: anything but whitespace and newline."""
-    return not (c == _NL or is_blank(c))
-
-
-@kernel(inline="always")
 def is_digit(c):
     return ZERO <= c <= _NINE
 
 
 @kernel
 def keyword_kind(key):
-    """KIND_* of a keyword packed by scan_statements (-1, a keyword longer than 7 bytes, and
+    """KIND_* of a keyword packed as the chunk reader packs it (-1, a keyword longer than 7 bytes, and
     any other unknown key give KIND_OTHER)."""
     for k in range(len(_KIND_KEYS)):
         if _KIND_KEYS[k] == key:
