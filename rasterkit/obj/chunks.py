@@ -1,5 +1,5 @@
 """An OBJ file's text read in chunks, in parallel: split at line breaks into about two chunks a
-thread, each chunk read in one pass by :func:`rasterkit.obj.kernels.chunk.read_chunk` on the
+thread, each chunk read in one pass by :func:`rasterkit.obj.kernels.chunk.read_lines` on the
 threads of :mod:`rasterkit.runtime.threads` (the kernels release the GIL), then put together
 in file order: the statement tables and numbers one after another, the corners of ``f`` and
 ``l`` resolved against the counts of the whole file (a relative index depends on the ``v``
@@ -44,8 +44,9 @@ class Geometry:
 
 @dataclass(frozen=True)
 class Statements:
-    """The statement table of a file (:func:`~rasterkit.obj.kernels.chunk.read_chunk`), and
-    its geometry, or None when keeping it would have taken more than the budget."""
+    """The statement table of a file (starts, ends, kinds, ntokens: see
+    :func:`~rasterkit.obj.kernels.chunk.read_lines`), and its geometry, or None when keeping
+    it would have taken more than the budget."""
 
     starts: np.ndarray
     ends: np.ndarray

@@ -97,7 +97,7 @@ def resolve_corners(kinds, ntokens, raw, malformed, before, totals, vertex, texc
         The chunk's statement table.
     raw : (3 * C,) int64
         The raw v, vt, vn of each corner token of the chunk's f and l statements, in order
-        (:func:`rasterkit.obj.kernels.chunk.read_chunk`; ``ABSENT`` where not given).
+        (:func:`rasterkit.obj.kernels.chunk.read_lines`; ``ABSENT`` where not given).
     malformed : (E,) int64
         First malformed token of each of those statements, or -1.
     before : (3,) int64
