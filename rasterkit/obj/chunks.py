@@ -132,10 +132,12 @@ def read_chunk(buf: np.ndarray, lo: int, hi: int, budget: int) -> Chunk:
             break
         grow = [k for k, (_, _, which) in enumerate(_GROWING) if which == full]
         used = int(n[_COUNTS[full]])
-        # as many as the chunk needs at this rate (at least twice as many)
-        capacity = max(2 * used, int(used * (hi - lo) / max(i - lo, 1) * 1.1) + FIRST_CAPACITY)
+        have = len(growing[grow[0]]) // _GROWING[grow[0]][1]
+        # as many as the chunk needs at this rate, and at least twice as many as it has (a
+        # statement with more corners than there is room for starts again with more)
+        capacity = max(2 * have, int(used * (hi - lo) / max(i - lo, 1) * 1.1) + FIRST_CAPACITY)
         if full != _chunk.FULL_TABLE:
-            spent += sum((capacity - used) * growing[k].itemsize * _GROWING[k][1] for k in grow)
+            spent += sum((capacity - have) * growing[k].itemsize * _GROWING[k][1] for k in grow)
             if spent > budget:
                 keep = False
                 growing[_TABLE:] = [a[:0] for a in growing[_TABLE:]]

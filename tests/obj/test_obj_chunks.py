@@ -129,3 +129,11 @@ def test_geometry_over_the_budget_is_read_again_when_the_file_is_within_the_limi
     expected = _mesh_fields(_load(path, 1))
     monkeypatch.setattr(document, "parse_budget", lambda size, lines: 0)  # nothing may be kept at first
     _assert_same(expected, _mesh_fields(_load(path, 2)))
+
+
+def test_a_statement_longer_than_a_chunks_first_arrays_is_read(tmp_path):
+    path = tmp_path / "m.obj"
+    cycles = chunks.FIRST_CAPACITY + 1  # the corner arrays grow while this face is read
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf" + " 1 2 3" * cycles + "\n")
+    mesh = _load(path, 1)
+    assert mesh.faces.tolist() == [[0, 1, 2]]  # the cycle 1 2 3, once
