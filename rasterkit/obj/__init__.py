@@ -1,8 +1,12 @@
 """``load_obj(path) -> Mesh``: a fast Wavefront OBJ loader that takes what real files contain.
 
-The file's bytes are split into statements, and the common ones (``v``, ``vt``, ``vn``, ``f``,
-``l``) parsed and triangulated, by Numba kernels (``rasterkit.obj.kernels``: ``scan``,
-``numbers``, ``corners``) and NumPy (polygons: ``rasterkit.obj.split``; the rare ones
+The file's bytes are split into chunks of whole lines, read in parallel on the threads of
+:mod:`rasterkit.runtime.threads` (``rasterkit.obj.chunks``: each chunk in one pass by the
+kernel ``rasterkit.obj.kernels.chunk``, statements, numbers and corner tokens) and put together
+in file order (relative indices resolved against the whole file's counts by
+``rasterkit.obj.kernels.corners``), so the same file gives the same Mesh whatever the number
+of chunks and threads. Polygons are triangulated by kernels (triangles and convex quads:
+``rasterkit.obj.kernels.fans``) and NumPy (the others: ``rasterkit.obj.split``; the rare ones
 that need it, by ``rasterkit.obj.kernels.polygons``) with no Python loop over lines; only the rare
 lines (``g``, ``o``, ``usemtl``, ``mtllib``, unknown keywords), error messages and ``.mtl`` files
 go through Python.
@@ -11,7 +15,7 @@ This module holds the public names (:func:`load_obj`, :class:`ObjError`, :class:
 :data:`DEFAULT_KD`); the loader's parts, in the order it uses them: ``errors`` (the errors
 and the report of errors and warnings), ``files`` (reading a file, within the limits),
 ``memory`` (the memory loading will take, checked first), ``document`` (the file's
-bytes and statements), ``statements`` (the numbers and corners of the geometry
+bytes and statements, read by ``chunks``), ``statements`` (the numbers and corners of the geometry
 statements, checked), ``assemble`` (triangles as the corners of their polygons, by
 ``split`` and ``ears`` or the kernels, edges, groups and materials of the triangles),
 ``attributes`` (the texture coordinates and normals of the corners, and per vertex) and
@@ -115,7 +119,6 @@ from rasterkit.obj.document import Document
 from rasterkit.obj.errors import ObjError, ObjLimitError, Report, count
 from rasterkit.material.material import Material
 from rasterkit.obj.materials import DEFAULT_KD, face_colors, make_materials, material_names, read_libraries
-from rasterkit.obj.memory import check_statements
 from rasterkit.obj.statements import note_skipped, read_elements, read_numbers, read_vertices
 from rasterkit.obj.kernels.scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
 from rasterkit.mesh import Mesh, unique_edges
@@ -167,7 +170,6 @@ def load_obj(path, *, textures: bool = True) -> Mesh:
     [[0, 1], [0, 3], [1, 2], [2, 3]]
     """
     doc = Document.read(os.fsdecode(path))
-    check_statements(doc)
     report = Report(doc.name)
     vertices, colors = read_vertices(doc, report)
     texcoords = read_numbers(doc, KIND_VT, 3, report)

@@ -11,6 +11,7 @@ from rasterkit.obj.errors import count
 from rasterkit.obj.split import split_in_numpy
 from rasterkit.obj.statements import Elements, latest_above
 from rasterkit.obj.kernels import polygons as obj_polygons
+from rasterkit.obj.kernels.fans import side_keys, simple_polygons
 from rasterkit.obj.kernels.scan import KIND_USEMTL, KIND_V
 
 __all__ = ["face_labels", "face_materials", "finite_vertices", "polygon_sides", "split_polygons", "triangulate"]
@@ -48,14 +49,14 @@ def split_polygons(vertices, corners, offsets, keep):
     """The triangles (T, 3) int64 of the kept polygons in polygon order, as corners (indices
     into ``corners``, the vertex index of each corner: a triangle's vertices are
     ``corners[triangles]``), the count (P,) of each polygon's and whether (P,) it could not
-    be split exactly: made by NumPy where it can (:mod:`rasterkit.obj.split`), by the
-    kernels of :mod:`rasterkit.obj.kernels.polygons` (compiled on first use) where not.
+    be split exactly: triangles and convex quads by :mod:`rasterkit.obj.kernels.fans`, the
+    others by NumPy where it can (:mod:`rasterkit.obj.split`), by the kernels of
+    :mod:`rasterkit.obj.kernels.polygons` (compiled on first use) where not.
     Triangles that a repeated vertex makes degenerate are left out."""
-    if np.all(np.diff(offsets) == 3):  # a triangle mesh: its rows as they are
-        a, b, c = corners.reshape(-1, 3).T
-        kept = keep & (a != b) & (b != c) & (c != a)
-        return 3 * np.flatnonzero(kept)[:, None] + np.arange(3), kept.astype(np.int64), np.zeros(len(keep), bool)
-    parts, inexact, left = split_in_numpy(vertices, corners, offsets, keep)
+    simple, simple_counts, left = simple_polygons(vertices, corners, offsets, keep)
+    if not left.any():  # triangles and convex quads: all split in one pass
+        return simple, simple_counts, np.zeros(len(keep), bool)
+    parts, inexact, left = split_in_numpy(vertices, corners, offsets, left)
     parts = [(np.repeat(polygons, rows.shape[1]), rows.reshape(-1, 3)) for polygons, rows in parts]
     if left.any():
         split, counts, state = obj_polygons.triangulate(vertices, corners, offsets, left)
@@ -65,7 +66,20 @@ def split_polygons(vertices, corners, offsets, keep):
             rows, exact = obj_polygons.split_large(vertices, corners[offsets[p]:offsets[p + 1]].copy())
             inexact[p] = not exact
             parts.append((np.full(len(rows), p), np.where(rows >= 0, rows + offsets[p], -1)))
-    return (*_in_polygon_order(parts, len(keep), corners), inexact)
+    rest, rest_counts = _in_polygon_order(parts, len(keep), corners)
+    return _interleave(simple, simple_counts, rest, rest_counts), simple_counts + rest_counts, inexact
+
+
+def _interleave(a, a_counts, b, b_counts):
+    """The rows of a and b (each in polygon order, a_counts and b_counts of each polygon's;
+    no polygon has rows in both) in polygon order."""
+    counts = a_counts + b_counts
+    start = np.cumsum(counts) - counts  # of each polygon's rows
+    out = np.empty((len(a) + len(b), 3), np.int64)
+    for rows, mine in ((a, a_counts), (b, b_counts)):
+        # row k of polygon p is at start[p] + k, and at (its first in rows) + k in rows
+        out[np.arange(len(rows)) + np.repeat(start - (np.cumsum(mine) - mine), mine)] = rows
+    return out
 
 
 def _in_polygon_order(parts, polygons: int, corners: np.ndarray):
@@ -98,18 +112,8 @@ def _in_polygon_order(parts, polygons: int, corners: np.ndarray):
 def polygon_sides(faces: Elements, keep: np.ndarray, n_vertices: int) -> np.ndarray:
     """(E,) int64 keys ``lo * N + hi`` of the sides of the kept polygons, for
     :func:`rasterkit.mesh.unique_edges`: p[0]-p[1], ..., p[-1]-p[0], none from a vertex to
-    itself, each side once."""
-    v = faces.vertex
-    following = np.arange(1, len(v) + 1)
-    following[faces.offsets[1:] - 1] = faces.offsets[:-1]  # the last corner's side closes
-    mine = np.repeat(keep, faces.sizes)
-    a, b = v[mine], v[following[mine]]
-    keys = np.minimum(a, b) * n_vertices + np.maximum(a, b)
-    keys = keys[a != b]
-    # Unique here already (NumPy's sort, in place): a polygon that walks round again
-    # repeats its sides, and unique_edges copies what it gets several times.
-    keys.sort()
-    return keys[np.concatenate([[True], keys[1:] != keys[:-1]])] if len(keys) else keys
+    itself, each side once, sorted (:func:`rasterkit.obj.kernels.fans.side_keys`)."""
+    return side_keys(faces.vertex, faces.offsets, keep, max(int(n_vertices), 1))
 
 
 def face_labels(doc, kinds, faces, triangle_polygon):

@@ -15,6 +15,7 @@ import numpy as np
 
 from rasterkit.obj.errors import count
 from rasterkit.obj.statements import Elements
+from rasterkit.obj.kernels import normals as normal_kernels
 from rasterkit.obj.kernels.scan import KIND_VT
 
 __all__ = ["corner_rows", "normal_table", "unit_rows", "uv_table", "vertex_normals", "vertex_texcoords"]
@@ -67,17 +68,11 @@ def normal_table(normals: np.ndarray, unit: np.ndarray) -> np.ndarray:
 
 
 def unit_rows(a: np.ndarray) -> np.ndarray:
-    """Rows of a scaled to length 1, NaN and infinite components taken as 0; rows of length 0
-    become 0."""
-    a = np.nan_to_num(a, nan=0.0, posinf=0.0, neginf=0.0)
-    # Rows whose squares would overflow (or vanish) are scaled towards 1 first: the other
-    # rows keep their exact values.
-    biggest = np.abs(a).max(axis=1, keepdims=True)
-    extreme = (biggest > 1e150) | ((biggest < 1e-150) & (biggest > 0))
-    if extreme.any():
-        a = np.where(extreme, a / np.where(extreme, biggest, 1.0), a)
-    length = np.linalg.norm(a, axis=1, keepdims=True)
-    return np.divide(a, length, out=np.zeros_like(a), where=length > 0)
+    """Rows of a (N, 3) scaled to length 1, NaN and infinite components taken as 0; rows of
+    length 0 become 0 (:func:`rasterkit.obj.kernels.normals.unit_rows`: rows whose squares
+    would overflow or vanish are scaled towards 1 first, the other rows keep their exact
+    values)."""
+    return normal_kernels.unit_rows(np.ascontiguousarray(a, dtype=np.float64))
 
 
 def vertex_normals(faces: Elements, unit: np.ndarray, n_vertices: int):
@@ -86,11 +81,8 @@ def vertex_normals(faces: Elements, unit: np.ndarray, n_vertices: int):
     used = faces.normal
     if not (used >= 0).any():
         return None
-    given = used >= 0
-    vertex, unit = faces.vertex[given], unit[used[given]]
-    # bincount adds in corner order, one column at a time
-    total = np.stack([np.bincount(vertex, unit[:, d], n_vertices) for d in range(3)], axis=1)
-    return unit_rows(total)
+    # summed in corner order, as np.bincount would
+    return unit_rows(normal_kernels.corner_normal_sums(faces.vertex, used, unit, n_vertices))
 
 
 def vertex_texcoords(faces: Elements, texcoords: np.ndarray, n_vertices: int):

@@ -4,14 +4,16 @@ single statements for messages and names."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from rasterkit.obj.chunks import Geometry, chunk_bounds, read_statements
 from rasterkit.obj.errors import ObjError
 from rasterkit.obj.files import read_file
-from rasterkit.obj.memory import check_scan
-from rasterkit.obj.kernels.scan import KIND_V, KIND_VN, KIND_VT, scan_statements, split_tokens
+from rasterkit.obj.memory import check_scan, check_statements, parse_budget
+from rasterkit.obj.kernels.scan import KIND_V, KIND_VN, KIND_VT, split_tokens
+from rasterkit.runtime.threads import get_threads
 
 __all__ = ["Document", "decode"]
 
@@ -22,7 +24,8 @@ _WIDE_BOMS = {b"\xff\xfe\x00\x00": "UTF-32", b"\x00\x00\xfe\xff": "UTF-32",
 
 @dataclass(frozen=True)
 class Document:
-    """The file's bytes and its statements (from the scanning kernel)."""
+    """The file's bytes, its statements and the numbers and corners of its geometry
+    statements (read in chunks: :mod:`rasterkit.obj.chunks`)."""
 
     name: str
     data: bytes  # the file's bytes after the byte order mark
@@ -32,20 +35,40 @@ class Document:
     ends: np.ndarray
     kinds: np.ndarray
     ntokens: np.ndarray
+    geometry: Geometry
+    _rows: dict = field(default_factory=dict, compare=False, repr=False)  # of_kind's
 
     @classmethod
     def read(cls, name: str) -> Document:
+        """Read the file and its statements, within the memory limit (checked before the
+        statement table is made, and before the geometry is parsed, or kept: the chunks
+        keep it while it takes less than the limit allows, see :func:`read_statements`)."""
         data = _text_bytes(read_file(name), name)
-        check_scan(name, data)
+        lines = check_scan(name, data)
         text = _blank_continuations(data)
         buf = np.frombuffer(text, np.uint8)
-        return cls(name, data, text, buf, *scan_statements(buf))
+        bounds = chunk_bounds(text, get_threads())
+        attributes = b"/" in text
+        read = read_statements(buf, bounds, parse_budget(len(text), lines), attributes)
+        doc = cls(name, data, text, buf, read.starts, read.ends, read.kinds, read.ntokens, read.geometry)
+        check_statements(doc)
+        if read.geometry is None:  # within the limit after all: read again, keeping everything
+            read = read_statements(buf, bounds, 1 << 62, attributes)
+            doc = cls(name, data, text, buf, read.starts, read.ends, read.kinds, read.ntokens, read.geometry)
+        return doc
 
     def of_kind(self, *kinds) -> np.ndarray:
-        """Statement numbers (S,) int64 of the given kinds, in file order."""
-        if len(kinds) == 1:
-            return np.flatnonzero(self.kinds == kinds[0])
-        return np.flatnonzero(np.isin(self.kinds, kinds))
+        """Statement numbers (S,) int64 of the given kinds, in file order (each list made
+        once: read-only, shared by the callers)."""
+        rows = self._rows.get(kinds)
+        if rows is None:
+            if len(kinds) == 1:
+                rows = np.flatnonzero(self.kinds == kinds[0])
+            else:
+                rows = np.flatnonzero(np.isin(self.kinds, kinds))
+            rows.flags.writeable = False
+            self._rows[kinds] = rows
+        return rows
 
     def line(self, s: int) -> int:
         """1-based line number where statement s starts."""
@@ -81,7 +104,7 @@ class Document:
         return np.stack([np.searchsorted(self.of_kind(k), rows) for k in kinds], axis=1)
 
     def count(self, kind: int) -> int:
-        return int(np.count_nonzero(self.kinds == kind))
+        return len(self.of_kind(kind))
 
 
 def _text_bytes(data: bytes, name: str) -> bytes:

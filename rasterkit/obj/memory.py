@@ -20,9 +20,9 @@ from rasterkit.obj.kernels.ears import EAR_CLIP_LIMIT
 from rasterkit.obj.kernels.scan import (
     KIND_F, KIND_G, KIND_L, KIND_MTLLIB, KIND_O, KIND_USEMTL, KIND_V, KIND_VN, KIND_VT,
 )
-from rasterkit.limits import LimitError, check_memory
+from rasterkit.limits import LimitError, check_memory, memory_limit
 
-__all__ = ["check_scan", "check_statements"]
+__all__ = ["check_scan", "check_statements", "parse_budget"]
 
 #: Bytes of the statement table per line (start, end, token count, kind), and of the copy of
 #: the text that blanking continuations may make, per byte.
@@ -49,11 +49,23 @@ def _check(name: str, nbytes: float, what: str) -> None:
         raise ObjLimitError(name, None, str(e)) from None
 
 
-def check_scan(name: str, text: bytes) -> None:
-    """Before the statement table of text (the file's bytes) is made."""
-    lines = text.count(b"\n") + 1
-    _check(name, len(text) + SCAN_BYTES_PER_LINE * lines,
-           f"reading its {count(lines, 'line')}")
+def check_scan(name: str, text: bytes) -> int:
+    """Before the statement table of text (the file's bytes) is made. Returns the number of
+    its lines, or more: a file has at most one line more than bytes, and its lines are only
+    counted when that many would be over the limit."""
+    lines = len(text) + 1
+    if len(text) + SCAN_BYTES_PER_LINE * lines > memory_limit():
+        lines = text.count(b"\n") + 1
+        _check(name, len(text) + SCAN_BYTES_PER_LINE * lines, f"reading its {count(lines, 'line')}")
+    return lines
+
+
+def parse_budget(size: int, lines: int) -> int:
+    """The bytes the numbers and corners of a file's statements may take while they are read
+    (:mod:`rasterkit.obj.chunks`), before :func:`check_statements` has the whole statement
+    table: what the limit leaves beside the text and the statement table of ``lines``
+    lines (:func:`check_scan`'s)."""
+    return max(0, memory_limit() - size - SCAN_BYTES_PER_LINE * lines)
 
 
 def check_statements(doc) -> None:

@@ -12,10 +12,8 @@ import numpy as np
 
 from rasterkit.obj.document import Document, decode
 from rasterkit.obj.errors import Report, count, readable
-from rasterkit.obj.kernels.corners import (
-    INDEX_BEFORE_FIRST, INDEX_MALFORMED, INDEX_OK, INDEX_ZERO, parse_corners,
-)
-from rasterkit.obj.kernels.numbers import NUMBER_OTHER, parse_number_rows
+from rasterkit.obj.kernels.corners import INDEX_BEFORE_FIRST, INDEX_MALFORMED, INDEX_OK, INDEX_ZERO
+from rasterkit.runtime.decimal import NUMBER_OTHER
 from rasterkit.obj.kernels.scan import KIND_OTHER, KIND_P, KIND_V, KIND_VN, KIND_VT, split_tokens
 
 __all__ = ["Elements", "latest_above", "note_skipped", "read_elements", "read_numbers",
@@ -36,7 +34,8 @@ _NUMBER_COUNTS = {KIND_V: ("v", (3, 4, 6), "3 (x y z), 4 (x y z w) or 6 (x y z r
 def read_numbers(doc: Document, kind: int, width: int, report: Report) -> np.ndarray:
     """(S, width) float64 numbers of the statements of one kind (v, vt or vn)."""
     rows = doc.of_kind(kind)
-    values, status, inexact = parse_number_rows(doc.buf, doc.starts[rows], doc.ends[rows], width)
+    values, status, inexact = doc.geometry.numbers[kind]
+    values = values[:, :width]
     keyword, counts, spec = _NUMBER_COUNTS[kind]
     bad = _read_others(doc, rows, values, np.flatnonzero(status == NUMBER_OTHER))
     if bad is not None:
@@ -219,15 +218,12 @@ def read_elements(doc: Document, kind: int, minimum: int, what: str,
     sizes = doc.ntokens[rows]
     offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
     totals = np.array([doc.count(k) for k in (KIND_V, KIND_VT, KIND_VN)])
-    before = doc.counts_before(rows)
-    *corners, problems = parse_corners(doc.buf, doc.starts[rows], doc.ends[rows], offsets,
-                                       before, totals, b"/" in doc.text)
+    *corners, problems = doc.geometry.corners[kind]
     # A bad reference first: on a line that has both, "malformed vertex reference '2\x1d3'"
     # says more than "face with 2 vertices".
     vertex_bad = (problems[:, 0] != INDEX_OK) & (problems[:, 2] == 0)
     for r in np.flatnonzero(vertex_bad)[:1]:
-        report.error(doc.line(rows[r]), _index_message(doc, rows[r], problems[r], before[r],
-                                                        totals))
+        report.error(doc.line(rows[r]), _index_message(doc, rows[r], problems[r], totals))
     for r in np.flatnonzero(sizes < minimum)[:1]:
         given = {0: "no vertices", 1: "1 vertex"}.get(int(sizes[r]), f"{sizes[r]} vertices")
         report.error(doc.line(rows[r]), f"{what} with {given}: a {what} needs at least "
@@ -238,13 +234,13 @@ def read_elements(doc: Document, kind: int, minimum: int, what: str,
         reported[bad, attribute - 1] = True
         if len(bad):
             name = _ATTRIBUTES[attribute][0]
-            message = _index_message(doc, rows[bad[0]], problems[bad[0]], before[bad[0]], totals)
+            message = _index_message(doc, rows[bad[0]], problems[bad[0]], totals)
             report.warn(doc.line(rows[bad[0]]), f"{message}; {name}s ignored in "
                                                  f"{count(len(bad), what)}")
     return Elements(rows, offsets, *corners, reported)
 
 
-def _index_message(doc: Document, s: int, problem, before, totals) -> str:
+def _index_message(doc: Document, s: int, problem, totals) -> str:
     """Words for one INDEX_* problem (code, corner, attribute) of statement s."""
     code, corner, attribute = (int(x) for x in problem)
     token = doc.tokens(s)[1 + corner]
@@ -255,6 +251,7 @@ def _index_message(doc: Document, s: int, problem, before, totals) -> str:
     if code == INDEX_ZERO:
         return f"{name} index 0 in {token!r}: OBJ indices start at 1"
     if code == INDEX_BEFORE_FIRST:
+        before = doc.counts_before(np.array([s]))[0]
         return (f"relative {name} index {raw} in {token!r} points before the first {keyword} "
                 f"(only {before[attribute]} above this line)")
     return (f"{name} index {raw} in {token!r} is out of range: the file has "

@@ -27,7 +27,7 @@ import numpy as np
 from rasterkit.runtime.intrinsics import bits_float
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["NUMBER_INEXACT", "NUMBER_OK", "NUMBER_OTHER", "exact_decimals", "parse_decimal"]
+__all__ = ["NUMBER_INEXACT", "NUMBER_OK", "NUMBER_OTHER", "exact_decimals", "parse_decimal", "read_decimal"]
 
 PLUS, MINUS, ZERO, _NINE = 43, 45, 48, 57
 
@@ -143,7 +143,7 @@ def _scale(mantissa, exponent):
     return m * 10.0 ** max(min(exponent, 400), -400), False
 
 
-@kernel
+@kernel(inline="always")
 def _parse_exponent(buf, i, b):
     """The exponent digits ``[+-]digits`` of a number at buf[i:b]: (value, end, ok). Values
     are capped at 100000, far beyond where every double is 0 or infinite."""
@@ -160,12 +160,14 @@ def _parse_exponent(buf, i, b):
 
 
 @kernel(inline="always")
-def _parts(buf, a, b):
-    """The parts of the plain decimal number buf[a:b], ``[+-]digits[.digits][(e|E)[+-]digits]``
-    (digits on at least one side of the point): ``(sign, mantissa, exponent, truncated, ok)``,
-    the number being ``sign * mantissa * 10**exponent``; ``mantissa`` holds its first 19
-    significant digits (leading zeros are skipped, later digits only scale it), ``truncated``
-    says a later one is not zero; ``ok`` False when it is no plain decimal."""
+def _prefix(buf, a, b):
+    """The parts of the plain decimal number at the start of buf[a:b],
+    ``[+-]digits[.digits][(e|E)[+-]digits]`` (digits on at least one side of the point):
+    ``(sign, mantissa, exponent, truncated, ok, end)``, the number being
+    ``sign * mantissa * 10**exponent``; ``mantissa`` holds its first 19 significant digits
+    (leading zeros are skipped, later digits only scale it), ``truncated`` says a later one is
+    not zero; ``ok`` False when it starts no plain decimal; ``end`` where it ends (only
+    digits, ``.``, ``e``, ``E`` and signs are read)."""
     i = a
     sign = 1.0
     if buf[i] == PLUS or buf[i] == MINUS:
@@ -190,13 +192,36 @@ def _parts(buf, a, b):
             truncated = truncated or buf[i] > ZERO
         i += 1
     if i - first == (1 if point else 0):  # no digit at all
-        return sign, mantissa, exponent, truncated, False
+        return sign, mantissa, exponent, truncated, False, i
     if i < b and buf[i] | 32 == 101:  # e or E
         e, i, ok = _parse_exponent(buf, i + 1, b)
         if not ok:
-            return sign, mantissa, exponent, truncated, False
+            return sign, mantissa, exponent, truncated, False, i
         exponent += e
-    return sign, mantissa, exponent, truncated, i == b
+    return sign, mantissa, exponent, truncated, True, i
+
+
+@kernel(inline="always")
+def _parts(buf, a, b):
+    """:func:`_prefix` of the whole of buf[a:b]: ``(sign, mantissa, exponent, truncated,
+    ok)``, ok False when buf[a:b] is no plain decimal number."""
+    sign, mantissa, exponent, truncated, ok, end = _prefix(buf, a, b)
+    return sign, mantissa, exponent, truncated, ok and end == b
+
+
+@kernel(inline="always")
+def read_decimal(buf, a, hi):
+    """The number at the start of buf[a:hi], for a reader's loop over many number tokens
+    (inlined into the caller: no call per number, and in a kernel without reference
+    counting no atomic reference count update): ``(value, status, end)``, ``end`` where the
+    number's characters (digits, ``.``, ``e``, ``E``, signs) end. ``value, status`` are
+    :func:`parse_decimal`'s of buf[a:end], so they are those of a token buf[a:b] when
+    end == b (the caller checks that the token ends there: else it is NUMBER_OTHER)."""
+    sign, mantissa, exponent, truncated, ok, end = _prefix(buf, a, hi)
+    if not ok:
+        return 0.0, NUMBER_OTHER, end
+    value, exact = _scale(mantissa, exponent)
+    return sign * value, NUMBER_OK if exact and not truncated else NUMBER_INEXACT, end
 
 
 @kernel

@@ -43,9 +43,8 @@ from rasterkit.runtime import jit as _jit
 from rasterkit.runtime import threads as _threads
 
 #: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
-PARSER = (("rasterkit.obj.kernels.scan", "scan_statements"),
-          ("rasterkit.obj.kernels.numbers", "parse_number_rows"),
-          ("rasterkit.obj.kernels.corners", "parse_corners"))
+PARSER = (("rasterkit.obj.kernels.chunk", "read_lines"),
+          ("rasterkit.obj.kernels.corners", "resolve_corners"))
 
 _helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the helper compiling it
 _parser_helper: subprocess.Popen | None = None

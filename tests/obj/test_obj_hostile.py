@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from rasterkit import limits
-from rasterkit.obj.kernels.scan import BLANKS, is_blank, split_tokens
+from rasterkit.obj.kernels.scan import BLANK, BLANKS, BYTE_CLASS, LINE, TOKEN, is_blank, split_tokens
 from rasterkit.limits import LimitError
 from rasterkit.obj import ObjError, load_obj
 from support.hostile import run_cli, run_python
@@ -99,6 +99,7 @@ def test_blanks_are_the_same_bytes_in_the_kernels_and_in_python():
     assert BLANKS == SEPARATORS
     for c in range(256):
         assert is_blank(c) == (c in SEPARATORS), c
+        assert BYTE_CLASS[c] == (BLANK if c in SEPARATORS else LINE if c == 10 else TOKEN), c
         tokens = split_tokens(b"a" + bytes([c]) + b"b")
         assert len(tokens) == (2 if c in SEPARATORS or c == 10 else 1), c
 

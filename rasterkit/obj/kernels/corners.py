@@ -1,7 +1,8 @@
 """Numba kernels for the corners of OBJ ``f`` and ``l`` statements.
 
-A corner (``v``, ``v/vt``, ``v//vn``, ``v/vt/vn``) is parsed and its indices resolved to 0-based
-ones. The kernels never raise on bad input: they return status codes, so the caller
+A corner (``v``, ``v/vt``, ``v//vn``, ``v/vt/vn``) is parsed as the chunk reader scans it
+(:func:`parse_corner`), and its indices resolved to 0-based ones once the chunks are put
+together (:func:`resolve_corners`). The kernels never raise on bad input: they return status codes, so the caller
 (:mod:`rasterkit.obj.statements`) can name the first bad line of the file.
 """
 
@@ -10,12 +11,18 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.runtime.jit import kernel
-from rasterkit.obj.kernels.scan import MINUS, PLUS, ZERO, is_digit, next_token
+from rasterkit.obj.kernels.scan import (
+    BYTE_CLASS, KIND_F, KIND_L, KIND_V, KIND_VN, KIND_VT, MINUS, PLUS, TOKEN, ZERO, is_digit,
+)
 
-# Status codes of one face or line corner (code, corner, attribute) written by parse_corners.
+#: The raw index of a corner field that is not given (``1//3`` has no vt), or of a corner
+#: not read (at and after a malformed one): no index of 18 digits or fewer is this.
+ABSENT = np.iinfo(np.int64).min
+
+# Status codes of one face or line corner (code, corner, attribute) written by resolve_corners.
 INDEX_OK, INDEX_ZERO, INDEX_BEFORE_FIRST, INDEX_OUT_OF_RANGE, INDEX_MALFORMED = 0, 1, 2, 3, 4
 
-_SLASH = 47
+_SLASH, _NL = 47, 10
 
 
 @kernel(inline="always")
@@ -32,13 +39,15 @@ def _resolve(raw, before, total):
     return -1, INDEX_ZERO
 
 
-@kernel
-def _parse_corner(buf, a, b):
-    """One corner token buf[a:b]: ``v``, ``v/vt``, ``v//vn`` or ``v/vt/vn``, where vt and vn
-    may be empty (``1//``). Each index is a signed integer of at most 18 digits.
+@kernel(inline="always")
+def parse_corner(buf, a, hi):
+    """The corner token that starts at buf[a] (and ends before the first blank or line
+    break, or at hi): ``v``, ``v/vt``, ``v//vn`` or ``v/vt/vn``, where vt and vn may be
+    empty (``1//``). Each index is a signed integer of at most 18 digits.
 
-    Returns (v, vt, vn, present, ok): raw indices (0 when absent), bit k of present set when
-    field k was given, ok False when the token is malformed.
+    Returns (v, vt, vn, present, ok, end): raw indices (0 when absent), bit k of present set
+    when field k was given, ok False when the token is malformed; end is where the token
+    ends (ok) or where it was found malformed (not ok: the token may go on).
     """
     v = vt = vn = 0
     present = 0
@@ -47,11 +56,12 @@ def _parse_corner(buf, a, b):
     sign = 1
     digits = 0
     signed = False
-    for i in range(a, b + 1):
-        c = buf[i] if i < b else _SLASH  # the end of the token closes the last field
-        if c == _SLASH:
+    i = a
+    while True:
+        c = buf[i] if i < hi else _NL  # the end of the token closes the last field
+        if c == _SLASH or BYTE_CLASS[c] != TOKEN:
             if field > 2 or digits > 18 or (digits == 0 and (signed or field == 0)):
-                return 0, 0, 0, 0, False
+                return 0, 0, 0, 0, False, i
             if digits > 0:
                 present |= 1 << field
                 if field == 0:
@@ -60,6 +70,8 @@ def _parse_corner(buf, a, b):
                     vt = sign * value
                 else:
                     vn = sign * value
+            if c != _SLASH:
+                return v, vt, vn, present, True, i
             field += 1
             value, sign, digits, signed = 0, 1, 0, False
         elif is_digit(c):
@@ -69,71 +81,82 @@ def _parse_corner(buf, a, b):
             sign = -1 if c == MINUS else 1
             signed = True
         else:
-            return 0, 0, 0, 0, False
-    return v, vt, vn, present, True
+            return 0, 0, 0, 0, False, i
+        i += 1
 
 
 @kernel
-def parse_corners(buf, starts, ends, offsets, before, totals, attributes):
-    """Parse and resolve the vertex references of f and l statements.
+def resolve_corners(kinds, ntokens, raw, malformed, before, totals, vertex, texcoord, normal, errors,
+                    kind, corner, element):
+    """Resolve the raw corners of one chunk's statements of one kind (f or l) into the
+    file's arrays.
 
     Parameters
     ----------
-    buf : (B,) uint8
-    starts, ends : (S,) int64
-        Statement ranges.
-    offsets : (S + 1,) int64
-        Where each statement's corners go in the output (cumulative token counts).
-    before : (S, 3) int64
-        Number of v, vt, vn statements before each statement (for negative indices).
+    kinds, ntokens : (S,) int8, int64
+        The chunk's statement table.
+    raw : (3 * C,) int64
+        The raw v, vt, vn of each corner token of the chunk's f and l statements, in order
+        (:func:`rasterkit.obj.kernels.chunk.read_lines`; ``ABSENT`` where not given).
+    malformed : (E,) int64
+        First malformed token of each of those statements, or -1.
+    before : (3,) int64
+        Number of v, vt, vn statements in the file above the chunk (for negative indices).
     totals : (3,) int64
         Number of v, vt, vn statements in the file.
-    attributes : bool
-        Whether any corner may name a vt or vn: False when buf has no ``/``, and then
-        texcoord and normal are empty (no room is made for them).
-
-    Returns
-    -------
-    vertex, texcoord, normal : (C,) int64
-        0-based v, vt, vn index of each corner; -1 where absent or invalid.
-    errors : (S, 3) int64
-        (INDEX_* code, corner, attribute 0/1/2) of the statement's first problem: the first bad
-        vertex reference if any, else the first bad vt/vn reference; code 0 when all is well.
+    vertex, texcoord, normal : (C_file,) int64
+        The file's corners of this kind, written from ``corner`` on: 0-based index, -1 where
+        absent or invalid; texcoord and normal may be empty (the file has no ``/``).
+    errors : (E_file, 3) int64
+        The file's (INDEX_* code, corner, attribute) of each statement of this kind, from
+        ``element`` on: the first bad vertex reference if any, else the first bad vt/vn
+        reference; code 0 when all is well.
+    kind : int
+        KIND_F or KIND_L: the statements resolved.
     """
-    rows = len(starts)
-    # np.empty and loops: np.full and np.zeros compile an implementation each (~0.2 s)
-    vertex = np.empty(offsets[rows], np.int64)
-    texcoord = np.empty(offsets[rows] if attributes else 0, np.int64)
-    normal = np.empty(offsets[rows] if attributes else 0, np.int64)
-    for c in range(len(vertex)):
-        vertex[c] = -1
-    for c in range(len(texcoord)):
-        texcoord[c] = -1
-        normal[c] = -1
-    errors = np.empty((rows, 3), np.int64)
-    for r in range(rows):
-        errors[r, 0] = errors[r, 1] = errors[r, 2] = 0
-    for r in range(rows):
-        i = next_token(buf, starts[r], ends[r])[1]  # after the keyword
-        k = 0
-        while i < ends[r]:
-            a, i = next_token(buf, i, ends[r])
-            v, vt, vn, present, ok = _parse_corner(buf, a, i)
-            if not ok:
-                errors[r, 0], errors[r, 1], errors[r, 2] = INDEX_MALFORMED, k, 0
-                break
-            c = offsets[r] + k
-            for attribute, raw in ((0, v), (1, vt), (2, vn)):
-                if present & (1 << attribute):  # vt and vn only where a slash is
-                    index, code = _resolve(raw, before[r, attribute], totals[attribute])
-                    if attribute == 0:
-                        vertex[c] = index
-                    elif attribute == 1:
-                        texcoord[c] = index
-                    else:
-                        normal[c] = index
-                    vertex_first = attribute == 0 and errors[r, 2] != 0
-                    if code != INDEX_OK and (errors[r, 0] == INDEX_OK or vertex_first):
-                        errors[r, 0], errors[r, 1], errors[r, 2] = code, k, attribute
-            k += 1
-    return vertex, texcoord, normal, errors
+    counts = before.copy()
+    c = 0  # corner token of the chunk
+    e = 0  # f or l statement of the chunk
+    attributes = len(texcoord) > 0
+    for s in range(len(kinds)):
+        k_s = kinds[s]
+        if k_s == KIND_V or k_s == KIND_VT or k_s == KIND_VN:
+            counts[k_s - KIND_V] += 1
+            continue
+        if k_s != KIND_F and k_s != KIND_L:
+            continue
+        n = ntokens[s]
+        if k_s != kind:
+            c += n
+            e += 1
+            continue
+        bad = malformed[e]
+        errors[element, 0] = errors[element, 1] = errors[element, 2] = 0
+        for k in range(n):
+            out = corner + k
+            vertex[out] = -1
+            if attributes:
+                texcoord[out] = -1
+                normal[out] = -1
+            if bad >= 0 and k >= bad:
+                continue
+            for attribute in range(3):
+                value = raw[3 * (c + k) + attribute]
+                if value == ABSENT:
+                    continue
+                index, code = _resolve(value, counts[attribute], totals[attribute])
+                if attribute == 0:
+                    vertex[out] = index
+                elif attribute == 1:
+                    texcoord[out] = index
+                else:
+                    normal[out] = index
+                vertex_first = attribute == 0 and errors[element, 2] != 0
+                if code != INDEX_OK and (errors[element, 0] == INDEX_OK or vertex_first):
+                    errors[element, 0], errors[element, 1], errors[element, 2] = code, k, attribute
+        if bad >= 0:
+            errors[element, 0], errors[element, 1], errors[element, 2] = INDEX_MALFORMED, bad, 0
+        c += n
+        e += 1
+        corner += n
+        element += 1

@@ -1,4 +1,6 @@
-"""Numba kernels that split OBJ text into statements and tokens (for :func:`rasterkit.load_obj`).
+"""How OBJ text splits into statements and tokens (for :func:`rasterkit.load_obj`): the byte
+classes, statement kinds and keywords the chunk reader (:mod:`~rasterkit.obj.kernels.chunk`)
+uses, and :func:`split_tokens`, which splits as it does, for Python code.
 
 Everything here works on the raw bytes of a file (a C-contiguous uint8 array). A *statement*
 is one OBJ line (ended by LF): a keyword and its tokens. ``#`` at the start of a token starts a
@@ -12,13 +14,8 @@ U+3000...) separate nothing, so a number or vertex reference that contains one i
 Python code splits a statement's text with :func:`split_tokens`, which agrees with the kernels
 on every byte. Line continuations (a
 backslash before the line break) are blanked out by the caller before the scan, so here every
-statement is one physical line. The byte classes and byte codes here are shared by the number
-(:mod:`~rasterkit.obj.kernels.numbers`) and corner (:mod:`~rasterkit.obj.kernels.corners`)
-parsers.
-
-Speed note: the per-byte loops call only helpers that take scalars. A helper taking the byte
-array, inlined into such a loop, adds atomic reference-count updates at every call (the scan was
-three times slower); helpers that take the array run once per token or statement.
+statement is one physical line. The byte classes and byte codes here are shared by the chunk
+reader and the corner parser (:mod:`~rasterkit.obj.kernels.corners`).
 """
 
 from __future__ import annotations
@@ -27,7 +24,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-# Statement kinds returned by scan_statements (blank and comment lines are not statements).
+# Statement kinds of the statement table (blank and comment lines are not statements).
 KIND_V, KIND_VT, KIND_VN, KIND_F, KIND_L, KIND_P = 1, 2, 3, 4, 5, 6
 KIND_G, KIND_O, KIND_S, KIND_USEMTL, KIND_MTLLIB, KIND_OTHER = 7, 8, 9, 10, 11, 12
 
@@ -58,6 +55,14 @@ def is_blank(c):
     return c == 32 or c == 9 or c == 13 or c == 11 or c == 12
 
 
+#: The class of each byte value for the kernels' loops (one table look-up per byte):
+#: TOKEN (part of a token), BLANK (a byte of :data:`BLANKS`) or LINE (LF).
+TOKEN, BLANK, LINE = 0, 1, 2
+BYTE_CLASS = np.zeros(256, np.uint8)
+BYTE_CLASS[list(BLANKS)] = BLANK
+BYTE_CLASS[_NL] = LINE
+
+
 def split_tokens(text: bytes) -> list:
     """The tokens of a statement's text, split as the kernels split them: ``bytes.split()``
     with no argument splits on exactly :data:`BLANKS` and LF (ASCII whitespace), never on the
@@ -66,100 +71,15 @@ def split_tokens(text: bytes) -> list:
 
 
 @kernel(inline="always")
-def in_token(c):
-    """True for a byte that continues a token: anything but whitespace and newline."""
-    return not (c == _NL or is_blank(c))
-
-
-@kernel(inline="always")
 def is_digit(c):
     return ZERO <= c <= _NINE
 
 
 @kernel
-def _keyword_kind(key):
-    """KIND_* of a keyword packed by scan_statements (-1, a keyword longer than 7 bytes, and
+def keyword_kind(key):
+    """KIND_* of a keyword packed as the chunk reader packs it (-1, a keyword longer than 7 bytes, and
     any other unknown key give KIND_OTHER)."""
     for k in range(len(_KIND_KEYS)):
         if _KIND_KEYS[k] == key:
             return _KIND_CODES[k]
     return np.int8(KIND_OTHER)
-
-
-@kernel
-def scan_statements(buf):
-    """Split OBJ text into statements.
-
-    Parameters
-    ----------
-    buf : (B,) uint8
-        The file's bytes, without byte order mark and with continuations blanked out.
-
-    Returns
-    -------
-    starts, ends : (S,) int64
-        Byte range of each statement: from its keyword to the end of its last token (a trailing
-        comment is left out). The statement's line number is one more than the count of
-        newlines before its start.
-    kinds : (S,) int8
-        ``KIND_*`` code of the keyword.
-    ntokens : (S,) int64
-        Number of whitespace-separated tokens after the keyword.
-    """
-    n = len(buf)
-    capacity = 1
-    for i in range(n):
-        if buf[i] == _NL:
-            capacity += 1
-    starts = np.empty(capacity, np.int64)
-    ends = np.empty(capacity, np.int64)
-    kinds = np.empty(capacity, np.int8)
-    ntokens = np.empty(capacity, np.int64)
-    count = 0
-    i = 0
-    while i < n:
-        while i < n and is_blank(buf[i]):
-            i += 1
-        if i == n:
-            break
-        if buf[i] == _NL:
-            i += 1
-            continue
-        start = i
-        comment = buf[i] == _HASH
-        key = 0
-        while i < n and in_token(buf[i]):
-            key = key * 256 + buf[i] if i - start < 7 else -1
-            i += 1
-        end = i
-        tokens = 0
-        while i < n and buf[i] != _NL:
-            if is_blank(buf[i]):
-                i += 1
-            elif buf[i] == _HASH or comment:
-                comment = True
-                i += 1
-            else:
-                while i < n and in_token(buf[i]):
-                    i += 1
-                tokens += 1
-                end = i
-        if buf[start] != _HASH:
-            starts[count] = start
-            ends[count] = end
-            kinds[count] = _keyword_kind(key)
-            ntokens[count] = tokens
-            count += 1
-    return starts[:count], ends[:count], kinds[:count], ntokens[:count]
-
-
-@kernel
-def next_token(buf, i, end):
-    """Start and end of the first token at or after i, before end (the end of a statement's
-    last token, so there is one)."""
-    while is_blank(buf[i]):
-        i += 1
-    a = i
-    while i < end and in_token(buf[i]):
-        i += 1
-    return a, i
