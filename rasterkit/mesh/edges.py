@@ -42,8 +42,7 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
     n_vertices : int
         N: every index is in 0..N-1.
     keys : (J,) int64, optional
-        More edges, as keys ``lo * N + hi`` (lo < hi), as
-        :func:`rasterkit.obj.assemble.polygon_sides` makes them.
+        More edges, as keys ``lo * N + hi`` (lo < hi).
     """
     pairs = np.asarray(pairs)
     if pairs.dtype.kind not in "iu" and pairs.size:

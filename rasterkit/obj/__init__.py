@@ -111,7 +111,7 @@ from __future__ import annotations
 
 import os
 
-from rasterkit.obj.assemble import face_labels, face_materials, finite_vertices, polygon_sides, triangulate
+from rasterkit.obj.assemble import face_labels, face_materials, finite_vertices, triangulate
 from rasterkit.obj.attributes import (
     corner_rows, normal_table, unit_rows, uv_table, vertex_normals, vertex_texcoords,
 )
@@ -121,7 +121,7 @@ from rasterkit.material.material import Material
 from rasterkit.obj.materials import DEFAULT_KD, face_colors, make_materials, material_names, read_libraries
 from rasterkit.obj.statements import note_skipped, read_elements, read_numbers, read_vertices
 from rasterkit.obj.kernels.scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
-from rasterkit.mesh import Mesh, unique_edges
+from rasterkit.mesh import Mesh, polygon_mesh_edges
 
 __all__ = ["DEFAULT_KD", "ObjError", "ObjLimitError", "load_obj"]
 
@@ -185,7 +185,8 @@ def load_obj(path, *, textures: bool = True) -> Mesh:
     keep_polygons = faces.uses_only(finite)
     corners, triangle_polygon = triangulate(doc, vertices, faces, keep_polygons, report)
     segments = lines.segments(lines.uses_only(finite))
-    edges = unique_edges(segments, len(vertices), keys=polygon_sides(faces, keep_polygons, len(vertices)))
+    # None for a file of triangles alone: the Mesh works its edges out when they are first needed
+    edges = polygon_mesh_edges(faces.vertex, faces.offsets, keep_polygons, len(corners), segments, len(vertices))
     groups, group_names = face_labels(doc, (KIND_G, KIND_O), faces, triangle_polygon)
     materials = material_names(doc)
     uv_index = corner_rows(faces, "texcoord", corners, triangle_polygon, doc, report)

@@ -11,10 +11,10 @@ from rasterkit.obj.errors import count
 from rasterkit.obj.split import split_in_numpy
 from rasterkit.obj.statements import Elements, latest_above
 from rasterkit.obj.kernels import polygons as obj_polygons
-from rasterkit.obj.kernels.fans import side_keys, simple_polygons
+from rasterkit.obj.kernels.fans import simple_polygons
 from rasterkit.obj.kernels.scan import KIND_USEMTL, KIND_V
 
-__all__ = ["face_labels", "face_materials", "finite_vertices", "polygon_sides", "split_polygons", "triangulate"]
+__all__ = ["face_labels", "face_materials", "finite_vertices", "split_polygons", "triangulate"]
 
 
 def finite_vertices(doc, vertices, faces, lines, report) -> np.ndarray:
@@ -107,13 +107,6 @@ def _in_polygon_order(parts, polygons: int, corners: np.ndarray):
         first = np.repeat(new, np.diff(np.append(new, len(polygon))))
         out[start[polygon] + np.arange(len(polygon)) - first] = rows
     return out, counts
-
-
-def polygon_sides(faces: Elements, keep: np.ndarray, n_vertices: int) -> np.ndarray:
-    """(E,) int64 keys ``lo * N + hi`` of the sides of the kept polygons, for
-    :func:`rasterkit.mesh.unique_edges`: p[0]-p[1], ..., p[-1]-p[0], none from a vertex to
-    itself, each side once, sorted (:func:`rasterkit.obj.kernels.fans.side_keys`)."""
-    return side_keys(faces.vertex, faces.offsets, keep, max(int(n_vertices), 1))
 
 
 def face_labels(doc, kinds, faces, triangle_polygon):

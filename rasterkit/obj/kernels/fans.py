@@ -3,8 +3,7 @@ polygon of a real model, in one pass: as :mod:`rasterkit.obj.split` splits them 
 as it is, a quad of four different vertices that turns the way of its Newell normal at every
 corner, or has no normal, as the fan from corner 0), in the same IEEE arithmetic
 (``fastmath=False``: NumPy's operations, in NumPy's order), so the same quads are fans. Every
-other polygon is left to :mod:`rasterkit.obj.split` and the polygon kernels. And the sides
-of all polygons, for the edges.
+other polygon is left to :mod:`rasterkit.obj.split` and the polygon kernels.
 """
 
 from __future__ import annotations
@@ -13,7 +12,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["side_keys", "simple_polygons"]
+__all__ = ["simple_polygons"]
 
 
 @kernel(fastmath=False)
@@ -108,53 +107,3 @@ def _quad_fan(vertices, corners, o):
         turn = ((sy * tz - sz * ty) * nx + (sz * tx - sx * tz) * ny + (sx * ty - sy * tx) * nz)
         fan = fan and turn > 0.0
     return fan or not (nx * nx + ny * ny + nz * nz > 0.0)
-
-
-@kernel
-def side_keys(vertex, offsets, keep, n_vertices):
-    """(E,) int64 sorted unique keys ``lo * n_vertices + hi`` of the sides of the kept
-    polygons (p[0]-p[1], ..., p[-1]-p[0], none from a vertex to itself), vertex indices in
-    [0, n_vertices): two counting sorts (by hi, then stably by lo), no comparisons, so a
-    vertex on many sides costs no more than others."""
-    total = 0
-    for p in range(len(keep)):
-        if keep[p]:
-            total += offsets[p + 1] - offsets[p]
-    lo = np.empty(total, np.int64)
-    hi = np.empty(total, np.int64)
-    e = 0
-    for p in range(len(keep)):
-        if not keep[p]:
-            continue
-        first, last = offsets[p], offsets[p + 1] - 1
-        for c in range(first, last + 1):
-            a, b = vertex[c], vertex[c + 1 if c < last else first]
-            if a != b:
-                lo[e], hi[e] = min(a, b), max(a, b)
-                e += 1
-    by_hi = _counting_order(hi, e, n_vertices, np.arange(e))
-    order = _counting_order(lo, e, n_vertices, by_hi)
-    keys = np.empty(e, np.int64)
-    k = 0
-    for j in range(e):
-        key = lo[order[j]] * n_vertices + hi[order[j]]
-        if k == 0 or keys[k - 1] != key:
-            keys[k] = key
-            k += 1
-    return keys[:k]
-
-
-@kernel
-def _counting_order(values, e, n, order):
-    """``order`` (the first e of values, in some order) sorted stably by values in [0, n)."""
-    starts = np.zeros(n + 1, np.int64)
-    for j in range(e):
-        starts[values[j] + 1] += 1
-    for v in range(n):
-        starts[v + 1] += starts[v]
-    out = np.empty(e, np.int64)
-    for j in range(e):
-        v = values[order[j]]
-        out[starts[v]] = order[j]
-        starts[v] += 1
-    return out
