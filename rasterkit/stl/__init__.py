@@ -58,7 +58,7 @@ from rasterkit.mesh import Mesh
 from rasterkit.stl.ascii import read_ascii
 from rasterkit.stl.binary import FIRST_FACET, RECORD, is_binary, read_binary, size_error
 from rasterkit.stl.errors import StlError, StlLimitError, read_bytes
-from rasterkit.stl.facets import mesh_fields
+from rasterkit.stl.facets import mesh_fields, placed
 
 __all__ = ["StlError", "StlLimitError", "read_stl", "sniff"]
 
@@ -113,7 +113,7 @@ def read_stl(path=None, *, data: bytes | None = None) -> Mesh:
     if is_binary(data):
         facets = read_binary(name, data)
     elif _looks_ascii(data):
-        facets = read_ascii(name, data)
+        facets = placed(name, read_ascii(name, data))  # so that the text can go before the weld
     elif data.removeprefix(b"\xef\xbb\xbf").lstrip()[:5].lower() == b"solid":
         raise size_error(name, data, "not ASCII STL either: binary bytes after 'solid'")
     else:

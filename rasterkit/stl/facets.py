@@ -6,7 +6,7 @@ vertices, and the file's normals kept per facet where they can be trusted
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -14,11 +14,11 @@ import numpy as np
 from rasterkit.mesh import mesh_bytes
 from rasterkit.runtime.files import readable
 from rasterkit.stl.errors import check
-from rasterkit.stl.kernels.mesh import NOT_FINITE, TWO_EQUAL
+from rasterkit.stl.kernels.mesh import NOT_FINITE, SOUND, TWO_EQUAL
 from rasterkit.stl.normals import kept_normals
-from rasterkit.stl.weld import BYTES_PER_CORNER, weld_facets
+from rasterkit.stl.weld import BYTES_PER_CORNER, facet_flaws, weld_facets
 
-__all__ = ["Facets", "assembly_bytes", "mesh_fields"]
+__all__ = ["Facets", "assembly_bytes", "mesh_fields", "placed"]
 
 #: Bytes per facet while the Mesh's arrays are made, besides the Mesh's own
 #: (:func:`rasterkit.mesh.mesh_bytes`), at most: welding its three corners, its flaw, its
@@ -36,8 +36,9 @@ class Facets:
         The three corners of each facet, in object space, in the file's order.
     normals : (F, 3), the dtype of ``corners``
         The normal the file gives each facet (zero when the writer left it out).
-    where : callable
-        ``where(k)``: the place of facet k for a message (``"line 12"``, ``"facet 3 (byte 234)"``).
+    where : callable, or None
+        ``where(k)``: the place of facet k for a message (``"line 12"``, ``"facet 3 (byte 234)"``);
+        None once :func:`placed` has used it.
     colors : (F, 3) float32 in [0, 1], or None
     solids : (F,) int32, or None
         The ``solid`` block of each facet, in a file with several.
@@ -45,6 +46,8 @@ class Facets:
         The name of each block (``solid <name>``).
     warnings : tuple of str
         What the reader noticed (without the file's name; :func:`mesh_fields` adds it).
+    dropped : tuple of str, or None
+        The warnings of the facets that are dropped, when :func:`placed` has found them.
     """
 
     corners: np.ndarray
@@ -54,6 +57,7 @@ class Facets:
     solids: np.ndarray | None = None
     solid_names: tuple = ()
     warnings: tuple = ()
+    dropped: tuple | None = None
 
 
 def assembly_bytes(n_facets: int) -> int:
@@ -70,15 +74,10 @@ def mesh_fields(name: str, facets: Facets) -> dict:
     check(name, assembly_bytes(len(facets.corners)), f"welding its {len(facets.corners)} facets")
     warnings = [f"{readable(name)}: {w}" for w in facets.warnings]
     welded = weld_facets(facets.corners, facets.normals)
-    flaws = welded.flaws
-    finite, flat = flaws != NOT_FINITE, flaws == TWO_EQUAL
-    if not finite.all():
-        warnings.append(_dropped(name, facets, ~finite, "with a NaN or infinite coordinate"))
-    if flat.any():
-        warnings.append(_dropped(name, facets, flat, "with two corners at one place (no area)"))
+    warnings += _dropped_warnings(name, facets, welded.flaws) if facets.dropped is None else facets.dropped
     colors, solids = facets.colors, facets.solids
-    if len(welded.faces) < len(flaws):
-        keep = finite & ~flat
+    if len(welded.faces) < len(welded.flaws):
+        keep = welded.flaws == SOUND
         colors = None if colors is None else colors[keep]
         solids = None if solids is None else solids[keep]
     corner_normals, normal_index, note = kept_normals(welded.normals, welded.missing, welded.backwards)
@@ -87,6 +86,24 @@ def mesh_fields(name: str, facets: Facets) -> dict:
     return dict(vertices=welded.vertices, faces=welded.faces, face_colors=colors, face_groups=solids,
                 group_names=facets.solid_names if solids is not None else (), corner_normals=corner_normals,
                 normal_index=normal_index, warnings=tuple(warnings))
+
+
+def placed(name: str, facets: Facets) -> Facets:
+    """``facets`` with the warnings of those :func:`mesh_fields` drops made now (a first pass
+    of the kernel finds their flaws) and without ``where``: for an ASCII file, whose places
+    are lines of its text, so that the text can go before the weld."""
+    return replace(facets, where=None, dropped=tuple(_dropped_warnings(name, facets, facet_flaws(facets.corners))))
+
+
+def _dropped_warnings(name: str, facets: Facets, flaws: np.ndarray) -> list:
+    """The warnings of the facets dropped for their ``flaws``, each kind naming the first."""
+    warnings = []
+    finite, flat = flaws != NOT_FINITE, flaws == TWO_EQUAL
+    if not finite.all():
+        warnings.append(_dropped(name, facets, ~finite, "with a NaN or infinite coordinate"))
+    if flat.any():
+        warnings.append(_dropped(name, facets, flat, "with two corners at one place (no area)"))
+    return warnings
 
 
 def _dropped(name: str, facets: Facets, dropped: np.ndarray, why: str) -> str:

@@ -16,7 +16,7 @@ import numpy as np
 
 from rasterkit.stl.kernels.mesh import COLLIDING, FULL, SOUND, assemble
 
-__all__ = ["BYTES_PER_CORNER", "Welded", "weld_facets", "weld_by_sorting"]
+__all__ = ["BYTES_PER_CORNER", "Welded", "facet_flaws", "weld_facets", "weld_by_sorting"]
 
 #: Bytes per corner while welding, at most: its vertex (float64 coordinates) and its slot of
 #: the hash table (8 bytes, a table at most a quarter full; twice that when it grows).
@@ -58,6 +58,16 @@ def weld_facets(corners: np.ndarray, normals: np.ndarray) -> Welded:
             sound = np.asarray(corners[flaws == SOUND], np.float64).reshape(-1, 3) + 0.0  # -0.0 is 0.0
             ids, _ = weld_by_sorting(sound.view(np.uint64))
             bits = 0
+
+
+def facet_flaws(corners: np.ndarray) -> np.ndarray:
+    """(F,) uint8: the flaw of each facet of ``corners`` (F, 3, 3) (``SOUND``, ``NOT_FINITE`` or
+    ``TWO_EQUAL``), by the same kernel without welding (an empty table)."""
+    f = len(corners)
+    flaws = np.empty(f, np.uint8)
+    empty = np.zeros((0, 3))
+    assemble(corners, empty, _NO_IDS, np.zeros(0, np.uint64), flaws, np.zeros((0, 3), np.int64), empty, empty)
+    return flaws
 
 
 def weld_by_sorting(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -68,8 +68,9 @@ def assemble(corners, given, ids, table, flaws, faces, vertices, unit):
       and not against the winding of the facet's corners, else the normal of its corners
       (zero when they are on one line).
     - Vertex v is ``vertices[v]`` (float64; ``vertices`` has room for every corner).
-    - The numbers come from ``table`` ((2**bits,) uint64, zeros) when ``ids`` is empty, else ``ids`` gives the
-      number of each corner of the sound facets (from the sort, in order of first appearance).
+    - The numbers come from ``table`` ((2**bits,) uint64, zeros) when ``ids`` is empty, else
+      ``ids`` gives the number of each corner of the sound facets (from the sort, in order of
+      first appearance). With both empty, only ``flaws`` are found (the rest is 0).
 
     Returns ``(sound facets, vertices, missing, backwards)``: the counts of the file's normals
     not used (zero, NaN or infinite ones, and ones against the winding). The vertex count is
@@ -85,7 +86,7 @@ def assemble(corners, given, ids, table, flaws, faces, vertices, unit):
     n = 0
     missing = 0
     backwards = 0
-    welding = True
+    welding = size > 0 or not hashing  # an empty table: the flaws only
     for f in range(n_facets):
         if hashing and welding and f + AHEAD < n_facets:
             g = f + AHEAD
