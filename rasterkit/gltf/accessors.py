@@ -102,13 +102,18 @@ def floats(doc: Document, index: int, use: str, types: tuple, components: tuple 
     return out, acc
 
 
-def indices(doc: Document, index: int, use: str) -> np.ndarray:
-    """The (count,) int64 vertex indices of ``accessors[index]`` (SCALAR, unsigned)."""
+def indices(doc: Document, index: int, use: str, n_vertices: int) -> np.ndarray:
+    """The (count,) int64 vertex indices of ``accessors[index]`` (SCALAR, unsigned), each
+    below ``n_vertices`` (checked on the file's integers, before they are widened)."""
     raw, acc = read(doc, index, use, ("SCALAR",), INDEX_COMPONENTS)
     if acc.normalized:
         raise doc.error(use, f"{acc.where}: indices cannot be normalized")
     doc.check_memory(raw.size * 16, f"{acc.count} indices of {acc.where}", acc.where)
-    return raw[:, 0].astype(np.int64)
+    column = raw[:, 0]
+    largest = int(column.max())
+    if largest >= n_vertices:
+        raise doc.error(use, f"index {largest} >= the vertex count {n_vertices}")
+    return column.astype(np.int64)
 
 
 def _view_span(doc: Document, where: str, view_index: int, offset: int, count: int, size: int, stride: int | None):

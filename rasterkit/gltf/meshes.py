@@ -137,7 +137,7 @@ def _assemble(doc: Document, where: str, blocks: list, looks: list, parts: list,
     fields.update(_colors(blocks, looks, parts, m))
     if materials:
         fields.update(materials=tuple(materials), material_names=tuple(x.name for x in materials),
-                      face_materials=np.concatenate([np.full(len(p.faces), p.slot, np.int32) for p in parts]))
+                      face_materials=_per_face(parts, m, (), np.int32, lambda p: p.slot))
     try:
         mesh = Mesh(**fields, warnings=tuple(f"{readable(doc.path)}: {w}" for w in warnings))
     except LimitError as e:
@@ -151,10 +151,12 @@ def _assemble(doc: Document, where: str, blocks: list, looks: list, parts: list,
 def _table(blocks, parts, starts, faces, name: str, width: int, index_name: str, table_name: str | None = None):
     """``{table_name: (N, width) rows, index_name: (M, 3) rows or None}`` of the blocks'
     attribute ``name`` (zeros for a block without it; -1 rows for its faces)."""
-    rows = np.concatenate([getattr(b, name) if getattr(b, name) is not None else np.zeros((len(b.positions), width))
-                           for b in blocks])
+    rows = _joined([getattr(b, name) if getattr(b, name) is not None else np.zeros((len(b.positions), width))
+                    for b in blocks])
+    if all(getattr(blocks[p.block], name) is not None for p in parts if len(p.faces)):
+        return {table_name or name: rows, index_name: None}
     given = np.concatenate([np.full(len(p.faces), getattr(blocks[p.block], name) is not None) for p in parts])
-    index = None if given.all() else np.where(given[:, None], faces, -1)
+    index = np.where(given[:, None], faces, -1)
     return {table_name or name: rows, index_name: index}
 
 
@@ -171,7 +173,21 @@ def _colors(blocks, looks, parts, m: int) -> dict:
                 rows.append(np.tile(np.asarray(colour, np.float64), (len(b.positions), 1)))
         return {"vertex_colors": np.clip(np.concatenate(rows), 0.0, 1.0).astype(np.float32)}
     if m and any(p.color is not None for p in parts):
-        per_part = [np.tile(np.asarray(p.color if p.color is not None else DEFAULT_DIFFUSE, np.float32),
-                            (len(p.faces), 1)) for p in parts]
-        return {"face_colors": np.concatenate(per_part)}
+        return {"face_colors": _per_face(parts, m, (3,), np.float32,
+                                         lambda p: p.color if p.color is not None else DEFAULT_DIFFUSE)}
     return {}
+
+
+def _joined(arrays: list) -> np.ndarray:
+    """``arrays`` one after the other (the one array itself, not a copy, when there is one)."""
+    return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
+
+
+def _per_face(parts, m: int, shape: tuple, dtype, value) -> np.ndarray:
+    """(m, *shape) of ``dtype``: ``value(part)`` for each face of each part, in order."""
+    out = np.empty((m, *shape), dtype)
+    start = 0
+    for p in parts:
+        out[start:start + len(p.faces)] = value(p)
+        start += len(p.faces)
+    return out

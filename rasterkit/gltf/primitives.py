@@ -108,9 +108,7 @@ def read_topology(doc: Document, prim: Obj, n_vertices: int) -> Topology:
         doc.check_memory(n_vertices * 8 * 4, f"the {n_vertices} vertices of {prim.where}", prim.where)
         order = np.arange(n_vertices, dtype=np.int64)
     else:
-        order = read_indices(doc, index, prim.path("indices"))
-        if len(order) and int(order.max()) >= n_vertices:
-            raise doc.error(prim.path("indices"), f"index {int(order.max())} >= the vertex count {n_vertices}")
+        order = read_indices(doc, index, prim.path("indices"), n_vertices)
     doc.check_memory(len(order) * 8 * 8, f"the {MODES[mode]} of {prim.where}", prim.where)
     empty = np.zeros((0, 3), np.int64)
     no_lines, no_points = np.zeros((0, 2), np.int64), np.zeros(0, np.int64)

@@ -4,7 +4,7 @@ What is read
 ------------
 - **Binary** STL (``rasterkit.stl.binary``): a file whose size is exactly ``84 + 50 * count``
   for the facet count in bytes 80-83, whatever its 80-byte header says (a binary header may
-  start with ``solid``). Read with one structured ``frombuffer``.
+  start with ``solid``). Read with one structured ``frombuffer``, welded where it lies.
 - **ASCII** STL (``rasterkit.stl.ascii``): any other file that starts with ``solid``; one or
   more ``solid ... endsolid`` blocks (names optional, on ``endsolid`` too), keywords in any
   case, any whitespace between tokens, LF or CRLF, a UTF-8 byte order mark. Numbers are the
@@ -15,7 +15,8 @@ What is read
   among the facets kept, so the output depends on nothing but the file; ``edges`` are then the
   mesh's real edges (each side of two facets once), which ``hidden``, ``solid+wire`` and smooth
   shading need. Vertices are float64 (a binary file's float32 converted exactly). Facets keep
-  the file's winding.
+  the file's winding. One kernel pass finds the facets' flaws (below), welds and keeps the
+  normals.
 - **Normals** (``rasterkit.stl.normals``): the file's facet normals become ``corner_normals``
   (one unit row per facet) with ``normal_index`` (each facet's three corners index its row), so
   a smooth render draws the facets flat, as the file describes them; flat shading and culling
@@ -57,7 +58,7 @@ from rasterkit.mesh import Mesh
 from rasterkit.stl.ascii import read_ascii
 from rasterkit.stl.binary import FIRST_FACET, RECORD, is_binary, read_binary, size_error
 from rasterkit.stl.errors import StlError, StlLimitError, read_bytes
-from rasterkit.stl.facets import to_mesh, usable
+from rasterkit.stl.facets import mesh_fields, placed
 
 __all__ = ["StlError", "StlLimitError", "read_stl", "sniff"]
 
@@ -112,16 +113,17 @@ def read_stl(path=None, *, data: bytes | None = None) -> Mesh:
     if is_binary(data):
         facets = read_binary(name, data)
     elif _looks_ascii(data):
-        facets = read_ascii(name, data)
+        facets = placed(name, read_ascii(name, data))  # so that the text can go before the weld
     elif data.removeprefix(b"\xef\xbb\xbf").lstrip()[:5].lower() == b"solid":
         raise size_error(name, data, "not ASCII STL either: binary bytes after 'solid'")
     else:
         raise size_error(name, data, "not ASCII STL either: no 'solid' at the start")
     if len(facets.corners) == 0:
         raise StlError(name, None, "no facets, nothing to draw")
-    del data  # the text of a file read here goes with the facets' places, before the welding
-    facets = usable(name, facets)
-    return to_mesh(name, facets)
+    del data
+    fields = mesh_fields(name, facets)
+    del facets  # the file's bytes (the binary facets are a view of them) go before the Mesh copies its arrays
+    return Mesh(**fields)
 
 
 def _looks_ascii(head: bytes) -> bool:

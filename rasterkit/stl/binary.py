@@ -1,6 +1,7 @@
 """Binary STL: an 80-byte header, a little-endian uint32 facet count, then 50 bytes per facet
-(normal and three corners as 12 little-endian float32, and a 16-bit attribute word), read with
-one structured ``frombuffer``: no Python loop per facet.
+(normal and three corners as 12 little-endian float32, and a 16-bit attribute word), read
+through one structured ``frombuffer`` of the file's bytes: no Python loop per facet, and no
+copy (the weld reads the corners and normals where they are).
 
 A file is binary when its size is exactly ``84 + 50 * count`` (:func:`is_binary`), whatever its
 header says: a binary header may start with ``solid`` as an ASCII file does.
@@ -61,9 +62,7 @@ def where(k: int) -> str:
 def read_binary(name: str, data: bytes) -> Facets:
     """The facets of the binary STL file ``name`` whose bytes are ``data`` (:func:`is_binary`)."""
     count = facet_count(data)
-    check(name, count * (RECORD.itemsize + 48) + assembly_bytes(count), f"reading its {count} facets")
+    check(name, assembly_bytes(count), f"reading its {count} facets")
     records = np.frombuffer(data, RECORD, count, FIRST_FACET)
     colors, note = face_colors(data[:80], records["attribute"])
-    # copies, always: a view of one record is contiguous, read-only, and would keep the file
-    return Facets(records["corners"].copy(), records["normal"].copy(), where,
-                  colors=colors, warnings=() if note is None else (note,))
+    return Facets(records["corners"], records["normal"], where, colors=colors, warnings=() if note is None else (note,))

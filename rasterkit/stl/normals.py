@@ -20,20 +20,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit.stl.kernels import mesh as kernels
-
-__all__ = ["facet_normals"]
+__all__ = ["kept_normals"]
 
 
-def facet_normals(normals: np.ndarray, vertices: np.ndarray, faces: np.ndarray):
-    """``(corner_normals (M, 3) float64, normal_index (M, 3) int64, note)`` for facets ``faces``
-    (M, 3) of ``vertices`` (N, 3) float64 whose file normals are ``normals`` (M, 3); the first
-    two None when no file normal is kept. ``note``: a warning (normals replaced), or None."""
-    unit = np.empty((len(faces), 3))
-    with np.errstate(invalid="ignore"):  # a signalling NaN of a binary file is a NaN, without a warning
-        given = np.ascontiguousarray(normals, np.float64)
-    missing, backwards = kernels.facet_normals(given, vertices, faces, unit)
-    total = len(faces)
+def kept_normals(unit: np.ndarray, missing: int, backwards: int):
+    """``(corner_normals (M, 3) float64, normal_index (M, 3) int64, note)`` of M facets whose
+    unit normals are ``unit`` (M, 3) float64, of which ``missing`` replace a file normal that
+    is zero, NaN or infinite and ``backwards`` one against its facet's winding (by
+    :func:`rasterkit.stl.kernels.mesh.assemble`); the first two None when no file normal is
+    kept. ``note``: a warning (normals replaced), or None."""
+    total = len(unit)
     if missing == total:
         return None, None, None
     note = _note(total, missing, backwards, kept=missing + backwards < total) if missing + backwards else None

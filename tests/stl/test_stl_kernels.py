@@ -1,6 +1,7 @@
-"""The STL reader's kernels against slow, obvious references: welding (the hash table, its
-retries, and the sort it falls back to when corners are made to collide) and the facet
-normals."""
+"""The STL reader's kernel (:func:`rasterkit.stl.kernels.mesh.assemble`, driven by
+:func:`rasterkit.stl.weld.weld_facets`) against slow, obvious references: each facet's flaws,
+the welding (the hash table, its retries with a larger table, and the sort it falls back to
+when corners are made to collide) and the normals kept."""
 
 import time
 
@@ -8,61 +9,86 @@ import numpy as np
 import pytest
 
 from rasterkit.stl.kernels import mesh as kernels
-from rasterkit.stl.weld import weld_by_sorting, weld_corners
-from support.stlfiles import reference_weld
+from rasterkit.stl.weld import weld_by_sorting, weld_facets
+from support.stlfiles import RECORD, reference_weld
+
+
+def reference_flaws(corners):
+    """Each facet's flaw, by Python's numbers."""
+    out = []
+    for facet in np.asarray(corners, np.float64).tolist():
+        if not all(np.isfinite(x) for corner in facet for x in corner):
+            out.append(kernels.NOT_FINITE)
+        elif facet[0] == facet[1] or facet[1] == facet[2] or facet[2] == facet[0]:
+            out.append(kernels.TWO_EQUAL)
+        else:
+            out.append(kernels.SOUND)
+    return out
+
+
+def reference_normal(a, b, c, given):
+    """``(kind, unit normal)`` of one facet, as the module documentation of
+    :mod:`rasterkit.stl.normals` says: the file's where usable, else the corners'."""
+    u, v = np.subtract(b, a), np.subtract(c, a)
+    su, sv = np.abs(u).max(), np.abs(v).max()
+    if su > 0 and sv > 0:
+        u, v = u / su, v / sv
+    own = np.cross(u, v)
+    given = np.asarray(given, np.float64)
+    if not np.isfinite(given).all() or not given.any():
+        kind, n = "missing", own
+    elif given @ own < 0:
+        kind, n = "backwards", own
+    else:
+        kind, n = "given", given
+    largest = np.abs(n).max()
+    if not (largest > 0 and np.isfinite(largest)):
+        return kind, np.zeros(3)
+    n = n / largest
+    return kind, n / np.linalg.norm(n)
+
+
+def check_against_references(corners, normals):
+    welded = weld_facets(corners, normals)
+    flaws = reference_flaws(corners)
+    assert welded.flaws.tolist() == flaws
+    sound = np.array(flaws) == kernels.SOUND
+    kept = np.asarray(corners, np.float64)[sound].reshape(-1, 3)
+    inverse, first = reference_weld(kept)
+    assert np.array_equal(welded.faces.ravel(), inverse)
+    assert np.array_equal(welded.vertices, kept[first] + 0.0)  # without -0.0
+    assert not np.signbit(welded.vertices[welded.vertices == 0]).any()
+    kinds = []
+    for k, (face, given) in enumerate(zip(welded.faces, np.asarray(normals, np.float64)[sound])):
+        kind, unit = reference_normal(*welded.vertices[face], given)
+        kinds.append(kind)
+        assert np.allclose(welded.normals[k], unit, rtol=0, atol=1e-15)
+    assert (welded.missing, welded.backwards) == (kinds.count("missing"), kinds.count("backwards"))
+    return welded
 
 
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
 @pytest.mark.parametrize("distinct", [3, 40, 10_000])
-def test_weld_numbers_rows_by_first_appearance(dtype, distinct):
+def test_weld_numbers_corners_by_first_appearance_and_keeps_the_normals(dtype, distinct):
     rng = np.random.default_rng(distinct)
-    corners = rng.integers(0, distinct, (3000, 3)).astype(dtype) / dtype(7)
-    corners[rng.random(3000) < 0.1] *= -1  # -0.0 among them
-    inverse, first = weld_corners(corners)
-    expected_inverse, expected_first = reference_weld(corners)
-    assert np.array_equal(inverse, expected_inverse) and np.array_equal(first, expected_first)
-    assert (corners[first][inverse] == corners).all()
+    corners = (rng.integers(0, distinct, (1000, 3, 3)) / 7).astype(dtype)
+    corners[rng.random((1000, 3)) < 0.1] *= -1  # -0.0 among them
+    corners[rng.random((1000, 3, 3)) < 0.01] = rng.choice([np.nan, np.inf, -np.inf])
+    normals = rng.normal(size=(1000, 3)).astype(dtype)
+    normals[rng.random(1000) < 0.1] = 0
+    normals[rng.random(1000) < 0.05, 1] = np.nan
+    check_against_references(corners, normals)
 
 
-def test_weld_asks_for_a_larger_table_when_the_vertices_do_not_fit():
-    keys = np.arange(30, dtype=np.uint32).reshape(10, 3)
-    assert kernels.weld(keys, 3)[2] == kernels.FULL
-    inverse, first, n = kernels.weld(keys, 5)
-    assert n == 10 and inverse.tolist() == list(range(10)) and first.tolist() == list(range(10))
-
-
-def colliding_keys(n):
-    """n distinct rows of uint64 whose hash, before the finaliser, is one value: each lands in
-    the same slot, whatever the table's size."""
-    m1, m2, m3 = (int(kernels.M1), int(kernels.M2), int(kernels.M3))
-    inverse_m3, mask = pow(m3, -1, 2**64), 2**64 - 1
-    rows = []
-    for a in range(1, 10 * n):
-        c = ((0x1234 ^ (a * m1 & mask) ^ (7 * m2 & mask)) * inverse_m3) & mask
-        if np.isfinite(np.uint64(c).view(np.float64)) and c != 1 << 63:
-            rows.append((a, 7, c))
-        if len(rows) == n:
-            return np.array(rows, np.uint64)
-
-
-def test_weld_gives_up_on_corners_made_to_collide_and_the_driver_sorts_them_instead():
-    keys = colliding_keys(3000)
-    assert kernels.weld(keys, 16)[2] == kernels.COLLIDING
-    corners = np.concatenate([keys, keys[::-1]]).view(np.float64)
-    start = time.perf_counter()
-    inverse, first = weld_corners(corners)
-    assert time.perf_counter() - start < 5
-    expected_inverse, expected_first = reference_weld(corners)
-    assert np.array_equal(inverse, expected_inverse) and np.array_equal(first, expected_first)
-
-
-def test_weld_by_sorting_agrees_with_the_hash_table():
-    rng = np.random.default_rng(1)
-    corners = rng.integers(0, 50, (5000, 3)).astype(np.float32)
-    keys = corners.view(np.uint32)
-    inverse, first = weld_corners(corners)
-    inverse_sorted, first_sorted = weld_by_sorting(keys)
-    assert np.array_equal(inverse, inverse_sorted) and np.array_equal(first, first_sorted)
+def test_the_corners_and_normals_are_read_where_the_file_has_them():
+    rng = np.random.default_rng(2)
+    records = np.zeros(500, RECORD)
+    records["corners"] = rng.integers(0, 9, (500, 3, 3))
+    records["normal"] = rng.normal(size=(500, 3))
+    view = np.frombuffer(b"x" + records.tobytes(), RECORD, 500, 1)  # unaligned, strided
+    welded = check_against_references(view["corners"], view["normal"])
+    again = weld_facets(records["corners"].copy(), records["normal"].copy())
+    assert np.array_equal(welded.faces, again.faces) and np.array_equal(welded.normals, again.normals)
 
 
 def test_facet_flaws():
@@ -72,18 +98,65 @@ def test_facet_flaws():
     corners[2, 2] = corners[2, 0]
     corners[4, 1] = [-0.0, 0, 0]  # equal to corner 0 as a number
     corners[3, 1] = corners[3, 2]  # both: not finite first
-    assert kernels.facet_flaws(corners).tolist() == [kernels.SOUND, kernels.NOT_FINITE, kernels.TWO_EQUAL,
-                                                     kernels.NOT_FINITE, kernels.TWO_EQUAL]
+    welded = weld_facets(corners, np.zeros((5, 3), np.float32))
+    assert welded.flaws.tolist() == [kernels.SOUND, kernels.NOT_FINITE, kernels.TWO_EQUAL, kernels.NOT_FINITE,
+                                     kernels.TWO_EQUAL]
+    assert welded.faces.tolist() == [[0, 1, 2]] and len(welded.vertices) == 3
 
 
-def test_facet_normals_of_huge_and_tiny_facets_are_unit_vectors():
-    vertices = np.array([[0, 0, 0], [1e300, 0, 0], [0, 1e300, 0], [1e-300, 0, 0], [0, 1e-300, 0],
-                         [1, 1, 1], [2, 2, 2]], np.float64)
-    faces = np.array([[0, 1, 2], [0, 3, 4], [0, 5, 6]])
-    out = np.empty((3, 3))
-    given = np.array([[0, 0, 0], [0, 0, 0], [0, 0, 0]], np.float64)
-    assert kernels.facet_normals(given, vertices, faces, out) == (3, 0)
-    assert out.tolist() == [[0, 0, 1], [0, 0, 1], [0, 0, 0]]  # the last facet's corners are on one line
+def test_a_table_too_small_for_the_vertices_is_grown():
+    rng = np.random.default_rng(3)
+    corners = rng.random((3000, 3, 3))  # every corner its own vertex: more than the first table holds
+    welded = check_against_references(corners, np.zeros((3000, 3)))
+    assert len(welded.vertices) == 9000
+    table = np.zeros(16, np.uint64)
+    out = (np.empty(3000, np.uint8), np.empty((3000, 3), np.int64), np.empty((9000, 3)), np.empty((3000, 3)))
+    result = kernels.assemble(corners, np.zeros((3000, 3)), np.zeros(0, np.int64), table, *out)
+    assert result[1] == kernels.FULL and out[0].tolist() == [kernels.SOUND] * 3000
+
+
+def colliding_corners(n):
+    """n distinct corners (float64, finite, not -0.0) whose hash, before the finaliser, is one
+    value: each lands in the same slot, whatever the table's size."""
+    m1, m2, m3 = (int(kernels.M1), int(kernels.M2), int(kernels.M3))
+    inverse_m3, mask = pow(m3, -1, 2**64), 2**64 - 1
+    seven = int(np.float64(7.0).view(np.uint64))
+    rows = []
+    for a in range(1, 10 * n):
+        x = int(np.float64(a).view(np.uint64))
+        c = ((0x1234 ^ (x * m1 & mask) ^ (seven * m2 & mask)) * inverse_m3) & mask
+        if np.isfinite(np.uint64(c).view(np.float64)) and c != 1 << 63:
+            rows.append((x, seven, c))
+        if len(rows) == n:
+            return np.array(rows, np.uint64).view(np.float64)
+
+
+def test_corners_made_to_collide_are_numbered_by_sorting_instead():
+    points = colliding_corners(3000)
+    corners = np.concatenate([points, points[::-1]]).reshape(-1, 3, 3)
+    out = (np.empty(2000, np.uint8), np.empty((2000, 3), np.int64), np.empty((6000, 3)), np.empty((2000, 3)))
+    result = kernels.assemble(corners, np.zeros((2000, 3)), np.zeros(0, np.int64), np.zeros(1 << 16, np.uint64),
+                              *out)
+    assert result[1] == kernels.COLLIDING and (out[0] == kernels.SOUND).all()
+    start = time.perf_counter()
+    welded = check_against_references(corners, np.zeros((2000, 3)))
+    assert time.perf_counter() - start < 5 and len(welded.vertices) == 3000
+
+
+def test_weld_by_sorting_numbers_rows_by_first_appearance():
+    rng = np.random.default_rng(1)
+    corners = rng.integers(0, 50, (5000, 3)).astype(np.float32)
+    inverse, first = weld_by_sorting(corners.view(np.uint32))
+    expected_inverse, expected_first = reference_weld(corners)
+    assert np.array_equal(inverse, expected_inverse) and np.array_equal(first, expected_first)
+
+
+def test_normals_of_huge_and_tiny_facets_are_unit_vectors():
+    corners = np.array([[[0, 0, 0], [1e300, 0, 0], [0, 1e300, 0]], [[0, 0, 0], [1e-300, 0, 0], [0, 1e-300, 0]],
+                        [[0, 0, 0], [1, 1, 1], [2, 2, 2]]], np.float64)
+    welded = check_against_references(corners, np.zeros((3, 3)))
+    assert welded.normals.tolist() == [[0, 0, 1], [0, 0, 1], [0, 0, 0]]  # the last facet's corners are on one line
     given = np.array([[0, 0, 1e300], [0, 0, -2], [3, 4, 0]], np.float64)
-    assert kernels.facet_normals(given, vertices, faces, out) == (0, 1)
-    assert np.allclose(out, [[0, 0, 1], [0, 0, 1], [0.6, 0.8, 0]], rtol=0, atol=1e-15)
+    welded = check_against_references(corners, given)
+    assert (welded.missing, welded.backwards) == (0, 1)
+    assert np.allclose(welded.normals, [[0, 0, 1], [0, 0, 1], [0.6, 0.8, 0]], rtol=0, atol=1e-15)
