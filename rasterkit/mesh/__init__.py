@@ -59,8 +59,7 @@ class _Edges:
         if mesh is None:
             return None  # the field's default
         edges = mesh.__dict__.get("edges")
-        if edges is None:
-            mesh.__dict__["_derived_edges"] = True
+        if edges is None:  # made without edges (``__set__`` noted it)
             faces, lines = mesh.faces, mesh.lines
             check_memory(24 * (3 * len(faces) + len(lines)) + 24 * len(mesh.vertices),
                          f"the edges of a Mesh of {len(faces)} faces")
