@@ -248,7 +248,7 @@ def stop() -> None:
 def _wait_for_helper(worker, args):
     """In this process: before a worker a helper compiles runs, wait until that helper has
     reported it compiled (or has ended: then this process compiles what is missing)."""
-    name = worker.py_func.__name__
+    name = getattr(worker, "py_func", worker).__name__  # a plain function (no kernel) is no helper's
     helper = _helpers.get(name)
     if helper is None:
         return None

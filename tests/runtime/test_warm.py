@@ -327,3 +327,21 @@ def test_a_helper_is_forked_on_linux_and_reports_on_its_pipe(tmp_path):
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout) == {"forked": True, "reports": ["bin_records"], "code": 0}
     assert _kernel_indexes(tmp_path / "cache", "bands", "bin_records")
+
+
+def test_a_plain_python_worker_waits_for_no_helper():
+    """run_parallel also runs plain functions (the OBJ reader's chunks): with helpers
+    compiling, such a worker is no helper's and runs at once (it once raised AttributeError
+    on the first render of an OBJ file with an empty cache)."""
+    from rasterkit.runtime import warm
+
+    def chunk_worker():
+        pass
+
+    saved = dict(warm._helpers)
+    warm._helpers["draw_bands"] = object()  # a helper busy with another worker
+    try:
+        assert warm._wait_for_helper(chunk_worker, ()) is None
+    finally:
+        warm._helpers.clear()
+        warm._helpers.update(saved)
