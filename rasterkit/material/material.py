@@ -109,8 +109,10 @@ class Material:
         the map's vector is the normal, whatever the mesh's normals.
     double_sided : bool
         glTF's ``doubleSided``: the faces are meant to be seen from both sides (not culled,
-        and lit on the back as on the front). Default False. Recorded for the renderer:
-        :func:`rasterkit.render` culls every face alike, as ``RenderOptions.cull`` says.
+        and lit on the back as on the front). Default False. :func:`rasterkit.render` draws
+        such faces from both sides whatever ``RenderOptions.cull`` says, and lights their
+        backs with the normal turned towards the viewer (``|n · l|``,
+        :mod:`rasterkit.raster.sides`).
     """
 
     name: str = "default"

@@ -19,6 +19,7 @@ from rasterkit.mesh import Mesh
 from rasterkit.raster.framebuffer import Framebuffer
 from rasterkit.raster.plan import Style
 from rasterkit.raster.shading import AMBIENT, shade
+from rasterkit.raster.sides import Sides, face_sides
 from rasterkit.raster.triangles import rasterize_checked, rasterize_triangles
 from rasterkit.raster.vertex import transform_points
 
@@ -72,12 +73,13 @@ def shared_setup(mesh: Mesh, camera: Camera, style: Style):
     from rasterkit.raster.shared_samples import SharedTriangles
 
     clip = transform_points(mesh.vertices, camera.world_to_raster())
-    face_colors, vertex_colors, corners = shade(mesh, style) if row.shaded else (None, None, None)
+    sides = face_sides(mesh, style.cull)
+    face_colors, vertex_colors, corners = shade(mesh, style, sides) if row.shaded else (None, None, None)
     whole = not row.edges and style.points is None  # then averaged in one pass, exact on outlines
     setup = SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=row.shaded,
-                            face_colors=face_colors, vertex_colors=vertex_colors, cull=style.cull,
+                            face_colors=face_colors, vertex_colors=vertex_colors, cull=sides.cull,
                             depth_offset=row.polygon_offset, neighbours=mesh.side_neighbours if whole else None,
-                            textures=_textures(mesh, style) if row.shaded else None, corners=corners)
+                            textures=_textures(mesh, style, sides) if row.shaded else None, corners=corners)
     return setup, whole
 
 
@@ -92,32 +94,33 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
         triangles.draw(fb.color if row.shaded else None, depth, sample=sample,
                        clear=tuple(int(c) for c in fb.background[: fb.color.shape[2]]) if row.shaded else ())
         return
+    sides = face_sides(mesh, style.cull)
     if not row.shaded:  # the colour buffer is cleared by the edge pass
-        rasterize_checked(None, fb.uncleared_depth(), clip, mesh.faces, None, None, fb.ids, style.cull, (),
+        rasterize_checked(None, fb.uncleared_depth(), clip, mesh.faces, None, None, fb.ids, sides.cull, (),
                           row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True,
-                          textures=_cutouts(_textures(mesh, style)))
+                          textures=_cutouts(_textures(mesh, style, sides)))
         return
-    face_colors, vertex_colors, corners = shade(mesh, style)
-    textures = _textures(mesh, style)
+    face_colors, vertex_colors, corners = shade(mesh, style, sides)
+    textures = _textures(mesh, style, sides)
     background = tuple(int(c) for c in fb.background[: fb.color.shape[2]])
     if not row.depth_kept and not style.keep_depth:  # nothing drawn after: depth only if read
         depth = None
-        fb.defer_depth(partial(_depth_pass, clip, mesh.faces, style.cull, _cutouts(textures)))
+        fb.defer_depth(partial(_depth_pass, clip, mesh.faces, sides.cull, _cutouts(textures)))
     else:
         depth = fb.uncleared_depth()
-    rasterize_checked(fb.color, depth, clip, mesh.faces, face_colors, vertex_colors, fb.ids, style.cull, background,
+    rasterize_checked(fb.color, depth, clip, mesh.faces, face_colors, vertex_colors, fb.ids, sides.cull, background,
                       row.polygon_offset, None, maps=style.maps, transform=transform, trusted=True, textures=textures,
                       corners=corners)
 
 
-def _textures(mesh: Mesh, style: Style):
+def _textures(mesh: Mesh, style: Style, sides: Sides):
     """The frame's :class:`rasterkit.raster.texturing.FrameTextures`, or None (textures off,
-    or no face of ``mesh`` textured)."""
+    or no face of ``mesh`` textured); ``sides``: :func:`face_sides` of the mesh."""
     if not style.textures or not mesh.materials or mesh.textured is None:  # no import for a plain mesh
         return None
     from rasterkit.raster.texturing import frame_textures
 
-    return frame_textures(mesh, style.light, AMBIENT, style.cull == "none", style.shading == "smooth",
+    return frame_textures(mesh, style.light, AMBIENT, sides.two_sided, style.shading == "smooth",
                           style.texture_filter)
 
 

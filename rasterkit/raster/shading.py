@@ -13,13 +13,14 @@ from rasterkit.camera import Camera
 from rasterkit.raster.normals import vertex_normals
 from rasterkit.raster.kernels import shade as shade_kernels
 from rasterkit.mesh import Mesh
+from rasterkit.raster.sides import Sides, corner_sides, face_sides
 from rasterkit.raster.triangles import FlatLambert
 
 AMBIENT = 0.25
 """Fraction of the surface colour that unlit faces keep."""
 
 
-def shade(mesh: Mesh, options):
+def shade(mesh: Mesh, options, sides: Sides | None = None):
     """Lambert colours lit by a distant light: ``(face_colors, vertex_colors, corners)``, per
     face (a :class:`FlatLambert` that the rasterizer evaluates; the others None) or, smooth,
     per vertex ((N, 3) float32 0..255; ``corners`` None: the faces index them) or, where the
@@ -29,9 +30,10 @@ def shade(mesh: Mesh, options):
     colour lit by the corner's normal, so no colour bleeds across an edge.
 
     The light has one direction for every face, so the triangles of one flat polygon get one
-    colour.
+    colour. Faces are lit on both sides as ``sides`` (:func:`rasterkit.raster.sides.face_sides`
+    of ``mesh`` and ``options.cull``, worked out when None) says.
     """
-    two_sided = options.cull == "none"
+    two_sided = (sides or face_sides(mesh, options.cull)).two_sided
     towards_light = options.light
     if options.shading == "flat":
         if mesh.face_colors is not None:  # scaled in the kernel: no (M, 3) product per frame
@@ -44,18 +46,21 @@ def shade(mesh: Mesh, options):
     if mesh.face_colors is not None:  # each corner its face's colour, lit by the corner's normal
         rows = normals[corners] if split else _vertex_normals(mesh)[mesh.faces]
         base = np.repeat(mesh.face_colors * np.float32(255), 3, axis=0)
-        return (None, _lambert(rows.reshape(-1, 3), base, towards_light, two_sided),
+        return (None, _lambert(rows.reshape(-1, 3), base, towards_light, np.repeat(two_sided, 3)
+                               if isinstance(two_sided, np.ndarray) else two_sided),
                 np.arange(3 * len(mesh.faces), dtype=np.int64).reshape(-1, 3))
     if split:
         if mesh.vertex_colors is None:
-            return None, _lambert(normals, options.color[None, :3].astype(np.float32), towards_light, two_sided), corners
+            return None, _lambert(normals, options.color[None, :3].astype(np.float32), towards_light,
+                                  corner_sides(two_sided, corners, len(normals))), corners
         # a colour per vertex and a normal per corner: a row per distinct (vertex, normal)
         pairs, rows = np.unique(np.stack([mesh.faces.ravel(), corners.ravel()], axis=1), axis=0, return_inverse=True)
         base = np.ascontiguousarray(mesh.vertex_colors[pairs[:, 0]] * np.float32(255))
-        return (None, _lambert(normals[pairs[:, 1]], base, towards_light, two_sided),
-                np.ascontiguousarray(rows.reshape(-1, 3), np.int64))
+        rows = np.ascontiguousarray(rows.reshape(-1, 3), np.int64)
+        return None, _lambert(normals[pairs[:, 1]], base, towards_light, corner_sides(two_sided, rows, len(pairs))), rows
     base = _base_colors(mesh, options, per_face=False)
-    return None, _lambert(_vertex_normals(mesh), base, towards_light, two_sided), None
+    normals = _vertex_normals(mesh)
+    return None, _lambert(normals, base, towards_light, corner_sides(two_sided, mesh.faces, len(normals))), None
 
 
 def _vertex_normals(mesh: Mesh) -> np.ndarray:

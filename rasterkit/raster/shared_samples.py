@@ -37,9 +37,9 @@ from rasterkit.raster.kernels.records import Samples
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_TAGGED
 from rasterkit.raster.kernels.bands import BAND_HEIGHT, SLOT_GUARD_BYTES, slot_rows
 from rasterkit.mesh import side_neighbours
-from rasterkit.raster.triangles import (background_bytes, check_buffer, check_corners, check_depth, check_depth_offset,
-                                       check_geometry, shading_mode, thread_count)
-from rasterkit.options import CULL
+from rasterkit.raster.draw_checks import (check_buffer, check_cull, check_depth, check_depth_offset, check_geometry,
+                                          thread_count)
+from rasterkit.raster.triangles import background_bytes, check_corners, shading_mode
 
 __all__ = ["SharedTriangles"]
 
@@ -74,8 +74,7 @@ class SharedTriangles:
                  depth_offset=(0.0, 0.0), threads=None, neighbours=None, textures=None, corners=None):
         check_depth(np.empty((height, width), np.float32))  # the size
         check_geometry(clip, faces)
-        if cull not in CULL:
-            raise ValueError(f"cull must be one of {sorted(CULL)}, got {cull!r}")
+        check_cull(cull, faces.shape[0])
         face_colors, vertex_colors, lighting = shading_mode(True if color else None, face_colors, vertex_colors, faces,
                                                         clip if corners is None else vertex_colors)
         if corners is not None:

@@ -22,6 +22,7 @@ from rasterkit.material.sampling import TextureArgs, texture_args, with_filter
 from rasterkit.raster.kernels.records import Textured
 from rasterkit.raster.kernels.texture_shade import encode_table
 from rasterkit.raster.normals import unit
+from rasterkit.raster.sides import corner_sides
 from rasterkit.raster.vision import corner_uv
 
 __all__ = ["FrameTextures", "MeshTextures", "face_tangents", "frame_textures", "mesh_textures"]
@@ -166,6 +167,13 @@ def _from_heights(texture):
                    srgb=False, name=texture.name)
 
 
+def _back(two_sided):
+    """The band worker's ``back``: 1.0 (two-sided) or 0.0, or (M,) float64 of those per face."""
+    if isinstance(two_sided, np.ndarray):
+        return _sealed(two_sided.astype(np.float64))
+    return 1.0 if two_sided else 0.0
+
+
 @functools.lru_cache(maxsize=64)
 def _linear(texture):
     """``texture`` read as data (linear values), not sRGB colours: one copy per texture (kept),
@@ -173,11 +181,11 @@ def _linear(texture):
     return texture.replace(srgb=False) if texture is not None and texture.srgb else texture
 
 
-def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided: bool, smooth: bool,
+def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided, smooth: bool,
                    texture_filter: str | None) -> FrameTextures | None:
     """The band worker's :class:`FrameTextures` for a frame of
     ``mesh`` lit from the unit direction ``light`` (world space) with ``ambient``, lit on both
-    sides or not, flat or ``smooth``, every texture filtered with ``texture_filter`` (a name of
+    sides or not (``two_sided``: a bool, or (M,) bool per face), flat or ``smooth``, every texture filtered with ``texture_filter`` (a name of
     :data:`rasterkit.material.sampling.FILTER_CODES`, or None for each texture's own); None
     when no face of ``mesh`` is textured."""
     layout = mesh.textured
@@ -189,14 +197,15 @@ def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided: bool, smo
     if smooth:
         normals, corners, _ = mesh.smooth_corners
         cos = normals @ light
-        cos = np.abs(cos) if two_sided else np.maximum(cos, 0.0)
+        both = corner_sides(two_sided, corners, len(normals))
+        cos = np.where(both, np.abs(cos), np.maximum(cos, 0.0))
         intensity = (ambient + (1.0 - ambient) * np.nan_to_num(cos, nan=0.0)).astype(np.float32)
         face_normals, corner_normals = np.zeros((0, 3), np.float32), normals if layout.tangents.size else no_normals
     else:
         intensity, corners, face_normals = np.zeros(0, np.float32), np.zeros((0, 3), np.int64), mesh.face_normals
         corner_normals = no_normals
     record = Textured(*args, layout.face_texture, layout.corner_uv, layout.tint, smooth, intensity, corners,
-                      face_normals, light, float(ambient), 1.0 if two_sided else 0.0, _ENCODE, layout.face_alpha,
+                      face_normals, light, float(ambient), _back(two_sided), _ENCODE, layout.face_alpha,
                       layout.face_opacity, layout.face_normal_map, layout.face_bump, layout.face_normal_space,
                       layout.tangents, corner_normals)
     return FrameTextures(record, record if layout.cutout else None, record if layout.normal_mapped else None)

@@ -60,6 +60,12 @@ from rasterkit.raster.kernels.triangle_samples import move_records
 CULL_CODES = {"none": CULL_NONE, "back": CULL_BACK, "front": CULL_FRONT}
 """The cull kernel's code of each name of :data:`rasterkit.options.CULL`."""
 
+
+def cull_code(cull):
+    """The kernels' cull argument: the code of a name of :data:`CULL_CODES`, or a per-face
+    (M,) uint8 array of codes as it is (:func:`rasterkit.raster.sides.face_sides`)."""
+    return cull if isinstance(cull, np.ndarray) else CULL_CODES[cull]
+
 MAX_FACES = (2**31 - 1) // (MAX_FAN + 1)
 """Faces per draw at most: record indices are int32 in the visibility buffer, and a face
 becomes at most MAX_FAN records."""
@@ -78,7 +84,7 @@ class Lighting(NamedTuple):
     scale: np.float32
     light: np.ndarray  # (3,) float64, read-only
     ambient: float
-    two_sided: bool
+    two_sided: bool | np.ndarray  # or (M,) bool, read-only: per face
 
 
 #: Bytes of per-face scratch of a draw, each record array grown by a quarter: the records
@@ -299,7 +305,7 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
     setup_threads = 1 if m < _PARALLEL_FACES else threads
     ws.generation += 1
     records, n_fan, fan_start, fan_face, band_counts, counts, listed, corners = _set_up(
-        ws, clip, faces, width, height, CULL_CODES[cull], int(padded), lit, setup_threads, transform
+        ws, clip, faces, width, height, cull_code(cull), int(padded), lit, setup_threads, transform
     )
     band_start = bin_cursors(band_counts)
     items = ws.reserve("items", (int(band_start[-1]),), np.int32)

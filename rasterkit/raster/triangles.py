@@ -7,16 +7,14 @@ with the vertices already in homogeneous raster space.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from rasterkit.runtime import threads as _pool
 from rasterkit.runtime.jit import readonly
-from rasterkit.raster.triangle_pass import MAX_FACES, Lighting, draw_triangles
-from rasterkit.raster.kernels.shade import all_finite
-from rasterkit.options import CULL, MAX_IMAGE_SIZE
+from rasterkit.raster.draw_checks import (check_array, check_buffer, check_colors, check_cull, check_depth,
+                                          check_depth_offset, check_geometry, check_size, thread_count)
+from rasterkit.raster.triangle_pass import Lighting, draw_triangles
 
 __all__ = ["FlatLambert", "TriangleStats", "rasterize_triangles"]
 
@@ -63,58 +61,6 @@ class TriangleStats:
     fragments: int
 
 
-def _check_array(name, a, dtype, ndim):
-    if not isinstance(a, np.ndarray):
-        raise TypeError(f"{name} must be a numpy.ndarray, got {type(a).__name__}")
-    if a.dtype != dtype:
-        raise TypeError(f"{name} must have dtype {np.dtype(dtype).name}, got {a.dtype}")
-    if a.ndim != ndim:
-        raise ValueError(f"{name} must be {ndim}-dimensional, got shape {a.shape}")
-    if not a.flags.c_contiguous:
-        raise ValueError(f"{name} must be C-contiguous (use numpy.ascontiguousarray)")
-
-
-def check_buffer(name, a, dtype, shape):
-    _check_array(name, a, dtype, len(shape))
-    if a.shape != shape:
-        raise ValueError(f"{name} has shape {a.shape}, expected {shape} to match depth")
-    if not a.flags.writeable:
-        raise ValueError(f"{name} must be writeable")
-
-
-def _check_colors(name, colors, rows, what):
-    _check_array(name, colors, np.float32, 2)
-    if colors.shape != (rows, 3):
-        raise ValueError(f"{name} must have shape ({rows}, 3) (one RGB per {what}), got {colors.shape}")
-    if not all_finite(colors):
-        raise ValueError(f"{name} must be finite")
-
-
-def check_geometry(clip, faces):
-    _check_array("clip", clip, np.float64, 2)
-    if clip.shape[1] != 4:
-        raise ValueError(f"clip must have shape (N, 4) (xh, yh, zh, w), got {clip.shape}")
-    _check_array("faces", faces, np.int64, 2)
-    if faces.shape[1] != 3:
-        raise ValueError(f"faces must have shape (M, 3), got {faces.shape}")
-    if faces.shape[0] > MAX_FACES:
-        raise ValueError(f"at most {MAX_FACES} faces per call, got {faces.shape[0]}")
-    # The vertex indices are checked by the face pass (setup_faces), which reads them all
-    # anyway, before anything is drawn or read through them.
-
-
-def check_depth(depth):
-    _check_array("depth", depth, np.float32, 2)
-    if not depth.flags.writeable:
-        raise ValueError("depth must be writeable")
-    _check_size(*depth.shape)
-
-
-def _check_size(height, width):
-    if not (1 <= width <= MAX_IMAGE_SIZE and 1 <= height <= MAX_IMAGE_SIZE):
-        raise ValueError(f"image size must be 1..{MAX_IMAGE_SIZE} pixels a side, got {width}x{height}")
-
-
 @dataclass(frozen=True, eq=False)
 class FlatLambert:
     """Face colours for :func:`rasterize_triangles` that it computes itself: per face,
@@ -138,8 +84,8 @@ class FlatLambert:
         Unit direction towards the light.
     ambient : float
         Fraction of the colour that unlit faces keep.
-    two_sided : bool
-        Light both sides of a face (``|cos|``), else only the front.
+    two_sided : bool or (M,) bool
+        Light both sides of a face (``|cos|``), else only the front; for every face or each.
     scale : float
         Multiplies ``base`` (255 for colours in [0, 1]).
     """
@@ -156,15 +102,15 @@ def _lighting(flat: FlatLambert, faces, trusted=False) -> Lighting:
     """The terms of ``flat``, validated against the ``faces`` (M, 3); ``trusted``: made by
     render() from a checked light, only its arrays are checked."""
     m = faces.shape[0]
-    _check_array("normals", flat.normals, np.float32, 2)
+    check_array("normals", flat.normals, np.float32, 2)
     if flat.normals.shape != (m, 3):
         raise ValueError(f"normals must have shape ({m}, 3), got {flat.normals.shape}")
-    _check_array("base", flat.base, np.float32, 2)
+    check_array("base", flat.base, np.float32, 2)
     if flat.base.shape not in ((1, 3), (m, 3)):
         raise ValueError(f"base must have shape (1, 3) or ({m}, 3), got {flat.base.shape}")
     if trusted:
         return Lighting(readonly(flat.normals), readonly(flat.base), np.float32(flat.scale), readonly(flat.light),
-                        float(flat.ambient), bool(flat.two_sided))
+                        float(flat.ambient), _two_sided(flat.two_sided, m))
     light = readonly(np.ascontiguousarray(flat.light, np.float64))
     if light.shape != (3,) or not np.all(np.isfinite(light)):
         raise ValueError(f"light must be 3 finite numbers, got {flat.light!r}")
@@ -172,7 +118,16 @@ def _lighting(flat: FlatLambert, faces, trusted=False) -> Lighting:
     if not (np.isfinite(ambient) and np.isfinite(scale)):
         raise ValueError("ambient and scale must be finite")
     return Lighting(readonly(flat.normals), readonly(flat.base), np.float32(scale), light, ambient,
-                    bool(flat.two_sided))
+                    _two_sided(flat.two_sided, m))
+
+
+def _two_sided(value, m: int):
+    """``FlatLambert.two_sided`` as the face pass takes it: a bool, or (M,) bool per face."""
+    if not isinstance(value, np.ndarray):
+        return bool(value)
+    if value.shape != (m,):
+        raise ValueError(f"two_sided must be a bool or ({m},) bools, got shape {value.shape}")
+    return readonly(np.ascontiguousarray(value, bool))
 
 
 def shading_mode(color, face_colors, vertex_colors, faces, clip):
@@ -185,24 +140,24 @@ def shading_mode(color, face_colors, vertex_colors, faces, clip):
             raise ValueError("colours were given but color is None")
         return None, None, None
     if vertex_colors is not None:
-        _check_colors("vertex_colors", vertex_colors, clip.shape[0], "vertex")
+        check_colors("vertex_colors", vertex_colors, clip.shape[0], "vertex")
         return None, vertex_colors, None
     if face_colors is None:
         raise ValueError("color needs face_colors or vertex_colors (or pass color=None for depth only)")
     if isinstance(face_colors, FlatLambert):
         return None, None, _lighting(face_colors, faces)
     if isinstance(face_colors, np.ndarray) and face_colors.dtype == np.uint32:
-        _check_array("face_colors", face_colors, np.uint32, 1)
+        check_array("face_colors", face_colors, np.uint32, 1)
         if face_colors.shape != (faces.shape[0],):
             raise ValueError(f"packed face_colors must have shape ({faces.shape[0]},), got {face_colors.shape}")
         return face_colors, None, None
-    _check_colors("face_colors", face_colors, faces.shape[0], "face")
+    check_colors("face_colors", face_colors, faces.shape[0], "face")
     return face_colors, None, None
 
 
 def check_corners(corners, faces, vertex_colors):
     """``corners`` as (M, 3) int64 rows of ``vertex_colors`` (K, 3), one per face corner."""
-    _check_array("corners", corners, np.int64, 2)
+    check_array("corners", corners, np.int64, 2)
     if corners.shape != faces.shape:
         raise ValueError(f"corners must have the faces' shape {faces.shape}, got {corners.shape}")
     if vertex_colors is None:
@@ -229,15 +184,6 @@ def background_bytes(clear, color):
     if not all(0 <= v <= 255 for v in values):
         raise ValueError(f"clear values must be in 0..255, got {clear!r}")
     return np.array(values, np.uint8)
-
-
-def thread_count(threads):
-    if threads is None:
-        return _pool.get_threads()
-    limit = _pool.MAX_THREADS
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= limit:
-        raise ValueError(f"threads must be an int in 1..{limit} or None, got {threads!r}")
-    return int(threads)
 
 
 def rasterize_triangles(
@@ -286,8 +232,10 @@ def rasterize_triangles(
         given.
     ids : (H, W) int32, optional
         Receives the index of the face visible at each drawn pixel.
-    cull : {"back", "front", "none"}
-        Which faces to remove; front faces wind counter-clockwise on screen.
+    cull : {"back", "front", "none"} or (M,) uint8
+        Which faces to remove; front faces wind counter-clockwise on screen. Or a choice
+        per face, as codes of :data:`rasterkit.raster.triangle_pass.CULL_CODES` (the faces
+        of double-sided materials: :mod:`rasterkit.raster.sides`).
     clear : sequence of int, optional
         Clear the buffers first: colour to this value (C integers 0..255; ``()`` when
         ``color`` is None), depth to +inf, ids to -1. Done band by band in the drawing
@@ -361,12 +309,12 @@ def _check_draw(color, depth, ids, clip, faces, cull):
     elif color is None:
         raise ValueError("depth can be None only when color is given")
     if color is not None:
-        _check_array("color", color, np.uint8, 3)
+        check_array("color", color, np.uint8, 3)
         if color.shape[2] not in (3, 4):
             raise ValueError(f"color must have 3 or 4 channels, got shape {color.shape}")
         if depth is None:  # the image size comes from the colour buffer
             height, width = color.shape[:2]
-            _check_size(height, width)
+            check_size(height, width)
         check_buffer("color", color, np.uint8, (height, width, color.shape[2]))
     if ids is not None:
         check_buffer("ids", ids, np.int32, (height, width))
@@ -375,16 +323,4 @@ def _check_draw(color, depth, ids, clip, faces, cull):
         # faces are read again after the draw has written into its buffers: never through them
         if buffer is not None and np.may_share_memory(faces, buffer):
             raise ValueError(f"faces must not share memory with {name}, the buffer drawn into")
-    if cull not in CULL:
-        raise ValueError(f"cull must be one of {sorted(CULL)}, got {cull!r}")
-
-
-def check_depth_offset(value):
-    """``(factor, units)`` as two finite floats (glPolygonOffset's arguments)."""
-    try:
-        factor, units = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ValueError(f"depth_offset must be (factor, units), got {value!r}") from None
-    if not (math.isfinite(factor) and math.isfinite(units)):
-        raise ValueError(f"depth_offset must be finite, got {value!r}")
-    return factor, units
+    check_cull(cull, faces.shape[0])

@@ -15,6 +15,10 @@ exact and agrees with what gets drawn.
 
 from __future__ import annotations
 
+import numpy as np
+from numba import types
+from numba.extending import overload
+
 from rasterkit.runtime.jit import kernel
 
 #: Cull modes, as passed to the kernels (the Python layer maps "none"/"back"/"front").
@@ -45,3 +49,21 @@ def is_culled(area2, mode):
     if mode == CULL_FRONT:
         return is_front_facing(area2)
     return False
+
+
+def per_face(value, f):
+    """``value[f]`` for a per-face array, ``value`` itself for one value every face shares.
+
+    A render passes one cull mode (and one two-sided flag) for all its faces, except when
+    some faces are double-sided and the others are not (a glTF file's materials): then an
+    array with a value per face (:mod:`rasterkit.raster.sides`). The kernels read it through
+    this function, so a render of one value compiles to what it was without arrays, and
+    the per-face variant is compiled only for the meshes that need it."""
+    return value[f] if isinstance(value, np.ndarray) else value
+
+
+@overload(per_face, inline="always")
+def _per_face(value, f):
+    if isinstance(value, types.Array):
+        return lambda value, f: value[f]
+    return lambda value, f: value

@@ -42,7 +42,7 @@ from rasterkit.raster.kernels.clip import (
     project_vertex,
     vertex_code,
 )
-from rasterkit.raster.kernels.cull import is_culled
+from rasterkit.raster.kernels.cull import is_culled, per_face
 from rasterkit.runtime.intrinsics import fetch_add, prefetch_row
 from rasterkit.raster.kernels.shade import flat_colors
 from rasterkit.raster.kernels.vertex import transform_row
@@ -245,7 +245,7 @@ def _setup_fast_face(faces, f, corners, depths, width, height, cull_mode, pad, t
         np.int64(corners[a, _V_X]), np.int64(corners[a, _V_Y]), depths[a, _V_Z],
         np.int64(corners[b, _V_X]), np.int64(corners[b, _V_Y]), depths[b, _V_Z],
         np.int64(corners[c, _V_X]), np.int64(corners[c, _V_Y]), depths[c, _V_Z],
-        width, height, cull_mode, pad, f, tri_xy, tri_z, tri_box,
+        width, height, per_face(cull_mode, f), pad, f, tri_xy, tri_z, tri_box,
     )
 
 
@@ -353,7 +353,9 @@ def setup_faces(slot, counter, faces, corners, depths, width, height, cull_mode,
         Vertex indices (a face out of range makes the call return -1).
     corners, depths
         From :func:`setup_vertices`.
-    width, height, cull_mode : int
+    width, height : int
+    cull_mode : int or (M,) uint8
+        A :mod:`rasterkit.raster.kernels.cull` mode, or one per face (:func:`~rasterkit.raster.kernels.cull.per_face`).
     pad : int
         0, or 1 to pad every box by a pixel (:func:`setup_triangle`).
     records : Records

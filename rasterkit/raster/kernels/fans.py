@@ -14,6 +14,7 @@ import numpy as np
 
 from rasterkit.runtime.jit import kernel
 from rasterkit.raster.kernels.clip import MAX_POLYGON, clip_planes, cut_face
+from rasterkit.raster.kernels.cull import per_face
 from rasterkit.runtime.intrinsics import fetch_add
 from rasterkit.raster.kernels.face_setup import (
     N_CHUNKS,
@@ -96,7 +97,7 @@ def _setup_fan_chunk(ch, clip, faces, width, height, cull_mode, pad, planes, t, 
                 p[k + 1, 2],
                 width,
                 height,
-                cull_mode,
+                per_face(cull_mode, f),
                 pad,
                 t,
                 tri_xy,

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rasterkit.raster.kernels.cull import per_face
 from rasterkit.raster.kernels.normals import cross, face_normals
 from rasterkit.runtime.jit import kernel
 
@@ -52,8 +53,9 @@ def lambert(normals, base, light, points, positional, ambient, two_sided):
         False: ``l = light`` everywhere.
     ambient : float
         In [0, 1].
-    two_sided : bool
-        Use ``|n · l|`` instead of ``max(0, n · l)`` (see the module docstring).
+    two_sided : bool or (K,) bool
+        Use ``|n · l|`` instead of ``max(0, n · l)`` (see the module docstring), for every
+        normal or for each.
 
     Returns
     -------
@@ -71,7 +73,7 @@ def lambert(normals, base, light, points, positional, ambient, two_sided):
             if length > 0.0:
                 lx, ly, lz = lx / length, ly / length, lz / length
         cos = normals[k, 0] * lx + normals[k, 1] * ly + normals[k, 2] * lz
-        cos = abs(cos) if two_sided else max(cos, 0.0)
+        cos = abs(cos) if per_face(two_sided, k) else max(cos, 0.0)
         intensity = ambient + (1.0 - ambient) * cos
         src = 0 if single else np.int64(k)
         for c in range(3):
@@ -100,7 +102,8 @@ def flat_packed(positions, faces, base, scale, light, ambient, two_sided):
     light : (3,) float64
         Unit direction towards the light.
     ambient : float
-    two_sided : bool
+    two_sided : bool or (M,) bool
+        For every face or for each (:func:`rasterkit.raster.kernels.cull.per_face`).
 
     Returns
     -------
@@ -136,9 +139,9 @@ def flat_colors(normals, listed, start, count, base, scale, light, ambient, two_
     face costs about 2.5 ns), then scatter the colours. Written with selects and a 0/1
     factor where ``if`` or a loop-invariant choice of row made the loop three times slower."""
     lx, ly, lz = light[0], light[1], light[2]
-    per_face = np.uint64(base.shape[0] != 1)  # base row = face * per_face
-    back = 1.0 if two_sided else 0.0  # max(cos, -back * cos): |cos| or max(cos, 0)
+    base_step = np.uint64(base.shape[0] != 1)  # base row = face * base_step
     cosines = np.empty(COLOR_BLOCK)
+    backs = np.empty(COLOR_BLOCK)  # max(cos, -back * cos): |cos| (1.0) or max(cos, 0) (0.0)
     colours = np.empty(3 * COLOR_BLOCK, np.float32)
     out = np.empty(COLOR_BLOCK, np.uint32)
     for first in range(start, start + count, COLOR_BLOCK):
@@ -146,10 +149,11 @@ def flat_colors(normals, listed, start, count, base, scale, light, ambient, two_
         for k in range(n):
             f = _face_at(listed, first + k)
             cosines[k] = normals[f, 0] * lx + normals[f, 1] * ly + normals[f, 2] * lz
+            backs[k] = 1.0 if per_face(two_sided, f) else 0.0
             for c in range(3):
-                colours[c * COLOR_BLOCK + k] = base[f * per_face, c] * scale
+                colours[c * COLOR_BLOCK + k] = base[f * base_step, c] * scale
         for k in range(n):
-            intensity = _intensity(cosines[k], back, ambient)
+            intensity = _intensity(cosines[k], backs[k], ambient)
             red = to_u8(np.float32(colours[k] * intensity))
             green = to_u8(np.float32(colours[COLOR_BLOCK + k] * intensity))
             blue = to_u8(np.float32(colours[2 * COLOR_BLOCK + k] * intensity))

@@ -31,6 +31,7 @@ import numpy as np
 
 from rasterkit.material.kernels.sample import FILTER, FILTER_TRILINEAR, lookup, sample, texture_lod
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, put_rgba, smooth_rgba, to_u8
+from rasterkit.raster.kernels.cull import per_face
 from rasterkit.runtime.intrinsics import stack_floats
 from rasterkit.runtime.jit import kernel
 
@@ -128,17 +129,17 @@ def face_terms(f, bary, fields):
         i_plane = _plane(rows, np.float64(intensity[corners[f, 0]]), np.float64(intensity[corners[f, 1]]),
                          np.float64(intensity[corners[f, 2]]))
     else:
-        shade = _lambert(normals[f, 0], normals[f, 1], normals[f, 2], light, ambient, back)
+        shade = _lambert(normals[f, 0], normals[f, 1], normals[f, 2], light, ambient, per_face(back, f))
     return rows, s_plane, u_plane, v_plane, i_plane, smooth, shade, (tint[f, 0], tint[f, 1], tint[f, 2])
 
 
 @kernel(inline="always")
 def normal_terms(f, rows, fields):
     """What the pixels of face ``f`` share for its normal map: ``(tangent, bitangent, normal
-    planes, bump, object_space)``, the normal's planes those of the interpolated corner
+    planes, bump, object_space, back)``, the normal's planes those of the interpolated corner
     normals (smooth) or the face normal (flat: constant planes); none of the frame for a map
-    in object space."""
-    (_, _, _, _, _, _, _, _, smooth, _, corners, normals, _, _, _, _, face_normal_map, face_bump, tangents,
+    in object space; ``back`` the face's two-sided factor (:func:`_lambert`)."""
+    (_, _, _, _, _, _, _, _, smooth, _, corners, normals, _, _, back, _, face_normal_map, face_bump, tangents,
      corner_normals, face_normal_space) = fields
     m = face_normal_map[f]
     zero = (0.0, 0.0, 0.0)
@@ -157,7 +158,7 @@ def normal_terms(f, rows, fields):
             sx, sy, s0 = rows[0] + rows[3] + rows[6], rows[1] + rows[4] + rows[7], rows[2] + rows[5] + rows[8]
             nx, ny, nz = np.float64(normals[f, 0]), np.float64(normals[f, 1]), np.float64(normals[f, 2])
             planes = ((sx * nx, sy * nx, s0 * nx), (sx * ny, sy * ny, s0 * ny), (sx * nz, sy * nz, s0 * nz))
-    return tangent, bitangent, planes, bump, object_space
+    return tangent, bitangent, planes, bump, object_space, per_face(back, f)
 
 
 @kernel(inline="always")
@@ -166,9 +167,9 @@ def _mapped_shade(m, terms, x, y, inv, u, v, derivatives, fields):
     :func:`normal_terms`): the surface normal ``n``, the tangent made perpendicular to it and
     the bitangent to both (Gram-Schmidt), the map's ``(2r - 1, 2g - 1, 2b - 1)`` with its
     first two components times ``bump``, in that frame."""
-    tangent, bitangent, planes, bump, object_space = terms
-    texels, levels, samplers, transforms, decode, light, ambient, back = (fields[0], fields[1], fields[2], fields[3],
-                                                                         fields[4], fields[12], fields[13], fields[14])
+    tangent, bitangent, planes, bump, object_space, back = terms
+    texels, levels, samplers, transforms, decode, light, ambient = (fields[0], fields[1], fields[2], fields[3],
+                                                                   fields[4], fields[12], fields[13])
     r, g, b, _ = sample(texels, levels, samplers, transforms, decode, m, u, v,
                         _lod(levels, samplers, transforms, m, derivatives))
     if object_space:
