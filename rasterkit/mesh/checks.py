@@ -7,12 +7,14 @@ count, an index out of range, a colour outside [0, 1]) naming the field."""
 
 from __future__ import annotations
 
+import ctypes
+
 import numpy as np
 
 from rasterkit._arrays import real_array
 
 __all__ = ["checked_array", "check_unit_colors", "corner_attributes", "corner_rows", "face_labels",
-           "immutable", "seal", "vertex_indices"]
+           "immutable", "seal", "sealed_empty", "vertex_indices"]
 
 
 def checked_array(a, dtype, shape_tail, name, n_rows=None) -> np.ndarray:
@@ -60,6 +62,27 @@ def seal(arr: np.ndarray) -> np.ndarray:
     if immutable(arr):
         return arr
     return np.frombuffer(np.ascontiguousarray(arr).tobytes(), dtype=arr.dtype).reshape(arr.shape)
+
+
+def sealed_empty(shape, dtype) -> tuple[np.ndarray, np.ndarray]:
+    """``(sealed, fill)``: a new immutable array (:func:`immutable`, zeros) and a writeable
+    array over the same memory, for a reader to fill and then give the sealed one (or the
+    first rows of it) to a :class:`~rasterkit.mesh.Mesh`, which keeps it as it is instead of
+    copying it (:func:`seal`): a file's arrays are written once, not twice.
+
+    The memory is that of a new ``bytes`` object, which nothing else can see yet; ``fill``
+    writes into it through a ``ctypes`` view of its address (and keeps it alive). The reader
+    must drop ``fill`` before the Mesh is made: nothing may write into a Mesh's arrays."""
+    dtype = np.dtype(dtype)
+    size = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
+    if size < 2:  # bytes() of 0 or 1 byte is a shared object: never written into
+        plain = np.zeros(shape, dtype)
+        return seal(plain), plain
+    memory = bytes(size)  # zeros, in pages the system gives on first touch
+    sealed = np.frombuffer(memory, dtype).reshape(shape)
+    view = (ctypes.c_char * size).from_address(sealed.__array_interface__["data"][0])
+    view.memory = memory  # the writeable array keeps the bytes alive too
+    return sealed, np.frombuffer(view, dtype).reshape(shape)
 
 
 def _integers(a, width, name, bound, message) -> np.ndarray:

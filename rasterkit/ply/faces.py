@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rasterkit.mesh import mesh_bytes, repeated_corners
+from rasterkit.mesh.checks import sealed_empty
 from rasterkit.obj.assemble import split_polygons
 from rasterkit.ply.errors import Notes, PlyError, check_limit, count
 from rasterkit.ply.header import Element, Header
@@ -100,13 +101,26 @@ def read_polygons(rows, element: Element, n_vertices: int, corner_uv: bool) -> P
         row = int(np.argmax(small))
         raise rows.error(row, f"a face needs at least 3 vertices, got {int(sizes[row])}", prop)
     values, offsets = rows.items(prop)
-    values = np.asarray(values).astype(np.int64, copy=False).reshape(-1)  # one copy of a binary file's view
+    values = _int64(values)
     if len(values) and (values.min() < 0 or values.max() >= n_vertices):
         k = int(np.argmax((values < 0) | (values >= n_vertices)))
         row = rows.row_of_item(offsets, k)
         raise rows.error(row, f"vertex index {int(values[k])} is out of range (the file has "
                               f"{count(n_vertices, 'vertex', 'vertices')})", prop, k - int(offsets[row]))
     return Polygons(values, offsets)
+
+
+def _int64(values) -> np.ndarray:
+    """The list items ``values`` as (C,) int64: as they are when they are that already (an
+    ASCII file's), else converted in one copy into sealed memory
+    (:func:`rasterkit.mesh.checks.sealed_empty`), which the Mesh keeps as its faces when the
+    polygons are its triangles (a binary file's strided view of its bytes)."""
+    values = np.asarray(values)
+    if values.dtype == np.int64 and values.flags.c_contiguous:
+        return values.reshape(-1)
+    sealed, fill = sealed_empty((values.size,), np.int64)
+    np.copyto(fill.reshape(values.shape), values, casting="unsafe")
+    return sealed
 
 
 def triangulate(polygons: Polygons, positions: np.ndarray, notes: Notes, line: int) -> Triangles:

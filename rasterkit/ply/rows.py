@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rasterkit.mesh.checks import sealed_empty
 from rasterkit.ply.errors import PlyError, check_limit, count
 from rasterkit.ply.header import Element, Property
 
@@ -114,8 +115,9 @@ class Rows:
         """(n, len(props)) float64 values of the float scalar properties ``props`` (each as
         :meth:`scalar` gives it); read as one strided view when they lie side by side in
         each row with one type (x, y, z almost always do), so that they are converted in
-        one pass."""
-        out = np.empty((self.n, len(props)), np.float64)
+        one pass. Sealed (:func:`rasterkit.mesh.checks.sealed_empty`): a Mesh keeps them
+        without a copy."""
+        sealed, out = sealed_empty((self.n, len(props)), np.float64)
         places = [self.layout.places[p.name] for p in props]
         size = self.source.size(props[0].dtype)
         beside = all(p.dtype == props[0].dtype and p.dtype.kind == "f" for p in props) and \
@@ -128,7 +130,7 @@ class Rows:
         else:
             for k, p in enumerate(props):
                 out[:, k] = self.scalar(p)
-        return out
+        return sealed
 
     def items(self, prop: Property) -> tuple[np.ndarray, np.ndarray]:
         """The items of the list property ``prop``: values in row order, (C,) or, when every

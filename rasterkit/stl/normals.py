@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from rasterkit.mesh.checks import sealed_empty
+
 __all__ = ["kept_normals"]
 
 
@@ -35,7 +37,8 @@ def kept_normals(unit: np.ndarray, missing: int, backwards: int):
     note = _note(total, missing, backwards, kept=missing + backwards < total) if missing + backwards else None
     if missing + backwards == total:
         return None, None, note
-    index = np.repeat(np.arange(total, dtype=np.int64), 3).reshape(-1, 3)
+    index, fill = sealed_empty((total, 3), np.int64)  # the Mesh's own: not copied again
+    fill[:] = np.arange(total, dtype=np.int64)[:, None]
     return unit, index, note
 
 

@@ -6,14 +6,20 @@ equal corners), in the same pass that finds each facet's flaws and keeps its nor
 Equal as numbers: ``-0.0`` is ``0.0``. The hash table of
 :func:`rasterkit.stl.kernels.mesh.assemble` does it in O(corners); corners made to collide in
 it are numbered by sorting instead (:func:`weld_by_sorting`, O(n log n)), with the same result.
+A large file is welded in chunks of facets on the threads, joined by
+:func:`rasterkit.stl.kernels.merge.merge_chunks` into the same numbering.
 """
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
 
+from rasterkit.mesh.checks import sealed_empty
+from rasterkit.runtime.threads import get_threads, run_parallel
+from rasterkit.stl.kernels.merge import merge_chunks
 from rasterkit.stl.kernels.mesh import COLLIDING, FULL, SOUND, assemble
 
 __all__ = ["BYTES_PER_CORNER", "Welded", "facet_flaws", "weld_facets", "weld_by_sorting"]
@@ -23,6 +29,11 @@ __all__ = ["BYTES_PER_CORNER", "Welded", "facet_flaws", "weld_facets", "weld_by_
 BYTES_PER_CORNER = 24 + 8 * 4
 
 _NO_IDS = np.zeros(0, np.int64)
+#: Facets at least that a file has before it is welded in chunks on the threads.
+PARALLEL_FACETS = 1 << 16
+#: Chunks of a weld on the threads per thread (each chunk's vertices are looked up again by
+#: the join: one chunk per thread is the least work).
+CHUNKS_PER_THREAD = 1
 
 
 @dataclass(frozen=True)
@@ -42,22 +53,71 @@ def weld_facets(corners: np.ndarray, normals: np.ndarray) -> Welded:
     whose file normals are ``normals`` (F, 3), by :func:`rasterkit.stl.kernels.mesh.assemble`."""
     f = len(corners)
     flaws = np.empty(f, np.uint8)
-    faces = np.empty((f, 3), np.int64)
-    unit = np.empty((f, 3))
+    # the faces and normals are the Mesh's own arrays (sealed: no copy); the vertices are
+    # copied into a Mesh of their own size, from room for every corner
+    sealed_faces, faces = sealed_empty((f, 3), np.int64)
+    sealed_unit, unit = sealed_empty((f, 3), np.float64)
     vertices = np.empty((3 * f, 3))  # room for every corner; only the vertices' pages are touched
-    bits = max(10, int(3 * f // 2).bit_length())  # room for 3f / 4 vertices: a closed mesh has 3f / 6
+    bits = _table_bits(f)
+    threads = get_threads()
+    if f >= PARALLEL_FACETS and threads > 1:
+        pieces = min(threads * CHUNKS_PER_THREAD, f // (PARALLEL_FACETS // 2))
+        counts = _in_chunks(corners, normals, flaws, faces, vertices, unit, pieces, threads)
+        if counts is not None:
+            kept, n, missing, backwards = counts
+            return Welded(flaws, sealed_faces[:kept], vertices[:n], sealed_unit[:kept], missing, backwards)
     ids = _NO_IDS
     while True:
         kept, n, missing, backwards = assemble(corners, normals, ids, np.zeros(1 << bits, np.uint64), flaws, faces,
                                                vertices, unit)
         if n >= 0:
-            return Welded(flaws, faces[:kept], vertices[:n], unit[:kept], missing, backwards)
+            return Welded(flaws, sealed_faces[:kept], vertices[:n], sealed_unit[:kept], missing, backwards)
         if n == FULL:
             bits = max(bits + 2, int(6 * f).bit_length())  # room for every corner
         elif n == COLLIDING:
             sound = np.asarray(corners[flaws == SOUND], np.float64).reshape(-1, 3) + 0.0  # -0.0 is 0.0
             ids, _ = weld_by_sorting(sound.view(np.uint64))
             bits = 0
+
+
+def _table_bits(facets: int) -> int:
+    """log2 of the hash table's slots for ``facets``: room for 3f / 4 vertices (a closed mesh
+    has 3f / 6)."""
+    return max(10, int(3 * facets // 2).bit_length())
+
+
+def _in_chunks(corners, normals, flaws, faces, vertices, unit, pieces: int, threads: int) -> tuple | None:
+    """:func:`weld_facets` in ``pieces`` chunks of facets welded at once on ``threads``
+    threads, then joined (:func:`rasterkit.stl.kernels.merge.merge_chunks`): ``(sound facets,
+    vertices, missing, backwards)`` as :func:`rasterkit.stl.kernels.mesh.assemble` counts them;
+    None when a chunk or the join finds the table too small or the corners colliding (then
+    one pass does it all)."""
+    f = len(corners)
+    starts = np.array([f * k // pieces for k in range(pieces + 1)], np.int64)
+    # the first chunk's table is the join's: large enough for the whole file, as one pass's
+    tables = [np.zeros(1 << _table_bits(f if k == 0 else int(starts[k + 1] - starts[k])), np.uint64)
+              for k in range(pieces)]
+    results = [None] * pieces
+    claims = itertools.count()  # next() on it is atomic under the GIL
+
+    def worker(slot):
+        for k in iter(claims.__next__, None):
+            if k >= pieces:
+                return
+            lo, hi = int(starts[k]), int(starts[k + 1])
+            results[k] = assemble(corners[lo:hi], normals[lo:hi], _NO_IDS, tables[k], flaws[lo:hi], faces[lo:hi],
+                                  vertices[3 * lo:3 * hi], unit[lo:hi])
+
+    run_parallel(worker, threads=min(pieces, threads))
+    kept = np.array([r[0] for r in results], np.int64)
+    counts = np.array([r[1] for r in results], np.int64)
+    if counts.min() < 0:
+        return None
+    del tables[1:]
+    kept_all, n = merge_chunks(starts, kept, counts, tables[0], faces, vertices, unit, np.empty(counts.max(), np.int64))
+    if n < 0:
+        return None
+    return kept_all, n, sum(r[2] for r in results), sum(r[3] for r in results)
 
 
 def facet_flaws(corners: np.ndarray) -> np.ndarray:

@@ -160,3 +160,72 @@ def test_normals_of_huge_and_tiny_facets_are_unit_vectors():
     welded = check_against_references(corners, given)
     assert (welded.missing, welded.backwards) == (0, 1)
     assert np.allclose(welded.normals, [[0, 0, 1], [0, 0, 1], [0.6, 0.8, 0]], rtol=0, atol=1e-15)
+
+
+@pytest.fixture
+def in_chunks(monkeypatch):
+    """weld_facets welding files of 16 facets or more in 4 chunks on 2 threads; the list of
+    ``(sound facets, vertices)`` each join returned."""
+    from rasterkit.runtime import threads
+    from rasterkit.stl import weld
+    from rasterkit.stl.kernels.merge import merge_chunks
+
+    joins = []
+
+    def join(*args):
+        joins.append(merge_chunks(*args))
+        return joins[-1]
+
+    monkeypatch.setattr(weld, "PARALLEL_FACETS", 16)
+    monkeypatch.setattr(weld, "CHUNKS_PER_THREAD", 2)
+    monkeypatch.setattr(weld, "merge_chunks", join)
+    saved = threads.set_threads(2)
+    yield joins
+    threads.set_threads(saved)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+@pytest.mark.parametrize("points", [3, 40, 300])
+def test_a_weld_in_chunks_on_the_threads_gives_what_one_pass_gives(in_chunks, dtype, points):
+    """Chunks of facets welded apart and joined: the vertices of first appearance in the
+    whole file, bit for bit (against the same references as one pass), with dropped facets in
+    every chunk, and corners shared across the chunks."""
+    rng = np.random.default_rng(points + 7)
+    pool = rng.integers(-20, 20, (points, 3)) / 7
+    corners = pool[rng.integers(0, points, (1000, 3))].astype(dtype)
+    corners[rng.random((1000, 3)) < 0.1] *= -1  # -0.0 among them
+    corners[rng.random((1000, 3, 3)) < 0.01] = np.nan
+    normals = rng.normal(size=(1000, 3)).astype(dtype)
+    welded = check_against_references(corners, normals)
+    assert len(in_chunks) == 1 and in_chunks[0] == (len(welded.faces), len(welded.vertices))
+
+
+def test_a_weld_in_chunks_falls_back_to_one_pass_when_a_chunk_fills_its_table(in_chunks):
+    rng = np.random.default_rng(4)
+    corners = rng.random((3000, 3, 3))  # 9000 vertices: more than any chunk's table holds
+    welded = check_against_references(corners, np.zeros((3000, 3)))
+    assert len(welded.vertices) == 9000 and in_chunks == []
+
+
+def test_the_join_gives_up_when_its_table_is_full():
+    """Two chunks of 4 facets, 12 vertices each, joined in a table of 32 slots (16 vertices)."""
+    from rasterkit.stl.kernels.merge import merge_chunks
+
+    rng = np.random.default_rng(5)
+    corners = rng.random((8, 3, 3))
+    out = (np.empty(8, np.uint8), np.empty((8, 3), np.int64), np.empty((24, 3)), np.empty((8, 3)))
+    tables = [np.zeros(32, np.uint64), np.zeros(32, np.uint64)]
+    results = [kernels.assemble(corners[lo:lo + 4], np.zeros((4, 3)), np.zeros(0, np.int64), tables[k],
+                                out[0][lo:lo + 4], out[1][lo:lo + 4], out[2][3 * lo:3 * lo + 12], out[3][lo:lo + 4])
+               for k, lo in enumerate((0, 4))]
+    assert [r[:2] for r in results] == [(4, 12), (4, 12)]
+    joined = merge_chunks(np.array([0, 4, 8]), np.array([4, 4]), np.array([12, 12]), tables[0], out[1], out[2],
+                          out[3], np.empty(12, np.int64))
+    assert joined == (0, kernels.FULL)
+
+
+def test_corners_made_to_collide_in_chunks_are_numbered_by_sorting(in_chunks):
+    points = colliding_corners(3000)
+    corners = np.concatenate([points, points[::-1]]).reshape(-1, 3, 3)
+    welded = check_against_references(corners, np.zeros((2000, 3)))
+    assert len(welded.vertices) == 3000 and in_chunks == []  # the chunks collided before any join

@@ -19,8 +19,8 @@ import numpy as np
 from rasterkit.runtime.intrinsics import float_bits, prefetch_row
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["AHEAD", "COLLIDING", "FULL", "M1", "M2", "M3", "NOT_FINITE", "PROBES_PER_CORNER", "SOUND", "TWO_EQUAL",
-           "assemble", "corner_hash"]
+__all__ = ["AHEAD", "COLLIDING", "FULL", "ID", "ID_BITS", "M1", "M2", "M3", "NOT_FINITE", "PROBES_PER_CORNER", "SOUND",
+           "TWO_EQUAL", "assemble", "corner_hash"]
 
 #: The multipliers of the hash of a corner (MurmurHash3's and the golden ratio's).
 M1 = np.uint64(0x9E3779B97F4A7C15)
@@ -39,8 +39,8 @@ SOUND, NOT_FINITE, TWO_EQUAL = 0, 1, 2
 
 #: A slot of the table: a vertex number + 1 in its low 40 bits (more than any file can have),
 #: the high 24 bits of its hash above them (a probe of another vertex seldom reads it).
-_ID_BITS = np.uint64(40)
-_ID = np.uint64((1 << 40) - 1)
+ID_BITS = np.uint64(40)
+ID = np.uint64((1 << 40) - 1)
 #: Which normal a facet keeps: the file's; its corners', the file's being zero, NaN or
 #: infinite; its corners', the file's pointing against their winding.
 _GIVEN, _MISSING, _BACKWARDS = 0, 1, 2
@@ -113,15 +113,15 @@ def assemble(corners, given, ids, table, flaws, faces, vertices, unit):
             z = np.float64(corners[f, i, 2]) + 0.0
             if hashing:
                 h = corner_hash(x, y, z)
-                tag = h >> _ID_BITS
+                tag = h >> ID_BITS
                 s = h & mask
                 while True:
                     t = table[s]
                     if t == 0:
                         v = n
                         break
-                    v = np.int64(t & _ID) - 1
-                    if t >> _ID_BITS == tag and vertices[v, 0] == x and vertices[v, 1] == y and \
+                    v = np.int64(t & ID) - 1
+                    if t >> ID_BITS == tag and vertices[v, 0] == x and vertices[v, 1] == y and \
                             vertices[v, 2] == z:
                         break
                     s = (s + np.uint64(1)) & mask
@@ -137,7 +137,7 @@ def assemble(corners, given, ids, table, flaws, faces, vertices, unit):
                         welding = False
                         n = FULL
                         break
-                    table[s] = (tag << _ID_BITS) | np.uint64(n + 1)
+                    table[s] = (tag << ID_BITS) | np.uint64(n + 1)
             else:
                 v = ids[3 * kept + i]
             if v == n:
