@@ -29,6 +29,7 @@ import numpy as np
 
 from rasterkit.gltf.buffers import buffer_view
 from rasterkit.gltf.document import Document, Obj
+from rasterkit.mesh.checks import sealed_empty
 
 __all__ = ["Accessor", "COMPONENTS", "FLOAT", "INDEX_COMPONENTS", "TYPES", "floats", "indices", "read"]
 
@@ -87,19 +88,22 @@ def read(doc: Document, index: int, use: str, types: tuple, components: tuple = 
     return array, acc
 
 
-def floats(doc: Document, index: int, use: str, types: tuple, components: tuple = tuple(COMPONENTS)):
+def floats(doc: Document, index: int, use: str, types: tuple, components: tuple = tuple(COMPONENTS),
+           sealed: bool = False):
     """``(array, header)``: :func:`read` converted to float64, normalized integers as
-    fractions (see the module documentation)."""
+    fractions (see the module documentation); ``sealed``: into sealed memory
+    (:func:`rasterkit.mesh.checks.sealed_empty`, read-only), which a Mesh keeps as it is."""
     raw, acc = read(doc, index, use, types, components)
     doc.check_memory(raw.size * 16, f"{acc.count} elements of {acc.where}", acc.where)
+    result, out = sealed_empty(raw.shape, np.float64) if sealed else (None, np.empty(raw.shape, np.float64))
     with np.errstate(invalid="ignore"):  # a signalling NaN in the file becomes a quiet one
-        out = raw.astype(np.float64)
+        np.copyto(out, raw, casting="unsafe")
     divisor = COMPONENTS[acc.component][1]
     if acc.normalized and divisor is not None:
         out /= divisor
         if acc.dtype.kind == "i":
             np.maximum(out, -1.0, out=out)
-    return out, acc
+    return (out if result is None else result), acc
 
 
 def indices(doc: Document, index: int, use: str, n_vertices: int) -> np.ndarray:
@@ -113,7 +117,9 @@ def indices(doc: Document, index: int, use: str, n_vertices: int) -> np.ndarray:
     largest = int(column.max())
     if largest >= n_vertices:
         raise doc.error(use, f"index {largest} >= the vertex count {n_vertices}")
-    return column.astype(np.int64)
+    widened, out = sealed_empty(column.shape, np.int64)  # sealed: a Mesh keeps it as its faces
+    np.copyto(out, column, casting="unsafe")
+    return widened
 
 
 def _view_span(doc: Document, where: str, view_index: int, offset: int, count: int, size: int, stride: int | None):

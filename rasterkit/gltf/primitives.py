@@ -69,7 +69,7 @@ def attribute_accessors(prim: Obj, uv_set: int | None) -> dict:
 def read_vertices(doc: Document, prim: Obj, accessors: dict) -> Vertices:
     """The attributes named by ``accessors`` (:func:`attribute_accessors`) of ``prim``."""
     at = f"{prim.where}.attributes"
-    positions, acc = floats(doc, accessors["POSITION"], f"{at}.POSITION", ("VEC3",))
+    positions, acc = floats(doc, accessors["POSITION"], f"{at}.POSITION", ("VEC3",), sealed=True)
     n = acc.count
     normals = uv = colors = None
     for name, index in accessors.items():

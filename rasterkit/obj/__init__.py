@@ -111,6 +111,8 @@ from __future__ import annotations
 
 import os
 
+import numpy as np
+
 from rasterkit.obj.assemble import face_labels, face_materials, finite_vertices, triangulate
 from rasterkit.obj.attributes import (
     corner_rows, normal_table, unit_rows, uv_table, vertex_normals, vertex_texcoords,
@@ -122,6 +124,7 @@ from rasterkit.obj.materials import DEFAULT_KD, face_colors, make_materials, mat
 from rasterkit.obj.statements import note_skipped, read_elements, read_numbers, read_vertices
 from rasterkit.obj.kernels.scan import KIND_F, KIND_G, KIND_L, KIND_O, KIND_VN, KIND_VT
 from rasterkit.mesh import Mesh, polygon_mesh_edges
+from rasterkit.mesh.checks import sealed_empty
 
 __all__ = ["DEFAULT_KD", "ObjError", "ObjLimitError", "load_obj"]
 
@@ -196,7 +199,7 @@ def load_obj(path, *, textures: bool = True) -> Mesh:
     colours = face_colors(doc, faces, triangle_polygon, libraries, report)
     defined = make_materials(libraries, report) if textures else {}
     return Mesh(
-        vertices, faces.vertex[corners], edges=edges, lines=segments,
+        vertices, _face_vertices(faces, corners), edges=edges, lines=segments,
         vertex_colors=colors,
         normals=vertex_normals(faces, unit_normals, len(vertices)),
         texcoords=vertex_texcoords(faces, texcoords, len(vertices)),
@@ -209,3 +212,12 @@ def load_obj(path, *, textures: bool = True) -> Mesh:
         face_materials=face_materials(doc, faces, triangle_polygon, materials),
         materials=tuple(defined.get(name) or Material(name=name) for name in materials) if textures else (),
     )
+
+
+def _face_vertices(faces, corners: np.ndarray) -> np.ndarray:
+    """The triangles' vertices: each of their ``corners`` (M, 3) a corner of the polygons
+    ``faces``; in sealed memory (:func:`rasterkit.mesh.checks.sealed_empty`), which the Mesh
+    keeps without a copy."""
+    sealed, fill = sealed_empty(corners.shape, np.int64)
+    np.take(faces.vertex, corners, out=fill)
+    return sealed

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rasterkit.mesh.checks import sealed_empty
 from rasterkit.obj.document import Document, decode
 from rasterkit.obj.errors import Report, count, readable
 from rasterkit.obj.kernels.corners import INDEX_BEFORE_FIRST, INDEX_MALFORMED, INDEX_OK, INDEX_ZERO
@@ -154,7 +155,9 @@ def read_vertices(doc: Document, report: Report):
     rows = doc.of_kind(KIND_V)
     colored = doc.ntokens[rows] == 6
     colors = _vertex_colors(doc, rows, values[:, 3:6], colored, report) if colored.any() else None
-    return np.ascontiguousarray(values[:, :3]), colors
+    positions, fill = sealed_empty((len(values), 3), np.float64)  # a Mesh keeps it without a copy
+    fill[:] = values[:, :3]
+    return positions, colors
 
 
 def _vertex_colors(doc, rows, rgb, colored, report) -> np.ndarray:
