@@ -89,10 +89,12 @@ def read(doc: Document, index: int, use: str, types: tuple, components: tuple = 
 
 
 def floats(doc: Document, index: int, use: str, types: tuple, components: tuple = tuple(COMPONENTS),
-           sealed: bool = False):
+           sealed: bool = False, flip_v: bool = False):
     """``(array, header)``: :func:`read` converted to float64, normalized integers as
     fractions (see the module documentation); ``sealed``: into sealed memory
-    (:func:`rasterkit.mesh.checks.sealed_empty`, read-only), which a Mesh keeps as it is."""
+    (:func:`rasterkit.mesh.checks.sealed_empty`, read-only), which a Mesh keeps as it is;
+    ``flip_v``: the second column ``1 - v`` (texture coordinates: glTF's ``v`` runs down the
+    image, rasterkit's up)."""
     raw, acc = read(doc, index, use, types, components)
     doc.check_memory(raw.size * 16, f"{acc.count} elements of {acc.where}", acc.where)
     result, out = sealed_empty(raw.shape, np.float64) if sealed else (None, np.empty(raw.shape, np.float64))
@@ -103,6 +105,8 @@ def floats(doc: Document, index: int, use: str, types: tuple, components: tuple 
         out /= divisor
         if acc.dtype.kind == "i":
             np.maximum(out, -1.0, out=out)
+    if flip_v:
+        np.subtract(1.0, out[:, 1], out=out[:, 1])
     return (out if result is None else result), acc
 
 

@@ -31,6 +31,7 @@ from rasterkit.limits import LimitError
 from rasterkit.material import DEFAULT_DIFFUSE
 from rasterkit.material.colorspace import encode_srgb
 from rasterkit.mesh import Mesh, mesh_bytes
+from rasterkit.mesh.checks import sealed_empty
 
 __all__ = ["MeshParts", "read_mesh"]
 
@@ -184,10 +185,11 @@ def _joined(arrays: list) -> np.ndarray:
 
 
 def _per_face(parts, m: int, shape: tuple, dtype, value) -> np.ndarray:
-    """(m, *shape) of ``dtype``: ``value(part)`` for each face of each part, in order."""
-    out = np.empty((m, *shape), dtype)
+    """(m, *shape) of ``dtype``: ``value(part)`` for each face of each part, in order (in
+    sealed memory: the Mesh keeps it without a copy)."""
+    sealed, out = sealed_empty((m, *shape), dtype)
     start = 0
     for p in parts:
         out[start:start + len(p.faces)] = value(p)
         start += len(p.faces)
-    return out
+    return sealed

@@ -76,7 +76,9 @@ def read_vertices(doc: Document, prim: Obj, accessors: dict) -> Vertices:
         if name == "POSITION":
             continue
         types = ("VEC2",) if name.startswith("TEXCOORD") else ("VEC3", "VEC4") if name == "COLOR_0" else ("VEC3",)
-        values, other = floats(doc, index, f"{at}.{name}", types)
+        # normals and texture coordinates as the Mesh keeps them (sealed), colours not yet
+        values, other = floats(doc, index, f"{at}.{name}", types, sealed=name != "COLOR_0",
+                               flip_v=name.startswith("TEXCOORD"))
         if other.count != n:
             raise doc.error(f"{at}.{name}", f"{other.where} has {other.count} elements, POSITION has {n}")
         if name == "NORMAL":
@@ -86,7 +88,6 @@ def read_vertices(doc: Document, prim: Obj, accessors: dict) -> Vertices:
                                      "white"), 0.0, 1.0)
         else:
             uv = values
-            np.subtract(1.0, uv[:, 1], out=uv[:, 1])
     return Vertices(positions, normals, uv, colors)
 
 
@@ -96,7 +97,7 @@ def _finite(doc: Document, values: np.ndarray, fill: float, where: str, message:
     bad = ~np.isfinite(values).all(axis=1)
     if bad.any():
         doc.warn(where, message)
-        values[bad] = fill
+        values = np.where(bad[:, None], fill, values)
     return values
 
 

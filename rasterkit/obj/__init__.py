@@ -219,5 +219,5 @@ def _face_vertices(faces, corners: np.ndarray) -> np.ndarray:
     ``faces``; in sealed memory (:func:`rasterkit.mesh.checks.sealed_empty`), which the Mesh
     keeps without a copy."""
     sealed, fill = sealed_empty(corners.shape, np.int64)
-    np.take(faces.vertex, corners, out=fill)
+    np.take(faces.vertex, corners, out=fill, mode="clip")  # "raise" would buffer: the corners are valid
     return sealed
