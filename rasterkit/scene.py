@@ -110,6 +110,10 @@ class Scene:
         vertices = np.concatenate([apply_points(o.matrix, o.mesh.vertices) for o in self.objects])
         faces = np.concatenate([o.mesh.faces + k for o, k in zip(self.objects, offsets)])
         edges = None if derived else np.concatenate([o.mesh.edges + k for o, k in zip(self.objects, offsets)])
+        sides = None  # worked out edges: the sides each object's own flags keep
+        if derived and any(o.mesh.polygon_sides is not None for o in self.objects):
+            sides = np.concatenate([np.full(len(o.mesh.faces), 7, np.uint8) if o.mesh.polygon_sides is None
+                                    else o.mesh.polygon_sides for o in self.objects])
         vertex_colors = self._vertex_colors()
         face_colors = None if vertex_colors is not None else \
             self._face_colors(parse_color(default_color)[:3] / 255.0)
@@ -120,7 +124,7 @@ class Scene:
         return Mesh(vertices, faces, edges=edges, normals=self._normals(), texcoords=self._texcoords(),
                     vertex_colors=vertex_colors, face_colors=face_colors, uv=uv, uv_index=uv_index,
                     corner_normals=corner_normals, normal_index=normal_index, material_names=names,
-                    face_materials=face_materials, materials=materials)
+                    face_materials=face_materials, materials=materials, polygon_sides=sides)
 
     def bounding_sphere(self) -> tuple[np.ndarray, float]:
         """Centre and radius of a sphere holding every object's world-space vertices."""

@@ -26,9 +26,9 @@ import numpy as np
 
 from rasterkit.limits import check_memory
 from rasterkit.mesh.checks import (
-    check_unit_colors, checked_array, corner_attributes, face_labels, immutable, seal, vertex_indices,
+    check_unit_colors, checked_array, corner_attributes, face_labels, immutable, seal, side_flags, vertex_indices,
 )
-from rasterkit.mesh.edges import polygon_edges, polygon_mesh_edges, side_neighbours, unique_edges
+from rasterkit.mesh.edges import ALL_SIDES, polygon_edges, polygon_mesh_edges, side_neighbours, unique_edges
 from rasterkit.mesh.kernels import repeated_corners, sorted_edges
 from rasterkit.mesh.foreign import visual_fields
 
@@ -46,7 +46,7 @@ def mesh_bytes(n_vertices: int, n_faces: int, n_edges: int, n_uv: int = 0, n_cor
     face each of its ``corner_indices`` (M, 3) index arrays (``uv_index``, ``normal_index``:
     0 to 2), checked (with the temporaries of the check) and copied. For
     :func:`rasterkit.limits.check_memory`."""
-    return (n_vertices * 2 * (24 + 12 + 24 + 16) + n_faces * 2 * (24 + 12 + 4 + 4)
+    return (n_vertices * 2 * (24 + 12 + 24 + 16) + n_faces * 2 * (24 + 12 + 4 + 4 + 1)
             + n_edges * 2 * 16 + n_uv * 2 * 16 + n_corner_normals * 2 * 24 + corner_indices * n_faces * (2 * 24 + 32))
 
 
@@ -63,7 +63,8 @@ class _Edges:
             faces, lines = mesh.faces, mesh.lines
             check_memory(24 * (3 * len(faces) + len(lines)) + 24 * len(mesh.vertices),
                          f"the edges of a Mesh of {len(faces)} faces")
-            edges = seal(sorted_edges(faces, lines, len(mesh.vertices)))
+            sides = ALL_SIDES if mesh.polygon_sides is None else mesh.polygon_sides
+            edges = seal(sorted_edges(faces, sides, lines, len(mesh.vertices)))
             mesh.__dict__["edges"] = edges
             mesh._arrays["edges"] = (edges, edges.shape, edges.dtype)
         return edges
@@ -86,7 +87,8 @@ class Mesh:
     edges : (E, 2) int64
         Unique undirected edges of the original polygons (a quad gives its four sides, not the
         diagonal of its triangulation) and of ``lines``, each ``(lo, hi)`` with lo < hi, sorted.
-        When omitted (None), the sides of ``faces`` and ``lines``, worked out on first use.
+        When omitted (None), the sides of ``faces`` (those ``polygon_sides`` flags) and
+        ``lines``, worked out on first use.
     lines : (K, 2) int64
         Segments from OBJ ``l`` elements.
     vertex_colors : (N, 3) float32 in [0, 1], or None
@@ -131,6 +133,11 @@ class Mesh:
         Empty, or one material for each of ``material_names``, in that order: the readers
         and :func:`as_mesh` give :class:`rasterkit.Material` records (``load_obj`` with
         ``textures=True``, trimesh meshes with ``TextureVisuals``).
+    polygon_sides : (M,) uint8 in 0..7, or None
+        For faces cut from polygons (the readers give it): bit k of ``polygon_sides[f]`` is
+        set when side k of face f (corner k to corner k + 1, mod 3) is a side of its polygon,
+        clear for a diagonal of the polygon's triangulation (OpenGL's edge flags). The
+        edges worked out when ``edges`` is omitted are the flagged sides. None: every side.
 
     ``normals`` and ``texcoords`` are one per vertex (an OBJ file's averaged over each
     vertex's corners, and the first corner's); ``corner_normals`` and ``uv`` keep every
@@ -157,6 +164,7 @@ class Mesh:
     normal_index: np.ndarray | None = None
     face_materials: np.ndarray | None = None
     materials: tuple = ()
+    polygon_sides: np.ndarray | None = None
 
     def __post_init__(self):
         v = checked_array(self.vertices, np.float64, (3,), "vertices")
@@ -190,6 +198,8 @@ class Mesh:
                                                 "group_names", none=False)
         arrays.update(corner_attributes(self.uv, self.uv_index, self.corner_normals, self.normal_index, f, n))
         names = tuple(self.material_names)
+        if self.polygon_sides is not None:
+            arrays["polygon_sides"] = side_flags(self.polygon_sides, len(f))
         if self.face_materials is not None:
             arrays["face_materials"] = face_labels(self.face_materials, len(f), len(names), "face_materials",
                                                    "material_names", none=True)

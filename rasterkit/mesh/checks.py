@@ -14,7 +14,7 @@ import numpy as np
 from rasterkit._arrays import real_array
 
 __all__ = ["checked_array", "check_unit_colors", "corner_attributes", "corner_rows", "face_labels",
-           "immutable", "seal", "sealed_empty", "vertex_indices"]
+           "immutable", "seal", "sealed_empty", "side_flags", "vertex_indices"]
 
 
 def checked_array(a, dtype, shape_tail, name, n_rows=None) -> np.ndarray:
@@ -83,6 +83,16 @@ def sealed_empty(shape, dtype) -> tuple[np.ndarray, np.ndarray]:
     view = (ctypes.c_char * size).from_address(sealed.__array_interface__["data"][0])
     view.memory = memory  # the writeable array keeps the bytes alive too
     return sealed, np.frombuffer(view, dtype).reshape(shape)
+
+
+def side_flags(value, n_faces: int) -> np.ndarray:
+    """(M,) uint8 ``Mesh.polygon_sides``: three bits a face."""
+    flags = np.asarray(value)
+    if flags.dtype.kind not in "iub":
+        raise TypeError(f"polygon_sides must hold integers, got dtype {flags.dtype}")
+    if flags.shape != (n_faces,) or (n_faces and (int(flags.min()) < 0 or int(flags.max()) > 7)):
+        raise ValueError(f"polygon_sides must be ({n_faces},) integers in 0..7 (three side bits a face)")
+    return np.ascontiguousarray(flags, np.uint8)
 
 
 def _integers(a, width, name, bound, message) -> np.ndarray:

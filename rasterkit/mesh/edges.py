@@ -8,7 +8,10 @@ import numpy as np
 from rasterkit.mesh.kernels import sorted_edges, sorted_polygon_edges
 from rasterkit.runtime.jit import readonly
 
-__all__ = ["polygon_edges", "polygon_mesh_edges", "side_neighbours", "unique_edges"]
+__all__ = ["ALL_SIDES", "polygon_edges", "polygon_mesh_edges", "side_neighbours", "unique_edges"]
+
+#: The ``sides`` of :func:`rasterkit.mesh.kernels.sorted_edges` that keep every side.
+ALL_SIDES = readonly(np.zeros(0, np.uint8))
 
 
 def polygon_edges(polygons) -> np.ndarray:
@@ -54,22 +57,48 @@ def unique_edges(pairs: np.ndarray, n_vertices: int, keys: np.ndarray | None = N
         pairs = np.concatenate([pairs, np.stack([keys // n, keys % n], axis=1)])
     if len(pairs) and (pairs.min() < 0 or pairs.max() >= n_vertices):
         raise ValueError(f"pairs index out of range [0, {n_vertices})")
-    return sorted_edges(readonly(np.zeros((0, 3), np.int64)), readonly(np.ascontiguousarray(pairs)), int(n_vertices))
+    return sorted_edges(readonly(np.zeros((0, 3), np.int64)), ALL_SIDES, readonly(np.ascontiguousarray(pairs)),
+                        int(n_vertices))
 
 
-def polygon_mesh_edges(corners: np.ndarray, offsets: np.ndarray, keep: np.ndarray, n_faces: int,
-                       lines: np.ndarray, n_vertices: int) -> np.ndarray | None:
-    """The ``edges`` to give a Mesh whose faces a reader split from polygons: the sorted
-    unique sides of the kept polygons (``corners[offsets[p]:offsets[p + 1]]`` (int64, in
-    [0, n_vertices), checked by the reader), ``keep`` (P,) bool) and the segments ``lines``
-    (K, 2) int64; or None when the Mesh's ``n_faces`` triangles are the polygons themselves
-    (every polygon a triangle, kept, and made one face), whose sides the Mesh works out
-    itself when they are first needed."""
+def polygon_mesh_edges(corners: np.ndarray, offsets: np.ndarray, keep: np.ndarray, triangles: np.ndarray | None,
+                       polygon: np.ndarray | None, lines: np.ndarray, n_vertices: int) -> tuple:
+    """``(edges, polygon_sides)`` to give a Mesh whose faces a reader split from polygons,
+    for the sorted unique sides of the kept polygons (``corners[offsets[p]:offsets[p + 1]]``
+    (int64, in [0, n_vertices), checked by the reader), ``keep`` (P,) bool) and the segments
+    ``lines`` (K, 2) int64. The faces are ``triangles`` (M, 3), indices into ``corners`` (None:
+    ``3 m + c``), cut from the polygons ``polygon`` (M,) (None: face m from polygon m).
+
+    - ``(None, None)`` when the triangles are the polygons themselves (every polygon a
+      triangle, kept, and made one face): the Mesh works their sides out when first needed.
+    - ``(None, sides)`` when every kept polygon of n corners became n - 2 triangles (as
+      splitting it covers it): each triangle's sides that are polygon sides (corners next to
+      each other in the polygon), as :attr:`rasterkit.Mesh.polygon_sides`; the Mesh works the
+      same edges out from them when first needed (loading does not pay for them).
+    - ``(edges, None)`` otherwise (triangles dropped for a repeated vertex, polygons of fewer
+      than three corners): the edges, worked out now."""
     sizes = np.diff(offsets)
-    if n_faces == len(sizes) and keep.all() and (sizes == 3).all():
-        return None
+    m = len(sizes) if triangles is None else len(triangles)
+    if m == len(sizes) and keep.all() and (sizes == 3).all():
+        return None, None
+    polygon = np.arange(m) if polygon is None else polygon
+    if (sizes[keep] >= 3).all() and np.array_equal(np.bincount(polygon, minlength=len(sizes)),
+                                                   np.where(keep, sizes - 2, 0)):
+        rows = np.arange(3 * m, dtype=np.int64).reshape(-1, 3) if triangles is None else triangles
+        # a polygon's corners next to each other are 1 or n - 1 apart (int32: corners of one
+        # polygon, fewer than a file's 2**31 bytes)
+        last = sizes.astype(np.int32)[polygon]
+        last -= 1
+        sides, step = np.zeros(m, np.uint8), np.empty(m, np.int32)
+        for k in range(3):  # a column at a time, in place: few temporaries (the memory bound)
+            np.subtract(rows[:, (k + 1) % 3], rows[:, k], out=step, casting="unsafe")
+            np.abs(step, out=step)
+            beside = step == 1
+            beside |= step == last
+            sides |= beside.view(np.uint8) << k
+        return None, sides
     return sorted_polygon_edges(readonly(corners), readonly(offsets), readonly(keep), readonly(lines),
-                                int(n_vertices))
+                                int(n_vertices)), None
 
 
 def side_neighbours(faces: np.ndarray, n_vertices: int) -> np.ndarray:

@@ -119,21 +119,26 @@ def _unique_lists(start, uppers, n_vertices):
 
 
 @kernel
-def sorted_edges(faces, pairs, n_vertices):
+def sorted_edges(faces, sides, pairs, n_vertices):
     """The unique undirected edges (E, 2) int64 ``(lo, hi)``, lo < hi, sorted by lo then hi,
     of the sides of the triangles ``faces`` (M, 3) and of the pairs ``pairs`` (K, 2) (int64
     indices in [0, n_vertices), which the caller has checked); a side or pair from a vertex
-    to itself is left out."""
+    to itself is left out. ``sides`` (M,) uint8, or empty for every side: bit k of
+    ``sides[f]`` keeps side k of face f (corner k to corner k + 1, mod 3), as
+    :attr:`rasterkit.Mesh.polygon_sides` says."""
+    every = sides.shape[0] == 0
     start = np.zeros(n_vertices + 1, np.int64)
     for f in range(faces.shape[0]):
-        _tally(start, faces[f, 0], faces[f, 1])
-        _tally(start, faces[f, 1], faces[f, 2])
-        _tally(start, faces[f, 2], faces[f, 0])
+        keep = 7 if every else sides[f]
+        for k in range(3):
+            if keep >> k & 1:
+                _tally(start, faces[f, k], faces[f, k + 1 if k < 2 else 0])
     uppers, fill = _open_lists(start, pairs, n_vertices)
     for f in range(faces.shape[0]):
-        _place(uppers, fill, faces[f, 0], faces[f, 1])
-        _place(uppers, fill, faces[f, 1], faces[f, 2])
-        _place(uppers, fill, faces[f, 2], faces[f, 0])
+        keep = 7 if every else sides[f]
+        for k in range(3):
+            if keep >> k & 1:
+                _place(uppers, fill, faces[f, k], faces[f, k + 1 if k < 2 else 0])
     return _close_lists(start, uppers, fill, pairs, n_vertices)
 
 

@@ -188,8 +188,10 @@ def load_obj(path, *, textures: bool = True) -> Mesh:
     keep_polygons = faces.uses_only(finite)
     corners, triangle_polygon = triangulate(doc, vertices, faces, keep_polygons, report)
     segments = lines.segments(lines.uses_only(finite))
-    # None for a file of triangles alone: the Mesh works its edges out when they are first needed
-    edges = polygon_mesh_edges(faces.vertex, faces.offsets, keep_polygons, len(corners), segments, len(vertices))
+    # None for a file of triangles alone, or of polygons split whole (then with the sides of the
+    # polygons flagged): the Mesh works its edges out when they are first needed
+    edges, sides = polygon_mesh_edges(faces.vertex, faces.offsets, keep_polygons, corners, triangle_polygon, segments,
+                                      len(vertices))
     groups, group_names = face_labels(doc, (KIND_G, KIND_O), faces, triangle_polygon)
     materials = material_names(doc)
     uv_index = corner_rows(faces, "texcoord", corners, triangle_polygon, doc, report)
@@ -211,6 +213,7 @@ def load_obj(path, *, textures: bool = True) -> Mesh:
         corner_normals=None if normal_index is None else normal_table(normals, unit_normals), normal_index=normal_index,
         face_materials=face_materials(doc, faces, triangle_polygon, materials),
         materials=tuple(defined.get(name) or Material(name=name) for name in materials) if textures else (),
+        polygon_sides=sides,
     )
 
 

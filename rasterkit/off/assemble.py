@@ -36,9 +36,9 @@ def to_mesh(name: str, vertices: Vertices, faces: Faces, warnings: list) -> Mesh
         warnings.append(f"{count(np.count_nonzero(inexact), 'polygon')} too irregular to split exactly (self-intersecting?): "
                         f"split as a fan (the first on line {faces.lines[np.argmax(inexact)]})")
     polygon = np.repeat(np.arange(len(sizes)), counts)
-    edges = polygon_mesh_edges(faces.corners, faces.offsets, keep, len(triangles), np.zeros((0, 2), np.int64),
-                               len(positions))
-    return Mesh(positions, faces.corners[triangles], edges=edges,
+    edges, sides = polygon_mesh_edges(faces.corners, faces.offsets, keep, triangles, polygon,
+                                      np.zeros((0, 2), np.int64), len(positions))
+    return Mesh(positions, faces.corners[triangles], edges=edges, polygon_sides=sides,
                 normals=vertices.normals, vertex_colors=vertices.colors,
                 texcoords=vertices.texcoords, uv=vertices.texcoords,
                 face_colors=None if faces.colors is None else faces.colors[polygon],

@@ -181,9 +181,10 @@ def _mesh_fields(name, header, face_rows, face, vertices, lines, notes: Notes, t
         notes.warn(files[0][0], "TextureFile given, but no texture coordinates: no texture drawn")
     elif files:
         fields.update(_materials(name, files, face_rows, face, triangles, notes))
-    keep = triangles.keep
-    del triangles  # its corners
-    fields["edges"] = polygon_mesh_edges(polygons.corners, polygons.offsets, keep, len(fields["faces"]), lines, n)
+    keep, corners, polygon = triangles.keep, triangles.corners, triangles.polygon
+    del triangles
+    fields["edges"], fields["polygon_sides"] = polygon_mesh_edges(polygons.corners, polygons.offsets, keep, corners,
+                                                                  polygon, lines, n)
     return fields
 
 

@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rasterkit.mesh import Mesh, polygon_mesh_edges, unique_edges
+from rasterkit.mesh.edges import ALL_SIDES
 from rasterkit.mesh.kernels import sorted_edges, sorted_polygon_edges
 
 
@@ -24,7 +25,7 @@ def test_sorted_edges_are_the_set_of_sides(n):
     rng = np.random.default_rng(n)
     faces = rng.integers(0, n, (3000, 3))  # repeated corners: sides from a vertex to itself
     pairs = rng.integers(0, n, (200, 2))
-    edges = sorted_edges(faces, pairs, n)
+    edges = sorted_edges(faces, ALL_SIDES, pairs, n)
     assert edges.dtype == np.int64 and edges.shape[1] == 2
     assert edges.tolist() == reference(faces, pairs)
 
@@ -33,11 +34,11 @@ def test_a_vertex_of_a_hundred_thousand_sides_is_sorted_too():
     m = 100_000  # a fan: vertex 0 has 2m sides, beyond the lists sorted by insertion
     rng = np.random.default_rng(0)
     faces = np.stack([np.zeros(m, np.int64), np.arange(1, m + 1), np.arange(2, m + 2)], axis=1)[rng.permutation(m)]
-    assert sorted_edges(faces, np.zeros((0, 2), np.int64), m + 2).tolist() == reference(faces)
+    assert sorted_edges(faces, ALL_SIDES, np.zeros((0, 2), np.int64), m + 2).tolist() == reference(faces)
 
 
 def test_no_vertices_no_edges():
-    assert sorted_edges(np.zeros((0, 3), np.int64), np.zeros((0, 2), np.int64), 0).shape == (0, 2)
+    assert sorted_edges(np.zeros((0, 3), np.int64), ALL_SIDES, np.zeros((0, 2), np.int64), 0).shape == (0, 2)
 
 
 def test_unique_edges_takes_pairs_and_keys_and_refuses_indices_out_of_range():
@@ -61,13 +62,76 @@ def test_polygon_mesh_edges_leave_a_mesh_of_triangles_to_work_its_own():
     tri = np.array([0, 1, 2, 2, 1, 3])
     offsets = np.array([0, 3, 6])
     none = np.zeros((0, 2), np.int64)
-    assert polygon_mesh_edges(tri, offsets, np.ones(2, bool), 2, none, 4) is None
-    # one triangle dropped (or made no face): its sides are still the polygons' own
-    assert polygon_mesh_edges(tri, offsets, np.array([True, False]), 1, none, 4).tolist() == [[0, 1], [0, 2], [1, 2]]
-    assert polygon_mesh_edges(tri, offsets, np.ones(2, bool), 1, none, 4).tolist() == \
-        reference([[0, 1, 2], [2, 1, 3]])
-    quad = polygon_mesh_edges(np.array([0, 1, 2, 3]), np.array([0, 4]), np.ones(1, bool), 2, np.array([[3, 5]]), 6)
-    assert quad.tolist() == [[0, 1], [0, 3], [1, 2], [2, 3], [3, 5]]  # no diagonal; the line's segment
+    assert polygon_mesh_edges(tri, offsets, np.ones(2, bool), None, None, none, 4) == (None, None)
+    # one triangle dropped with its polygon: the triangles' own sides, flagged
+    edges, sides = polygon_mesh_edges(tri, offsets, np.array([True, False]), np.array([[0, 1, 2]]), np.array([0]),
+                                      none, 4)
+    assert edges is None and sides.tolist() == [7]
+    # one triangle made no face (a repeated vertex), its polygon kept: its sides are still edges
+    edges, sides = polygon_mesh_edges(tri, offsets, np.ones(2, bool), np.array([[0, 1, 2]]), np.array([0]), none, 4)
+    assert sides is None and edges.tolist() == reference([[0, 1, 2], [2, 1, 3]])
+    # a quad split in two: its four sides flagged, not the diagonal
+    quad = np.array([0, 1, 2, 3])
+    edges, sides = polygon_mesh_edges(quad, np.array([0, 4]), np.ones(1, bool), np.array([[0, 1, 2], [0, 2, 3]]),
+                                      np.array([0, 0]), np.array([[3, 5]]), 6)
+    assert edges is None and sides.tolist() == [0b011, 0b110]
+    mesh = Mesh(np.zeros((6, 3)), quad[[[0, 1, 2], [0, 2, 3]]], lines=[[3, 5]], polygon_sides=sides)
+    assert mesh.derives_edges and mesh.edges.tolist() == [[0, 1], [0, 3], [1, 2], [2, 3], [3, 5]]
+
+
+def _polygons(rng, count, n_vertices):
+    """Random polygons of 3 to 8 corners (vertices distinct within each): corners, offsets."""
+    sizes = rng.integers(3, 9, count)
+    corners = np.concatenate([rng.choice(n_vertices, k, replace=False) for k in sizes])
+    return corners, np.concatenate([[0], np.cumsum(sizes)])
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_flagged_sides_give_the_edges_of_the_polygons(seed):
+    """Polygons split by the readers' splitter (fans, ear clipping, a sweep): the Mesh's edges
+    from the flags are the polygons' sides (as sorted_polygon_edges and Python sets give
+    them), in every split a reader makes."""
+    from rasterkit.obj.assemble import split_polygons
+
+    rng = np.random.default_rng(seed)
+    n = 40
+    corners, offsets = _polygons(rng, 300, n)
+    angles = rng.random(n) * 2 * np.pi  # on a circle: each polygon a simple (if crossing) shape
+    vertices = np.stack([np.cos(angles), np.sin(angles), np.zeros(n)], axis=1)
+    keep = rng.random(300) < 0.9
+    triangles, counts, _ = split_polygons(vertices, corners, offsets, keep)
+    polygon = np.repeat(np.arange(300), counts)
+    pairs = rng.integers(0, n, (10, 2))
+    edges, sides = polygon_mesh_edges(corners, offsets, keep, triangles, polygon, pairs, n)
+    expected = sorted_polygon_edges(corners, offsets, keep, pairs, n).tolist()
+    kept_sides = [(corners[o + c], corners[o + (c + 1) % (e - o)])
+                  for p, (o, e) in enumerate(zip(offsets[:-1], offsets[1:])) if keep[p] for c in range(e - o)]
+    assert expected == reference(np.zeros((0, 3), np.int64), kept_sides + pairs.tolist())
+    if sides is None:  # a triangle dropped: the edges now
+        assert edges.tolist() == expected
+    else:
+        mesh = Mesh(vertices, corners[triangles], lines=pairs, polygon_sides=sides)
+        assert mesh.edges.tolist() == expected
+        assert sorted_edges(corners[triangles], sides, pairs, n).tolist() == expected
+
+
+def test_polygon_sides_are_checked_and_kept_by_the_scene():
+    from rasterkit import Scene
+
+    v, faces = np.zeros((4, 3)), [[0, 1, 2], [0, 2, 3]]
+    with pytest.raises(ValueError, match="polygon_sides must be"):
+        Mesh(v, faces, polygon_sides=[1, 8])
+    with pytest.raises(ValueError, match="polygon_sides must be"):
+        Mesh(v, faces, polygon_sides=[1])
+    with pytest.raises(TypeError, match="polygon_sides must hold integers"):
+        Mesh(v, faces, polygon_sides=[1.0, 2.0])
+    quad = Mesh(v, faces, polygon_sides=np.array([0b011, 0b110], np.uint8))
+    scene = Scene()
+    scene.add(quad)
+    scene.add(Mesh(v, faces))  # two triangles: every side
+    world = scene.world_mesh()
+    assert world.derives_edges and world.polygon_sides.tolist() == [3, 6, 7, 7]
+    assert world.edges.tolist() == [[0, 1], [0, 3], [1, 2], [2, 3], [4, 5], [4, 6], [4, 7], [5, 6], [6, 7]]
 
 
 def test_a_mesh_works_out_its_edges_when_asked_and_keeps_them():
@@ -103,7 +167,12 @@ def test_polygon_mesh_edges_are_the_sides_of_the_kept_polygons_and_the_lines(pol
                      np.int64).reshape(-1, 2)
     offsets = np.concatenate([[0], np.cumsum([len(p) for p in polygons])]).astype(np.int64)
     corners = np.array(sum(polygons, []), np.int64)
-    ours = polygon_mesh_edges(corners, offsets, keep, -1, lines, 10)  # -1 faces: never the polygons themselves
+    # no triangles given: the edges now, unless no polygon is kept (then the lines' alone, later)
+    ours, sides = polygon_mesh_edges(corners, offsets, keep, np.zeros((0, 3), np.int64), np.zeros(0, np.int64),
+                                     lines, 10)
+    if ours is None:
+        assert not keep.any() and (sides is None or len(sides) == 0)
+        ours = sorted_edges(np.zeros((0, 3), np.int64), ALL_SIDES, lines, 10)
     sides = {(min(p[c], p[c - 1]), max(p[c], p[c - 1])) for p, k in zip(polygons, keep) if k for c in range(len(p))}
     sides |= {(min(a, b), max(a, b)) for a, b in lines.tolist()}
     assert ours.tolist() == [list(e) for e in sorted(sides) if e[0] != e[1]]
