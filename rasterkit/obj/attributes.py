@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rasterkit.mesh.checks import sealed_empty
 from rasterkit.obj.errors import count
 from rasterkit.obj.statements import Elements
 from rasterkit.obj.kernels import normals as normal_kernels
@@ -28,8 +29,9 @@ def uv_table(doc, texcoords: np.ndarray) -> np.ndarray:
     """(U, 2) float64 (u, v) of every ``vt`` line (``texcoords`` (U, 3) as read), as the
     file gives them (NaN and infinities too), v = 0 where the line has only u; ``w`` is
     dropped."""
-    uv = texcoords[:, :2].copy()
-    uv[doc.ntokens[doc.of_kind(KIND_VT)] < 2, 1] = 0.0
+    uv, fill = sealed_empty((len(texcoords), 2), np.float64)  # the Mesh's own: not copied again
+    fill[:] = texcoords[:, :2]
+    fill[doc.ntokens[doc.of_kind(KIND_VT)] < 2, 1] = 0.0
     return uv
 
 
@@ -45,7 +47,8 @@ def corner_rows(faces: Elements, attribute: str, triangle_corners: np.ndarray, t
     absent = index < 0
     if absent.all():  # a file of v/vt corners has no vn, and the other way round
         return None
-    rows = index[triangle_corners]
+    rows, fill = sealed_empty(triangle_corners.shape, np.int64)  # the Mesh's own: not copied again
+    np.take(index, triangle_corners, out=fill, mode="clip")  # valid corners ("raise" would buffer)
     if absent.any():
         starts = faces.offsets[:-1]
         without = np.logical_or.reduceat(absent, starts)
@@ -54,7 +57,7 @@ def corner_rows(faces: Elements, attribute: str, triangle_corners: np.ndarray, t
         if len(partial):
             report.warn(doc.line(faces.statements[partial[0]]),
                         f"{count(len(partial), 'face')} with {words} at some corners only: none kept for their corners")
-        rows[without[triangle_polygon]] = -1
+        fill[without[triangle_polygon]] = -1
     return rows if (rows[:, 0] >= 0).any() else None
 
 

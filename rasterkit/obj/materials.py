@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rasterkit.material import DEFAULT_DIFFUSE, Material
+from rasterkit.mesh.checks import sealed_empty
 from rasterkit.obj.document import Document
 from rasterkit.obj.errors import ObjError, Report, count
 from rasterkit.obj.files import read_file
@@ -90,7 +91,9 @@ def face_colors(doc: Document, faces: Elements, triangle_polygon, libraries: Lib
     kd = {name: spec.values.get("diffuse", DEFAULT_KD) for name, spec in libraries.specs.items()}
     # The extra last row is what latest == -1 (no usemtl above) picks.
     table = np.array([kd.get(n, DEFAULT_KD) for n in names] + [DEFAULT_KD], np.float32)
-    return table[latest[triangle_polygon]]
+    colours, fill = sealed_empty((len(triangle_polygon), 3), np.float32)  # the Mesh's own: not copied again
+    np.take(table, latest[triangle_polygon], axis=0, out=fill, mode="wrap")  # -1: the last row
+    return colours
 
 
 def read_libraries(doc: Document, report: Report, whole: bool = False) -> Libraries:
