@@ -12,7 +12,6 @@ number of chunks and threads: the chunks only decide which thread reads which li
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,7 +20,7 @@ from rasterkit.obj.kernels import chunk as _chunk
 from rasterkit.obj.kernels.chunk import read_lines
 from rasterkit.obj.kernels.corners import resolve_corners
 from rasterkit.obj.kernels.scan import KIND_F, KIND_L, KIND_V, KIND_VN, KIND_VT
-from rasterkit.runtime.threads import get_threads, run_parallel
+from rasterkit.runtime.threads import in_parallel
 
 __all__ = ["CHUNK_BYTES", "Chunk", "Geometry", "Statements", "chunk_bounds", "read_chunk", "read_statements"]
 
@@ -68,24 +67,6 @@ def chunk_bounds(text: bytes, threads: int) -> list[int]:
             bounds.append(at + 1)
     bounds.append(len(text))
     return bounds
-
-
-def _in_parallel(task, n: int) -> list:
-    """``task(k)`` for k = 0..n-1 on the threads (each claims the next k), results in order."""
-    results = [None] * n
-    claims = itertools.count()  # next() on it is atomic under the GIL
-
-    def worker(slot):
-        for k in iter(claims.__next__, None):
-            if k >= n:
-                return
-            results[k] = task(k)
-
-    if n == 1:
-        results[0] = task(0)
-    else:
-        run_parallel(worker, threads=min(n, get_threads()))
-    return results
 
 
 #: Statements (and rows, corners, f and l statements) a chunk makes room for at first; then
@@ -159,7 +140,7 @@ def read_statements(buf: np.ndarray, bounds: list[int], budget: int, attributes:
     any corner may name a vt or vn (buf has a ``/``)."""
     n = len(bounds) - 1
     share = budget // n
-    chunks = _in_parallel(lambda k: read_chunk(buf, bounds[k], bounds[k + 1], share), n)
+    chunks = in_parallel(lambda k: read_chunk(buf, bounds[k], bounds[k + 1], share), n)
     over = any(c.over for c in chunks)
     return _put_together(chunks, attributes, table_only=over)
 
@@ -213,5 +194,5 @@ def _put_together(chunks: list, attributes: bool, table_only: bool) -> Statement
                 resolve_corners(chunk.table[2], chunk.table[3], chunk.corners, chunk.malformed, before[k], totals,
                                 *corners[kind], kind, corner, element)
 
-    _in_parallel(place, len(chunks))
+    in_parallel(place, len(chunks))
     return Statements(*table, None if table_only else Geometry(numbers, corners))

@@ -14,6 +14,7 @@ on a lock, asleep: beside other busy processes they give their core away.
 
 from __future__ import annotations
 
+import itertools
 import os
 import threading
 import time
@@ -238,6 +239,26 @@ def run_parallel(worker, *args, threads: int | None = None) -> list:
     counter, never assume that every slot runs.
     """
     return _run(worker, args, threads, counted=False)
+
+
+def in_parallel(task, n: int, threads: int | None = None) -> list:
+    """``task(k)`` for k = 0..n-1 on up to ``threads`` threads (default :func:`get_threads`),
+    each claiming the next k; the results in order of k. For tasks that are Python
+    functions calling kernels (a chunk of a file each)."""
+    results = [None] * n
+    claims = itertools.count()  # next() on it is atomic under the GIL
+
+    def worker(slot):
+        for k in iter(claims.__next__, None):
+            if k >= n:
+                return
+            results[k] = task(k)
+
+    if n == 1:
+        results[0] = task(0)
+    elif n > 1:
+        run_parallel(worker, threads=min(n, get_threads() if threads is None else threads))
+    return results
 
 
 def run_workers(worker, *args, threads: int | None = None) -> list:

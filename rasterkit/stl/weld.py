@@ -12,13 +12,12 @@ A large file is welded in chunks of facets on the threads, joined by
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 
 import numpy as np
 
 from rasterkit.mesh.checks import sealed_empty
-from rasterkit.runtime.threads import get_threads, run_parallel
+from rasterkit.runtime.threads import get_threads, in_parallel
 from rasterkit.stl.kernels.merge import merge_chunks
 from rasterkit.stl.kernels.mesh import COLLIDING, FULL, SOUND, assemble
 
@@ -97,18 +96,12 @@ def _in_chunks(corners, normals, flaws, faces, vertices, unit, pieces: int, thre
     # the first chunk's table is the join's: large enough for the whole file, as one pass's
     tables = [np.zeros(1 << _table_bits(f if k == 0 else int(starts[k + 1] - starts[k])), np.uint64)
               for k in range(pieces)]
-    results = [None] * pieces
-    claims = itertools.count()  # next() on it is atomic under the GIL
+    def weld(k):
+        lo, hi = int(starts[k]), int(starts[k + 1])
+        return assemble(corners[lo:hi], normals[lo:hi], _NO_IDS, tables[k], flaws[lo:hi], faces[lo:hi],
+                        vertices[3 * lo:3 * hi], unit[lo:hi])
 
-    def worker(slot):
-        for k in iter(claims.__next__, None):
-            if k >= pieces:
-                return
-            lo, hi = int(starts[k]), int(starts[k + 1])
-            results[k] = assemble(corners[lo:hi], normals[lo:hi], _NO_IDS, tables[k], flaws[lo:hi], faces[lo:hi],
-                                  vertices[3 * lo:3 * hi], unit[lo:hi])
-
-    run_parallel(worker, threads=min(pieces, threads))
+    results = in_parallel(weld, pieces, threads)
     kept = np.array([r[0] for r in results], np.int64)
     counts = np.array([r[1] for r in results], np.int64)
     if counts.min() < 0:

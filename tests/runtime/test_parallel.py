@@ -87,6 +87,24 @@ def test_default_thread_count_is_get_threads(threads):
 
 
 @pytest.mark.parametrize("threads", THREAD_COUNTS)
+@pytest.mark.parametrize("n", [0, 1, 2, 5, 200])
+def test_in_parallel_runs_each_task_once_and_keeps_their_order(threads, n):
+    from rasterkit.runtime.threads import in_parallel
+
+    seen, lock = [], threading.Lock()
+
+    def task(k):
+        with lock:
+            seen.append((k, threading.get_ident()))
+        time.sleep(0.0005 * (k % 3))  # tasks of different lengths: claimed out of order
+        return k * k
+
+    assert in_parallel(task, n, threads) == [k * k for k in range(n)]
+    assert sorted(k for k, _ in seen) == list(range(n))
+    assert len({t for _, t in seen}) <= max(1, min(n, threads))
+
+
+@pytest.mark.parametrize("threads", THREAD_COUNTS)
 @pytest.mark.parametrize("n_pieces", [0, 1, 2, 3, 1000, 100_003])
 def test_fetch_add_worker_covers_every_piece_once(threads, n_pieces):
     _check_claims(n_pieces, *_run_claims(n_pieces, threads, seed=n_pieces), threads)

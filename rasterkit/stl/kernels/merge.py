@@ -16,7 +16,7 @@ import numpy as np
 
 from rasterkit.runtime.intrinsics import prefetch_row
 from rasterkit.runtime.jit import kernel
-from rasterkit.stl.kernels.mesh import AHEAD, COLLIDING, FULL, ID, ID_BITS, PROBES_PER_CORNER, corner_hash
+from rasterkit.stl.kernels.mesh import AHEAD, COLLIDING, FULL, PROBES_PER_CORNER, corner_hash, find_vertex, slot_entry
 
 __all__ = ["merge_chunks"]
 
@@ -52,24 +52,14 @@ def merge_chunks(starts, kept, counts, table, faces, vertices, unit, numbers):
                 prefetch_row(table, np.int64(h & mask))
             x, y, z = vertices[base + j, 0], vertices[base + j, 1], vertices[base + j, 2]
             h = corner_hash(x, y, z)
-            tag = h >> ID_BITS
-            s = h & mask
-            while True:
-                t = table[s]
-                if t == 0:
-                    v = n
-                    break
-                v = np.int64(t & ID) - 1
-                if t >> ID_BITS == tag and vertices[v, 0] == x and vertices[v, 1] == y and vertices[v, 2] == z:
-                    break
-                s = (s + np.uint64(1)) & mask
-                budget -= 1
-                if budget < 0:
-                    return 0, COLLIDING
+            s, v, probes = find_vertex(table, mask, h, vertices, n, x, y, z)
+            budget -= probes
+            if budget < 0:
+                return 0, COLLIDING
             if v == n:
                 if 2 * (n + 1) > size:
                     return 0, FULL
-                table[s] = (tag << ID_BITS) | np.uint64(n + 1)
+                table[s] = slot_entry(h, n)
                 vertices[n, 0], vertices[n, 1], vertices[n, 2] = x, y, z
                 n += 1
             numbers[j] = v

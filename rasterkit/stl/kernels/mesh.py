@@ -20,7 +20,7 @@ from rasterkit.runtime.intrinsics import float_bits, prefetch_row
 from rasterkit.runtime.jit import kernel
 
 __all__ = ["AHEAD", "COLLIDING", "FULL", "ID", "ID_BITS", "M1", "M2", "M3", "NOT_FINITE", "PROBES_PER_CORNER", "SOUND",
-           "TWO_EQUAL", "assemble", "corner_hash"]
+           "TWO_EQUAL", "assemble", "corner_hash", "find_vertex", "slot_entry"]
 
 #: The multipliers of the hash of a corner (MurmurHash3's and the golden ratio's).
 M1 = np.uint64(0x9E3779B97F4A7C15)
@@ -54,6 +54,31 @@ def corner_hash(x, y, z):
     h *= M2
     h ^= h >> np.uint64(29)
     return h
+
+
+@kernel(inline="always")
+def find_vertex(table, mask, h, vertices, n, x, y, z):
+    """``(slot, vertex, probes)``: where the vertex (x, y, z) of hash ``h`` is in ``table``
+    (``mask``: its size - 1; ``vertices``: the first n numbered) and its number, or the empty
+    slot where it goes and ``n`` when it is not there; ``probes``: the slots passed over."""
+    tag = h >> ID_BITS
+    s = h & mask
+    probes = 0
+    while True:
+        t = table[s]
+        if t == 0:
+            return s, n, probes
+        v = np.int64(t & ID) - 1
+        if t >> ID_BITS == tag and vertices[v, 0] == x and vertices[v, 1] == y and vertices[v, 2] == z:
+            return s, v, probes
+        s = (s + np.uint64(1)) & mask
+        probes += 1
+
+
+@kernel(inline="always")
+def slot_entry(h, v):
+    """What a slot of the table holds for vertex ``v`` of hash ``h`` (see :data:`ID_BITS`)."""
+    return (h >> ID_BITS << ID_BITS) | np.uint64(v + 1)
 
 
 @kernel(fastmath=False)  # IEEE arithmetic: the normals' divisions, and x + 0.0 making -0.0 0.0
@@ -113,23 +138,10 @@ def assemble(corners, given, ids, table, flaws, faces, vertices, unit):
             z = np.float64(corners[f, i, 2]) + 0.0
             if hashing:
                 h = corner_hash(x, y, z)
-                tag = h >> ID_BITS
-                s = h & mask
-                while True:
-                    t = table[s]
-                    if t == 0:
-                        v = n
-                        break
-                    v = np.int64(t & ID) - 1
-                    if t >> ID_BITS == tag and vertices[v, 0] == x and vertices[v, 1] == y and \
-                            vertices[v, 2] == z:
-                        break
-                    s = (s + np.uint64(1)) & mask
-                    budget -= 1
-                    if budget < 0:
-                        welding = False
-                        break
-                if not welding:
+                s, v, probes = find_vertex(table, mask, h, vertices, n, x, y, z)
+                budget -= probes
+                if budget < 0:
+                    welding = False
                     n = COLLIDING
                     break
                 if v == n:
@@ -137,7 +149,7 @@ def assemble(corners, given, ids, table, flaws, faces, vertices, unit):
                         welding = False
                         n = FULL
                         break
-                    table[s] = (tag << ID_BITS) | np.uint64(n + 1)
+                    table[s] = slot_entry(h, n)
             else:
                 v = ids[3 * kept + i]
             if v == n:
