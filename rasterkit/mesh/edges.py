@@ -67,7 +67,8 @@ def polygon_mesh_edges(corners: np.ndarray, offsets: np.ndarray, keep: np.ndarra
     for the sorted unique sides of the kept polygons (``corners[offsets[p]:offsets[p + 1]]``
     (int64, in [0, n_vertices), checked by the reader), ``keep`` (P,) bool) and the segments
     ``lines`` (K, 2) int64. The faces are ``triangles`` (M, 3), indices into ``corners`` (None:
-    ``3 m + c``), cut from the polygons ``polygon`` (M,) (None: face m from polygon m).
+    ``3 m + c``), cut from the polygons ``polygon`` (M,) (None: face m from polygon m; both
+    None: every polygon a triangle, kept, and made a face).
 
     - ``(None, None)`` when the triangles are the polygons themselves (every polygon a
       triangle, kept, and made one face): the Mesh works their sides out when first needed.
@@ -77,6 +78,8 @@ def polygon_mesh_edges(corners: np.ndarray, offsets: np.ndarray, keep: np.ndarra
       same edges out from them when first needed (loading does not pay for them).
     - ``(edges, None)`` otherwise (triangles dropped for a repeated vertex, polygons of fewer
       than three corners): the edges, worked out now."""
+    if triangles is None and polygon is None:  # each polygon a triangle, kept, and made a face
+        return None, None
     sizes = np.diff(offsets)
     m = len(sizes) if triangles is None else len(triangles)
     if m == len(sizes) and keep.all() and (sizes == 3).all():

@@ -21,6 +21,7 @@ from rasterkit.mesh import mesh_bytes, repeated_corners
 from rasterkit.mesh.checks import sealed_empty
 from rasterkit.obj.assemble import split_polygons
 from rasterkit.ply.errors import Notes, PlyError, check_limit, count
+from rasterkit.ply.kernels.indices import widen
 from rasterkit.ply.header import Element, Header
 
 __all__ = ["FACE_INDICES", "MAX_VERTICES", "Polygons", "Triangles", "check_face_element", "read_lines",
@@ -101,8 +102,8 @@ def read_polygons(rows, element: Element, n_vertices: int, corner_uv: bool) -> P
         row = int(np.argmax(small))
         raise rows.error(row, f"a face needs at least 3 vertices, got {int(sizes[row])}", prop)
     values, offsets = rows.items(prop)
-    values = _int64(values)
-    if len(values) and (values.min() < 0 or values.max() >= n_vertices):
+    values, lo, hi = _int64(values)
+    if len(values) and (lo < 0 or hi >= n_vertices):
         k = int(np.argmax((values < 0) | (values >= n_vertices)))
         row = rows.row_of_item(offsets, k)
         raise rows.error(row, f"vertex index {int(values[k])} is out of range (the file has "
@@ -110,17 +111,22 @@ def read_polygons(rows, element: Element, n_vertices: int, corner_uv: bool) -> P
     return Polygons(values, offsets)
 
 
-def _int64(values) -> np.ndarray:
-    """The list items ``values`` as (C,) int64: as they are when they are that already (an
-    ASCII file's), else converted in one copy into sealed memory
-    (:func:`rasterkit.mesh.checks.sealed_empty`), which the Mesh keeps as its faces when the
-    polygons are its triangles (a binary file's strided view of its bytes)."""
+def _int64(values) -> tuple:
+    """``(items, smallest, largest)``: the list items ``values`` as (C,) int64, as they are
+    when they are that already (an ASCII file's), else converted in one copy into sealed
+    memory (:func:`rasterkit.mesh.checks.sealed_empty`), which the Mesh keeps as its faces when
+    the polygons are its triangles (a binary file's strided view of its bytes: by
+    :func:`rasterkit.ply.kernels.indices.widen` where the bytes are in the machine's order)."""
     values = np.asarray(values)
     if values.dtype == np.int64 and values.flags.c_contiguous:
-        return values.reshape(-1)
+        flat = values.reshape(-1)
+        return (flat, int(flat.min()), int(flat.max())) if len(flat) else (flat, 0, -1)
     sealed, fill = sealed_empty((values.size,), np.int64)
+    if values.dtype.isnative and values.dtype.kind in "iu" and values.ndim == 2:
+        lo, hi = widen(values, fill.reshape(values.shape))
+        return sealed, int(lo), int(hi)
     np.copyto(fill.reshape(values.shape), values, casting="unsafe")
-    return sealed
+    return (sealed, int(sealed.min()), int(sealed.max())) if len(sealed) else (sealed, 0, -1)
 
 
 def triangulate(polygons: Polygons, positions: np.ndarray, notes: Notes, line: int) -> Triangles:

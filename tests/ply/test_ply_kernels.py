@@ -116,3 +116,26 @@ def test_the_token_walk_and_copying_runs():
     assert copy_runs(values, starts + 1, counts[:, 0]).tolist() == [0, 1, 2, 5, 6]
     _, _, status, row, j, at, _ = walk_tokens(values[:11], 1, 3, np.array([0, 1]))
     assert (row, j) == (2, 1)  # row 2's scalar after its list is missing
+
+
+@pytest.mark.parametrize("dtype", ["<i1", "<u1", "<i2", "<u2", "<i4", "<u4", "<i8"])
+@pytest.mark.parametrize("k", [1, 3, 4])
+def test_widen_copies_unaligned_strided_indices_and_finds_their_range(dtype, k):
+    from rasterkit.ply.kernels.indices import widen
+
+    rng = np.random.default_rng(k)
+    size = np.dtype(dtype).itemsize
+    n = 257
+    info = np.iinfo(np.dtype(dtype))
+    values = rng.integers(max(info.min, -2**40), min(info.max, 2**40), (n, k), endpoint=True).astype(dtype)
+    stride = 1 + k * size  # a count byte before each row: unaligned rows, as in a binary file
+    raw = bytearray(1 + n * stride)
+    for i in range(n):
+        raw[1 + i * stride + 1:1 + (i + 1) * stride] = values[i].tobytes()
+    view = np.ndarray((n, k), dtype, buffer=raw, offset=2, strides=(stride, size))
+    np.testing.assert_array_equal(view, values)
+    out = np.empty((n, k), np.int64)
+    lo, hi = widen(view, out)
+    np.testing.assert_array_equal(out, values.astype(np.int64))
+    assert (lo, hi) == (int(values.min()), int(values.max()))
+    assert widen(view[:0], out[:0]) == (0, -1)
