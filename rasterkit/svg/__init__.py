@@ -23,6 +23,7 @@ from rasterkit.limits import check_memory
 from rasterkit.mesh import as_mesh
 from rasterkit.options import HIDDEN, SVG_MODES, check_choice
 from rasterkit.scene import Scene
+from rasterkit.raster.sides import face_sides
 from rasterkit.raster.vertex import transform_points
 
 __all__ = ["HIDDEN", "SVG_MODES", "Drawing", "render_svg", "save_svg", "svg_drawing"]
@@ -102,7 +103,8 @@ def svg_drawing(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden
     clip = transform_points(mesh.vertices, np.ascontiguousarray(view.world_to_raster()))
     chosen, classes = select_edges(mesh, clip, edges, crease_angle)
     pieces = _svg_visibility.split_visible(clip, mesh.faces, np.ascontiguousarray(chosen, np.int64), view.width,
-                                           view.height, visibility=mode == "hidden")
+                                           view.height, visibility=mode == "hidden",
+                                           cull=face_sides(mesh, "back").cull)  # double-sided faces: both
     keep = ~pieces.hidden if hidden is None else np.ones(len(pieces.hidden), bool)
     xy, keys, edge = pieces.xy[keep], pieces.keys[keep], pieces.edge[keep]
     layer = pieces.hidden[keep].astype(np.int64)

@@ -75,25 +75,26 @@ def _vertex_raster(clip: np.ndarray):
     return np.ascontiguousarray(np.where(front[:, None], proj, 0.0)), front.astype(np.uint8)
 
 
-def depth_pass(clip: np.ndarray, faces: np.ndarray, width: int, height: int):
-    """Depth (H, W) float32 and face ids (H, W) int32 of the faces, back faces culled."""
+def depth_pass(clip: np.ndarray, faces: np.ndarray, width: int, height: int, cull="back"):
+    """Depth (H, W) float32 and face ids (H, W) int32 of the faces, back faces culled (``cull``:
+    or per face, :func:`rasterkit.raster.sides.face_sides`: double-sided ones are not)."""
     depth = np.empty((height, width), np.float32)
     ids = np.empty((height, width), np.int32)
-    rasterize_triangles(None, depth, clip, faces, ids=ids, cull="back", clear=())
+    rasterize_triangles(None, depth, clip, faces, ids=ids, cull=cull, clear=())
     return depth, ids
 
 
 def split_visible(clip: np.ndarray, faces: np.ndarray, edges: np.ndarray, width: int, height: int,
-                  visibility: bool = True) -> Pieces:
+                  visibility: bool = True, cull="back") -> Pieces:
     """The edges (E, 2) of the vertices ``clip`` (N, 4) (homogeneous raster space), clipped
     to the view volume and, with ``visibility``, split into visible and hidden pieces by the
-    faces (M, 3)."""
+    faces (M, 3) that ``cull`` (:func:`depth_pass`) leaves."""
     kept, seg, t = clip_segments(clip, edges, width, height)
     ends = np.ascontiguousarray(edges[kept])
     if not visibility or len(seg) == 0:
         return _pieces(seg, kept, ends, t, np.ones(len(seg), np.int64), np.zeros((len(seg), 2)),
                        np.zeros(len(seg), np.uint8))
-    depth, ids = depth_pass(clip, faces, width, height)
+    depth, ids = depth_pass(clip, faces, width, height, cull)
     proj, front = _vertex_raster(clip)
     rec = np.empty((len(faces), _kernels.REC_FIELDS))
     _kernels.face_records(proj, front, readonly(faces), rec)

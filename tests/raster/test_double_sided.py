@@ -161,3 +161,24 @@ def test_a_gltf_material_marked_double_sided_is_seen_from_behind(tmp_path):
     fb = render(load(path), CAMERA, mode="solid", ids=True)
     seen = set(np.unique(fb.ids)) - {-1}
     assert seen == {0, 1}, seen  # the first node's two triangles; the second node is culled
+
+
+def test_a_double_sided_face_hides_what_is_behind_it_in_an_svg_drawing():
+    """A quad facing away, a triangle behind it: the drawing of the double-sided quad is that
+    of the same quad turned towards the camera (its edges, none of the triangle's); one-sided,
+    the triangle shows through."""
+    from rasterkit import render_svg
+
+    vertices = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0],
+                         [-0.4, -0.4, -1], [0.4, -0.4, -1], [0, 0.4, -1]], np.float64)
+    away, towards, triangle = [[0, 2, 1], [0, 3, 2]], [[0, 1, 2], [0, 2, 3]], [[4, 5, 6]]
+    camera = Camera.look_at((0.0, 0.0, 4.0), (0.0, 0.0, 0.0), fov_y=50.0, width=120, height=120)
+
+    def mesh(quad, double):
+        materials = (Material(name="quad", double_sided=double), Material(name="triangle"))
+        return Mesh(vertices, np.array(quad + triangle), material_names=("quad", "triangle"),
+                    materials=materials, face_materials=np.array([0, 0, 1], np.int32))
+
+    double = render_svg(mesh(away, True), camera, "hidden")
+    assert double == render_svg(mesh(towards, False), camera, "hidden")
+    assert double != render_svg(mesh(away, False), camera, "hidden")
