@@ -96,6 +96,7 @@ def _in_chunks(corners, normals, flaws, faces, vertices, unit, pieces: int, thre
     # the first chunk's table is the join's: large enough for the whole file, as one pass's
     tables = [np.zeros(1 << _table_bits(f if k == 0 else int(starts[k + 1] - starts[k])), np.uint64)
               for k in range(pieces)]
+
     def weld(k):
         lo, hi = int(starts[k]), int(starts[k + 1])
         return assemble(corners[lo:hi], normals[lo:hi], _NO_IDS, tables[k], flaws[lo:hi], faces[lo:hi],
@@ -107,7 +108,8 @@ def _in_chunks(corners, normals, flaws, faces, vertices, unit, pieces: int, thre
     if counts.min() < 0:
         return None
     del tables[1:]
-    kept_all, n = merge_chunks(starts, kept, counts, tables[0], faces, vertices, unit, np.empty(counts.max(), np.int64))
+    numbers = np.empty(counts.max(), np.int64)  # the join's scratch: a chunk's vertex numbers
+    kept_all, n = merge_chunks(starts, kept, counts, tables[0], faces, vertices, unit, numbers)
     if n < 0:
         return None
     return kept_all, n, sum(r[2] for r in results), sum(r[3] for r in results)
