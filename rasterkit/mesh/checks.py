@@ -74,12 +74,12 @@ def sealed_empty(shape, dtype) -> tuple[np.ndarray, np.ndarray]:
     writes into it through a ``ctypes`` view of its address (and keeps it alive). The reader
     must drop ``fill`` before the Mesh is made: nothing may write into a Mesh's arrays."""
     dtype = np.dtype(dtype)
-    size = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
-    if size < 2:  # bytes() of 0 or 1 byte is a shared object: never written into
-        plain = np.zeros(shape, dtype)
-        return seal(plain), plain
-    memory = bytes(size)  # zeros, in pages the system gives on first touch
-    sealed = np.frombuffer(memory, dtype).reshape(shape)
+    items = int(np.prod(shape, dtype=np.int64))
+    size = items * dtype.itemsize
+    # zeros, in pages the system gives on first touch; at least 2 bytes, since bytes() of 0
+    # or 1 byte is a shared object, never to be written into
+    memory = bytes(max(size, 2))
+    sealed = np.frombuffer(memory, dtype, count=items).reshape(shape)
     view = (ctypes.c_char * size).from_address(sealed.__array_interface__["data"][0])
     view.memory = memory  # the writeable array keeps the bytes alive too
     return sealed, np.frombuffer(view, dtype).reshape(shape)

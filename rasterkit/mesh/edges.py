@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rasterkit.mesh.checks import sealed_empty
 from rasterkit.mesh.kernels import sorted_edges, sorted_polygon_edges
 from rasterkit.runtime.jit import readonly
 
@@ -92,14 +93,15 @@ def polygon_mesh_edges(corners: np.ndarray, offsets: np.ndarray, keep: np.ndarra
         # polygon, fewer than a file's 2**31 bytes)
         last = sizes.astype(np.int32)[polygon]
         last -= 1
-        sides, step = np.zeros(m, np.uint8), np.empty(m, np.int32)
+        sealed, sides = sealed_empty(m, np.uint8)  # zeros that the Mesh keeps without a copy
+        step = np.empty(m, np.int32)
         for k in range(3):  # a column at a time, in place: few temporaries (the memory bound)
             np.subtract(rows[:, (k + 1) % 3], rows[:, k], out=step, casting="unsafe")
             np.abs(step, out=step)
             beside = step == 1
             beside |= step == last
             sides |= beside.view(np.uint8) << k
-        return None, sides
+        return None, sealed
     return sorted_polygon_edges(readonly(corners), readonly(offsets), readonly(keep), readonly(lines),
                                 int(n_vertices)), None
 

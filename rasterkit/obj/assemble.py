@@ -9,7 +9,7 @@ import numpy as np
 
 from rasterkit.obj.errors import count
 from rasterkit.obj.split import split_in_numpy
-from rasterkit.obj.statements import Elements, latest_above
+from rasterkit.obj.statements import Elements, latest_above, per_triangle
 from rasterkit.obj.kernels import polygons as obj_polygons
 from rasterkit.obj.kernels.fans import simple_polygons
 from rasterkit.obj.kernels.scan import KIND_USEMTL, KIND_V
@@ -45,6 +45,10 @@ def triangulate(doc, vertices, faces: Elements, keep: np.ndarray, report):
     return triangles, np.repeat(np.arange(faces.count), counts)
 
 
+#: A triangle row (three int64) as one item of NumPy's fancy indexing.
+_ROW = np.dtype((np.void, 24))
+
+
 def split_polygons(vertices, corners, offsets, keep):
     """The triangles (T, 3) int64 of the kept polygons in polygon order, as corners (indices
     into ``corners``, the vertex index of each corner: a triangle's vertices are
@@ -54,32 +58,48 @@ def split_polygons(vertices, corners, offsets, keep):
     :mod:`rasterkit.obj.kernels.polygons` (compiled on first use) where not.
     Triangles that a repeated vertex makes degenerate are left out."""
     simple, simple_counts, left = simple_polygons(vertices, corners, offsets, keep)
+    inexact = np.zeros(len(keep), bool)
     if not left.any():  # triangles and convex quads: all split in one pass
-        return simple, simple_counts, np.zeros(len(keep), bool)
-    parts, inexact, left = split_in_numpy(vertices, corners, offsets, left)
-    parts = [(np.repeat(polygons, rows.shape[1]), rows.reshape(-1, 3)) for polygons, rows in parts]
+        return simple, simple_counts, inexact
+    # the few polygons left, as a file of their own (their corners gathered: ``at``)
+    which = np.flatnonzero(left)
+    sizes = offsets[which + 1] - offsets[which]
+    own = np.zeros(len(which) + 1, np.int64)
+    np.cumsum(sizes, out=own[1:])
+    at = np.repeat(offsets[which] - own[:-1], sizes) + np.arange(own[-1])
+    rest, rest_counts, inexact[which] = _split_others(vertices, corners[at], own)
+    # each polygon's rows come from one of the two: rest's go between simple's, at the rows
+    # of the polygons before them and of the rest's before them
+    before = np.cumsum(simple_counts) - simple_counts
+    placed = np.repeat(before[which], rest_counts) + np.arange(len(rest))
+    triangles = np.empty((len(simple) + len(rest), 3), np.int64)
+    others = np.ones(len(triangles), bool)
+    others[placed] = False
+    rows = triangles.view(_ROW).ravel()  # rows as single items: one copy each, not three
+    rows[others] = simple.view(_ROW).ravel()
+    rows[placed] = at[rest].view(_ROW).ravel()
+    counts = simple_counts.copy()
+    counts[which] = rest_counts
+    return triangles, counts, inexact
+
+
+def _split_others(vertices, corners, offsets):
+    """split_polygons' triangles (T, 3), counts (P,) and inexact (P,) of polygons that are
+    not triangles or convex quads (all kept): by NumPy where it can, by the kernels where
+    not."""
+    polygons = len(offsets) - 1
+    parts, inexact, left = split_in_numpy(vertices, corners, offsets, np.ones(polygons, bool))
+    parts = [(np.repeat(polygons_, rows.shape[1]), rows.reshape(-1, 3)) for polygons_, rows in parts]
     if left.any():
         split, counts, state = obj_polygons.triangulate(vertices, corners, offsets, left)
         inexact |= state == obj_polygons.INEXACT
-        parts.append((np.repeat(np.arange(len(keep)), counts), split))
+        parts.append((np.repeat(np.arange(polygons), counts), split))
         for p in np.flatnonzero(state == obj_polygons.LARGE):
             rows, exact = obj_polygons.split_large(vertices, corners[offsets[p]:offsets[p + 1]].copy())
             inexact[p] = not exact
             parts.append((np.full(len(rows), p), np.where(rows >= 0, rows + offsets[p], -1)))
-    rest, rest_counts = _in_polygon_order(parts, len(keep), corners)
-    return _interleave(simple, simple_counts, rest, rest_counts), simple_counts + rest_counts, inexact
-
-
-def _interleave(a, a_counts, b, b_counts):
-    """The rows of a and b (each in polygon order, a_counts and b_counts of each polygon's;
-    no polygon has rows in both) in polygon order."""
-    counts = a_counts + b_counts
-    start = np.cumsum(counts) - counts  # of each polygon's rows
-    out = np.empty((len(a) + len(b), 3), np.int64)
-    for rows, mine in ((a, a_counts), (b, b_counts)):
-        # row k of polygon p is at start[p] + k, and at (its first in rows) + k in rows
-        out[np.arange(len(rows)) + np.repeat(start - (np.cumsum(mine) - mine), mine)] = rows
-    return out
+    rest, counts = _in_polygon_order(parts, polygons, corners)
+    return rest, counts, inexact
 
 
 def _in_polygon_order(parts, polygons: int, corners: np.ndarray):
@@ -118,8 +138,8 @@ def face_labels(doc, kinds, faces, triangle_polygon):
     unique = list(dict.fromkeys((["default"] if (latest < 0).any() else []) + names))
     position = {n: i for i, n in enumerate(unique)}
     # The extra last entry is what latest == -1 (no statement above) picks.
-    ids = np.array([position[n] for n in names] + [position.get("default", 0)])
-    return ids[latest[triangle_polygon]].astype(np.int32), tuple(unique)
+    ids = np.array([position[n] for n in names] + [position.get("default", 0)], np.int32)
+    return per_triangle(ids, latest, triangle_polygon), tuple(unique)
 
 
 def face_materials(doc, faces: Elements, triangle_polygon: np.ndarray, names: tuple):
@@ -132,4 +152,4 @@ def face_materials(doc, faces: Elements, triangle_polygon: np.ndarray, names: tu
     position = {n: i for i, n in enumerate(names)}
     # The extra last entry is what latest == -1 (no statement above) picks.
     ids = np.array([position.get(n, -1) for n in used] + [-1], np.int32)
-    return ids[latest[triangle_polygon]]
+    return per_triangle(ids, latest, triangle_polygon)

@@ -74,8 +74,10 @@ def unit_rows(a: np.ndarray) -> np.ndarray:
     """Rows of a (N, 3) scaled to length 1, NaN and infinite components taken as 0; rows of
     length 0 become 0 (:func:`rasterkit.obj.kernels.normals.unit_rows`: rows whose squares
     would overflow or vanish are scaled towards 1 first, the other rows keep their exact
-    values)."""
-    return normal_kernels.unit_rows(np.ascontiguousarray(a, dtype=np.float64))
+    values); in sealed memory (:func:`rasterkit.mesh.checks.sealed_empty`)."""
+    sealed, fill = sealed_empty((len(a), 3), np.float64)  # a Mesh keeps it without a copy
+    normal_kernels.unit_rows(np.ascontiguousarray(a, dtype=np.float64), fill)
+    return sealed
 
 
 def vertex_normals(faces: Elements, unit: np.ndarray, n_vertices: int):

@@ -36,7 +36,7 @@ class Document:
     kinds: np.ndarray
     ntokens: np.ndarray
     geometry: Geometry
-    _rows: dict = field(default_factory=dict, compare=False, repr=False)  # of_kind's
+    _rows: dict = field(default_factory=dict, compare=False, repr=False)  # of_kind's and names'
 
     @classmethod
     def read(cls, name: str) -> Document:
@@ -97,6 +97,27 @@ class Document:
                     name = known[raw] = " ".join(decode(t) for t in split_tokens(raw)[1:])
                 names.append(name)
         return names
+
+    def names(self, *kinds) -> tuple:
+        """:meth:`arguments` of the statements of the given kinds, in file order (worked out
+        once: several parts of the loader ask for the ``usemtl`` names)."""
+        key = ("names",) + kinds
+        names = self._rows.get(key)
+        if names is None:
+            names = self._rows[key] = tuple(self.arguments(self.of_kind(*kinds)))
+        return names
+
+    def latest(self, kinds: tuple, statements: np.ndarray) -> np.ndarray:
+        """(len(statements),) int64: for each of the statements (ascending), the position among
+        the statements of the given kinds of the latest one above it, -1 where there is none
+        (worked out once for the same array: read-only)."""
+        key = ("latest", id(statements)) + kinds
+        found = self._rows.get(key)
+        if found is None or found[0] is not statements:  # kept with it: an id is never reused
+            latest = np.searchsorted(self.of_kind(*kinds), statements) - 1
+            latest.flags.writeable = False
+            found = self._rows[key] = (statements, latest)
+        return found[1]
 
     def counts_before(self, rows: np.ndarray) -> np.ndarray:
         """(len(rows), 3) int64: v, vt and vn statements above each of the statements rows."""

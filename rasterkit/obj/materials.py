@@ -27,12 +27,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rasterkit.material import DEFAULT_DIFFUSE, Material
-from rasterkit.mesh.checks import sealed_empty
 from rasterkit.obj.document import Document
 from rasterkit.obj.errors import ObjError, Report, count
 from rasterkit.obj.files import read_file
 from rasterkit.obj.mtl import MaterialSpec, parse_library
-from rasterkit.obj.statements import Elements, latest_above
+from rasterkit.obj.statements import Elements, latest_above, per_triangle
 from rasterkit.obj.textures import TextureFiles
 from rasterkit.obj.kernels.scan import KIND_MTLLIB, KIND_USEMTL
 
@@ -70,8 +69,7 @@ class Libraries:
 
 
 def material_names(doc: Document) -> tuple:
-    names = doc.arguments(doc.of_kind(KIND_USEMTL))
-    return tuple(dict.fromkeys(n for n in names if n))
+    return tuple(dict.fromkeys(n for n in doc.names(KIND_USEMTL) if n))
 
 
 def face_colors(doc: Document, faces: Elements, triangle_polygon, libraries: Libraries, report: Report):
@@ -91,9 +89,7 @@ def face_colors(doc: Document, faces: Elements, triangle_polygon, libraries: Lib
     kd = {name: spec.values.get("diffuse", DEFAULT_KD) for name, spec in libraries.specs.items()}
     # The extra last row is what latest == -1 (no usemtl above) picks.
     table = np.array([kd.get(n, DEFAULT_KD) for n in names] + [DEFAULT_KD], np.float32)
-    colours, fill = sealed_empty((len(triangle_polygon), 3), np.float32)  # the Mesh's own: not copied again
-    np.take(table, latest[triangle_polygon], axis=0, out=fill, mode="wrap")  # -1: the last row
-    return colours
+    return per_triangle(table, latest, triangle_polygon)
 
 
 def read_libraries(doc: Document, report: Report, whole: bool = False) -> Libraries:
@@ -101,7 +97,7 @@ def read_libraries(doc: Document, report: Report, whole: bool = False) -> Librar
     ``usemtl`` without a name uses a ``newmtl`` without one, for its colour), and, with
     ``whole``, every statement of the named ones. Warns about unreadable ``Kd`` lines and
     libraries that cannot be read."""
-    wanted = set(doc.arguments(doc.of_kind(KIND_USEMTL)))
+    wanted = set(doc.names(KIND_USEMTL))
     libraries = Libraries(whole=wanted - {""} if whole else set())
     failed: list = []  # (statement, file, reason)
     for path, data in library_files(doc, failed):

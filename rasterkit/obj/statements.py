@@ -17,7 +17,7 @@ from rasterkit.obj.kernels.corners import INDEX_BEFORE_FIRST, INDEX_MALFORMED, I
 from rasterkit.runtime.decimal import NUMBER_OTHER
 from rasterkit.obj.kernels.scan import KIND_OTHER, KIND_P, KIND_V, KIND_VN, KIND_VT, split_tokens
 
-__all__ = ["Elements", "latest_above", "note_skipped", "read_elements", "read_numbers",
+__all__ = ["Elements", "latest_above", "per_triangle", "note_skipped", "read_elements", "read_numbers",
            "read_vertices"]
 
 _REPARSE_CHUNK = 1 << 16  # statements re-parsed at once
@@ -277,6 +277,13 @@ def note_skipped(doc: Document, report: Report):
 def latest_above(doc: Document, kinds, faces: Elements):
     """Names of the statements of the given kinds (g and o, or usemtl) and, for each face, the
     position in that list of the latest one above it (-1 when there is none)."""
-    rows = doc.of_kind(*kinds)
-    names = doc.arguments(rows)
-    return names, np.searchsorted(rows, faces.statements) - 1
+    return list(doc.names(*kinds)), doc.latest(kinds, faces.statements)
+
+
+def per_triangle(table: np.ndarray, latest: np.ndarray, triangle_polygon: np.ndarray) -> np.ndarray:
+    """``table[latest[triangle_polygon]]`` (``latest`` from :func:`latest_above`, whose -1 picks
+    the last row of ``table``), in sealed memory (:func:`rasterkit.mesh.checks.sealed_empty`),
+    which the Mesh keeps without a copy."""
+    sealed, fill = sealed_empty((len(triangle_polygon),) + table.shape[1:], table.dtype)
+    np.take(table[latest], triangle_polygon, axis=0, out=fill, mode="clip")  # valid polygons: no buffer
+    return sealed

@@ -18,14 +18,12 @@ _HUGE, _TINY = 1e150, 1e-150
 
 
 @kernel(fastmath=False)
-def unit_rows(a):
-    """(N, 3) float64: the rows of ``a`` (N, 3) float64 scaled to length 1, NaN and infinite
+def unit_rows(a, out):
+    """Write into ``out`` (N, 3) float64 the rows of ``a`` (N, 3) float64 scaled to length 1, NaN and infinite
     components taken as 0 (``np.nan_to_num``); rows of length 0 become 0. A row whose
     largest component (in size) is above 1e150 or below 1e-150 is divided by it first;
     the length is ``sqrt((x * x + y * y) + z * z)``, as ``np.linalg.norm`` sums along rows."""
-    n = a.shape[0]
-    out = np.empty((n, 3))
-    for r in range(n):
+    for r in range(a.shape[0]):
         x, y, z = a[r, 0], a[r, 1], a[r, 2]
         x = x if np.isfinite(x) else 0.0
         y = y if np.isfinite(y) else 0.0
@@ -38,7 +36,6 @@ def unit_rows(a):
             out[r, 0], out[r, 1], out[r, 2] = x / length, y / length, z / length
         else:
             out[r, 0] = out[r, 1] = out[r, 2] = 0.0
-    return out
 
 
 @kernel(fastmath=False)
