@@ -16,6 +16,7 @@ from rasterkit.camera.view import View as View
 from rasterkit.options import PROJECTIONS as PROJECTIONS
 from rasterkit.options import RenderOptions as RenderOptions
 from rasterkit.raster.framebuffer import Framebuffer as Framebuffer
+from rasterkit.raster.lights import Light as Light
 from rasterkit.raster.render import render as render
 from rasterkit.runtime.threads import set_threads as set_threads
 from rasterkit.scene import Scene as Scene

@@ -123,6 +123,15 @@ class RenderOptions:
     textures : bool
         Draw the faces whose material has a ``diffuse_map`` textured (the map's colour times
         the material's ``diffuse`` and the shading); False draws every face untextured.
+    lights : list of rasterkit.Light
+        The lights of the frame (:class:`rasterkit.Light`: directional, point, spot, ambient,
+        headlight), Blinn-Phong shading summed in linear light (:mod:`rasterkit.raster.lighting`);
+        empty (the default): a scene's lights, else the classic Lambert headlight (or ``light``).
+    specular : float
+        In [0, 1]: the strength of the white highlight of faces without a material (linear
+        light), under ``lights``. Default 0.25.
+    shininess : float
+        The Blinn-Phong exponent of faces without a material, >= 0. Default 32.
     texture_filter : {"trilinear", "bilinear", "nearest"} or None
         How every texture is filtered (:data:`TEXTURE_FILTERS`): ``trilinear`` uses the
         mipmaps with OpenGL's level of detail, ``bilinear`` the 4 texels around the point,
@@ -149,6 +158,9 @@ class RenderOptions:
     point_color: object = "black"
     textures: bool = True
     texture_filter: str | None = "trilinear"
+    lights: tuple = ()
+    specular: float = 0.25
+    shininess: float = 32.0
 
     def __post_init__(self):
         for name, check in _CHECKS.items():
@@ -173,17 +185,6 @@ class RenderOptions:
 FIELDS = frozenset(f.name for f in dataclasses.fields(RenderOptions))
 
 
-def _colour(name: str, value):
-    """A colour as it is stored: a name or ``#rrggbb`` string as given, a tuple of ints."""
-    from rasterkit.colors import rgba
-
-    try:
-        rgba(value)
-    except (TypeError, ValueError) as e:
-        raise type(e)(f"{name}: {e}") from None
-    return value if isinstance(value, str) else tuple(int(c) for c in value)
-
-
 def _direction(name: str, value) -> tuple[float, float, float]:
     """Three finite numbers, not all zero, as they were given (scaled to unit length when drawn)."""
     from rasterkit._arrays import real_array, unit_vector
@@ -200,6 +201,15 @@ def _crease_angle(name: str, value) -> float:
     return float(value)
 
 
+def _lights(name: str, value) -> tuple:
+    """A tuple of rasterkit.Light (none: no import of the lights module)."""
+    if isinstance(value, (tuple, list)) and not value:
+        return ()
+    from rasterkit.raster.lights import check_lights
+
+    return check_lights(name, value)
+
+
 def _optional(check):
     return lambda name, value: None if value is None else check(name, value)
 
@@ -209,7 +219,7 @@ _CHECKS = {
     "mode": lambda name, value: values.choice(name, value, MODES),
     "cull": lambda name, value: values.choice(name, value, CULL),
     "shading": lambda name, value: values.choice(name, value, SHADING),
-    "color": _colour, "line_color": _colour, "background": _optional(_colour), "light": _optional(_direction),
+    "color": values.colour, "line_color": values.colour, "background": _optional(values.colour), "light": _optional(_direction),
     "aa": values.flag,
     "edges": lambda name, value: values.choice(name, value, EDGES),
     "crease_angle": _crease_angle,
@@ -217,8 +227,11 @@ _CHECKS = {
     "vignette": values.unit_interval,
     "ids": values.flag, "normals": values.flag, "camera_depth": values.flag, "uv": values.flag,
     "point_size": lambda name, value: values.whole(name, value, 1, MAX_POINT_SIZE),
-    "point_color": _colour,
+    "point_color": values.colour,
     "textures": values.flag,
     "texture_filter": _optional(lambda name, value: values.choice(name, value, TEXTURE_FILTERS)),
+    "lights": lambda name, value: _lights(name, value),
+    "specular": values.unit_interval,
+    "shininess": values.non_negative,
 }
 assert set(_CHECKS) == FIELDS

@@ -44,6 +44,9 @@ class Scene:
         shines along the viewing direction).
     background : colour
         Background of ``render(scene)`` unless one is passed there.
+    lights : list of rasterkit.Light
+        The scene's lights (:meth:`add_light`), used by ``render(scene)`` unless lights are
+        passed there; none: the classic headlight (or ``light``).
 
     Examples
     --------
@@ -58,6 +61,7 @@ class Scene:
     light: Sequence[float] | None = None
     background: ColorLike = "white"
     objects: list[SceneObject] = field(default_factory=list)
+    lights: list = field(default_factory=list)
 
     def add(self, mesh: Mesh, matrix: np.ndarray | None = None,
             color: ColorLike | None = None) -> "Scene":
@@ -65,6 +69,13 @@ class Scene:
         m = np.eye(4) if matrix is None else _model_matrix(matrix)
         rgb = None if color is None else parse_color(color)[:3].astype(np.float32) / 255.0
         self.objects.append(SceneObject(as_mesh(mesh), m, rgb))
+        return self
+
+    def add_light(self, light) -> "Scene":
+        """Add a :class:`rasterkit.Light` to the scene's lights; returns self."""
+        from rasterkit.raster.lights import check_lights
+
+        self.lights.extend(check_lights("light", [light]))
         return self
 
     def world_mesh(self, default_color: ColorLike = "lightgray") -> Mesh:

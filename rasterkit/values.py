@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import numbers
 
-__all__ = ["choice", "flag", "optional", "point", "positive", "real", "size", "unit_interval", "whole"]
+__all__ = ["choice", "colour", "flag", "non_negative", "optional", "point", "positive", "real", "size", "unit_interval", "whole"]
 
 
 def _is_bool(value) -> bool:
@@ -54,6 +54,13 @@ def positive(name: str, value) -> float:
     return value
 
 
+def non_negative(name: str, value) -> float:
+    value = real(name, value)
+    if value < 0.0:
+        raise ValueError(f"{name} must be >= 0, got {value!r}")
+    return value
+
+
 def unit_interval(name: str, value) -> float:
     value = real(name, value)
     if not 0.0 <= value <= 1.0:
@@ -68,6 +75,18 @@ def choice(name: str, value, choices: tuple):
     if value not in choices:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, choices))}, got {value!r}")
     return value
+
+
+def colour(name: str, value):
+    """A colour as it is stored: a name or ``#rrggbb`` string as given, a tuple of ints
+    (checked by :func:`rasterkit.colors.rgba`, which loads NumPy)."""
+    from rasterkit.colors import rgba
+
+    try:
+        rgba(value)
+    except (TypeError, ValueError) as e:
+        raise type(e)(f"{name}: {e}") from None
+    return value if isinstance(value, str) else tuple(int(c) for c in value)
 
 
 def point(name: str, value) -> tuple[float, float, float]:

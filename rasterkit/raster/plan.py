@@ -14,6 +14,7 @@ from rasterkit.mesh import Mesh, as_mesh
 from rasterkit.options import RenderOptions
 from rasterkit.raster import accumulate as _accumulate
 from rasterkit.raster.memory import frame_bytes, maps_bytes
+from rasterkit.raster.lights import check_lights, frame_lights
 from rasterkit.raster.modes import Mode, mode
 from rasterkit.raster.shading import light_direction
 from rasterkit.raster.vertex import transform_points
@@ -38,6 +39,7 @@ class Style:
     maps: object = None  # a vision render's Maps (rasterkit.raster.vision.maps_record), made by the band worker
     textures: bool = False  # textured faces drawn textured, cut-out faces cut out (rasterkit.raster.texturing)
     texture_filter: str | None = "trilinear"  # every texture's filter, or None: each one's own
+    lights: object = None  # rasterkit.raster.lights.FrameLights, or None: the classic headlight
 
 
 @dataclass(frozen=True)
@@ -67,11 +69,12 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
                               options.point_size)
         if mesh is None:
             mesh = Mesh(np.zeros((0, 3)), np.zeros((0, 3), np.int64))
-    object_faces, background, light = None, options.background, options.light
+    object_faces, background, light, lights = None, options.background, options.light, options.lights
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
         background = background if background is not None else mesh.background
         light = light if light is not None else mesh.light
+        lights = lights or check_lights("Scene.lights", mesh.lights)
         if options.ids:
             object_faces = [len(o.mesh.faces) for o in mesh.objects]
         mesh = mesh.world_mesh(options.color)
@@ -84,7 +87,8 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     background = "white" if background is None else background
     style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
                   options.aa, light_direction(light, camera), textures=options.textures,
-                  texture_filter=options.texture_filter)
+                  texture_filter=options.texture_filter,
+                  lights=frame_lights(lights, camera, options.specular, options.shininess))
     one_sample = options.samples == 1 and options.vignette == 0.0
     normals, wanted_ids = options.normals, options.ids or options.normals or options.uv
     # the maps made by the band worker: a one-sample render of faces, nothing drawn after

@@ -1,7 +1,9 @@
-"""Lambert shading of a render's faces: per face for flat shading, per vertex for smooth.
+"""Shading of a render's faces: per face for flat shading, per vertex (or face corner) for
+smooth; Lambert's law under the classic headlight or distant ``light``, or, with ``lights``,
+Blinn-Phong under every light of the frame (:mod:`rasterkit.raster.kernels.lights`).
 
 :func:`rasterkit.render` colours the faces through :func:`shade`; its options are those of
-:class:`rasterkit.raster.plan.Style` (``shading``, ``cull``, ``color``, ``light``).
+:class:`rasterkit.raster.plan.Style` (``shading``, ``cull``, ``color``, ``light``, ``lights``).
 """
 
 from __future__ import annotations
@@ -11,6 +13,8 @@ import numpy as np
 from rasterkit._arrays import unit_vector
 from rasterkit.camera import Camera
 from rasterkit.raster.normals import vertex_normals
+from rasterkit.material.colorspace import decode_srgb
+from rasterkit.raster.kernels import lights as light_kernels
 from rasterkit.raster.kernels import shade as shade_kernels
 from rasterkit.mesh import Mesh
 from rasterkit.raster.sides import Sides, corner_sides, face_sides
@@ -34,6 +38,8 @@ def shade(mesh: Mesh, options, sides: Sides | None = None):
     of ``mesh`` and ``options.cull``, worked out when None) says.
     """
     two_sided = (sides or face_sides(mesh, options.cull)).two_sided
+    if options.lights is not None:
+        return _lit(mesh, options, two_sided)
     towards_light = options.light
     if options.shading == "flat":
         if mesh.face_colors is not None:  # scaled in the kernel: no (M, 3) product per frame
@@ -61,6 +67,58 @@ def shade(mesh: Mesh, options, sides: Sides | None = None):
     base = _base_colors(mesh, options, per_face=False)
     normals = _vertex_normals(mesh)
     return None, _lambert(normals, base, towards_light, corner_sides(two_sided, mesh.faces, len(normals))), None
+
+
+def _lit(mesh: Mesh, options, two_sided):
+    """:func:`shade` under ``options.lights`` (:class:`rasterkit.raster.lights.FrameLights`):
+    flat, each face's colour at its centroid with its normal; smooth, each face corner's
+    colour at its vertex with its smooth normal (interpolated across the face by the
+    rasterizer), so that a point light's falloff and highlights vary within a face."""
+    m = len(mesh.faces)
+    if options.shading == "flat":
+        points = mesh.vertices[mesh.faces].mean(axis=1)
+        normals = mesh.face_normals
+        base = (mesh.face_colors * np.float32(255) if mesh.face_colors is not None
+                else _base_colors(mesh, options, per_face=True))
+        return _lit_rows(points, normals, base, _surfaces(mesh, options, 1), options.lights, two_sided), None, None
+    normals, corners, split = mesh.smooth_corners
+    rows = normals[corners] if split else _vertex_normals(mesh)[mesh.faces]
+    if mesh.face_colors is not None:
+        base = np.repeat(mesh.face_colors * np.float32(255), 3, axis=0)
+    else:
+        base = _base_colors(mesh, options, per_face=False)
+        base = base if len(base) == 1 else base[mesh.faces.ravel()]
+    colours = _lit_rows(mesh.vertices[mesh.faces.ravel()], rows.reshape(-1, 3), base, _surfaces(mesh, options, 3),
+                        options.lights, np.repeat(two_sided, 3) if isinstance(two_sided, np.ndarray) else two_sided)
+    return None, colours, np.arange(3 * m, dtype=np.int64).reshape(-1, 3)
+
+
+def _surfaces(mesh: Mesh, options, repeat: int):
+    """``(specular (S, 3), shininess (S,), emission (S, 3))``, linear, of each face (repeated
+    ``repeat`` times: one per row) from its material's ``specular``, ``shininess`` and
+    ``emission`` (sRGB colours), or one for all: a white highlight of ``specular`` (linear)
+    and ``shininess`` from the options, no emission, for faces without a material."""
+    lights = options.lights
+    plain = np.array([[lights.specular] * 3 + [lights.shininess, 0.0, 0.0, 0.0]])
+    if not mesh.materials or mesh.face_materials is None:
+        table, rows = plain, None
+    else:
+        own = [decode_srgb(np.array(mat.specular)).tolist() + [mat.shininess] + decode_srgb(np.array(mat.emission))
+               .tolist() if mat is not None else plain[0].tolist() for mat in mesh.materials]
+        table = np.array(own + [plain[0].tolist()])  # the last row: faces without a material (-1)
+        rows = np.repeat(mesh.face_materials, repeat) if repeat > 1 else mesh.face_materials
+    chosen = table if rows is None else table[rows]
+    return (np.ascontiguousarray(chosen[:, 0:3]), np.ascontiguousarray(chosen[:, 3]),
+            np.ascontiguousarray(chosen[:, 4:7]))
+
+
+def _lit_rows(points, normals, base, surfaces, lights, two_sided):
+    normals = np.nan_to_num(np.ascontiguousarray(normals, np.float64), nan=0.0, posinf=0.0, neginf=0.0)
+    base = np.ascontiguousarray(base, np.float32)
+    with np.errstate(all="ignore"):  # faces with a non-finite corner are not drawn
+        points = np.nan_to_num(np.ascontiguousarray(points, np.float64))
+    return light_kernels.lit_colors(points, normals, base, *surfaces, lights.table, lights.eye, lights.perspective,
+                                    lights.view, two_sided)
 
 
 def _vertex_normals(mesh: Mesh) -> np.ndarray:

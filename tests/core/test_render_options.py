@@ -27,11 +27,14 @@ MAPS = dict(ids=True, normals=True, camera_depth=True, uv=True)
 POINTS = dict(point_size=3, point_color="red")
 #: The fields of textured frames, each away from its default (TEXTURED_BOWL shows them).
 TEXTURE = dict(textures=False, texture_filter="nearest")
+#: The fields of lit frames, each away from its default.
+LIGHTING = dict(lights=(rasterkit.Light.point((1.5, 2.0, 1.0), color="#f5deb3", intensity=6.0),
+                        rasterkit.Light.ambient("white", 0.08)), specular=0.7, shininess=6.0)
 CLOUD = np.array([[0.8, 0.9, 0.9], [1.2, 0.3, 0.8], [0.4, 1.3, 0.5]])  # outside the ball, facing the camera
 
 
 def test_the_fields_under_test_are_all_the_fields():
-    assert set(IMAGE) | set(MAPS) | set(POINTS) | set(TEXTURE) == FIELDS
+    assert set(IMAGE) | set(MAPS) | set(POINTS) | set(TEXTURE) | set(LIGHTING) == FIELDS
 
 
 def test_render_keywords_are_changes_to_the_options_record():
@@ -128,6 +131,20 @@ def test_the_texture_fields_change_a_textured_frame(path):
                                   reference), name
     off = rasterkit.render(TEXTURED_BOWL, camera, options=full.replace(textures=False)).color
     assert np.array_equal(off, rasterkit.render(BOWL, camera, options=full).color)
+
+
+@pytest.mark.parametrize("path", ["plain", "distorted", "samples"])
+def test_the_lighting_fields_change_a_lit_frame(path):
+    """``lights``, ``specular`` and ``shininess`` are seen in each path: with the other image
+    fields set (``light`` aside: the lights replace it), putting back any one default changes
+    the frame."""
+    camera = _distorted(CAMERA) if path == "distorted" else CAMERA
+    full = RenderOptions(**IMAGE, **LIGHTING).replace(samples=4 if path == "samples" else 1)
+    reference = rasterkit.render(BOWL, camera, options=full).color
+    for name in LIGHTING:
+        changed = rasterkit.render(BOWL, camera, options=full.replace(**{name: getattr(RenderOptions(), name)})).color
+        assert not np.array_equal(changed, reference), name
+    assert np.array_equal(rasterkit.render(BOWL, camera, options=full.replace(light=(0.0, 0.0, 1.0))).color, reference)
 
 
 @pytest.mark.parametrize("path", ["plain", "distorted", "samples"])

@@ -1,0 +1,138 @@
+"""Blinn-Phong lighting of surface points under a render's lights
+(:func:`rasterkit.raster.lights.light_table`), in linear light.
+
+At a point ``p`` with unit normal ``n``, seen along the unit ``v`` (towards the viewer), each
+light gives its linear colour ``C`` (colour times intensity) times its attenuation ``a`` and
+the direction ``l`` towards it:
+
+    ambient:  base · C
+    others:   a · C · (base · max(n · l, 0) + specular · max(n · h, 0)^shininess)  where n · l > 0,
+              h = normalize(l + v)
+
+(directional and headlight: ``a = 1``; point and spot: ``a = 1 / d²`` times glTF's range
+window ``clamp(1 - (d / range)⁴, 0, 1)``, and for a spot the cone's
+``clamp(cos · scale + offset, 0, 1)²``). The sum, plus ``emission``, is clamped to [0, 1] per
+channel and encoded to sRGB. A two-sided surface seen from behind (``n · v < 0``) is lit with
+its normal turned towards the viewer.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit.raster.kernels.cull import per_face
+from rasterkit.runtime.jit import kernel
+
+# the kind codes of rasterkit.raster.lights.KINDS
+_AMBIENT, _DIRECTIONAL, _POINT, _SPOT, _HEADLIGHT = 0, 1, 2, 3, 4
+
+
+@kernel(inline="always")
+def decode(c):
+    """Linear light of the sRGB value ``c`` in [0, 1]."""
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+@kernel(inline="always")
+def encode255(x):
+    """The sRGB encoding of linear ``x`` (clamped to [0, 1]; NaN gives 0), times 255."""
+    x = x if x > 0.0 else 0.0  # noqa: FURB136 - the select sends NaN to 0
+    x = x if x < 1.0 else 1.0  # noqa: FURB136
+    return 255.0 * (12.92 * x if x <= 0.0031308 else 1.055 * x ** (1.0 / 2.4) - 0.055)
+
+
+@kernel(inline="always")
+def light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, base, specular, shininess, table):
+    """The linear (r, g, b) that the lights of ``table`` send back from the point (px, py, pz)
+    with unit normal (nx, ny, nz), seen along the unit (vx, vy, vz); ``base`` and
+    ``specular`` linear (r, g, b) tuples (see the module documentation)."""
+    r = g = b = 0.0
+    for k in range(table.shape[0]):
+        kind = np.int64(table[k, 0])
+        cr, cg, cb = table[k, 7], table[k, 8], table[k, 9]
+        if kind == _AMBIENT:
+            r, g, b = r + base[0] * cr, g + base[1] * cg, b + base[2] * cb
+            continue
+        if kind == _DIRECTIONAL or kind == _HEADLIGHT:
+            lx, ly, lz, a = -table[k, 4], -table[k, 5], -table[k, 6], 1.0
+        else:
+            lx, ly, lz = table[k, 1] - px, table[k, 2] - py, table[k, 3] - pz
+            d2 = lx * lx + ly * ly + lz * lz
+            if not d2 > 0.0:
+                continue
+            d = np.sqrt(d2)
+            lx, ly, lz, a = lx / d, ly / d, lz / d, 1.0 / d2
+            reach = table[k, 10]
+            if reach > 0.0:
+                q = d / reach
+                w = min(max(1.0 - q * q * q * q, 0.0), 1.0)
+                a *= w
+            if kind == _SPOT:
+                cos = -(lx * table[k, 4] + ly * table[k, 5] + lz * table[k, 6])
+                t = min(max(cos * table[k, 11] + table[k, 12], 0.0), 1.0)
+                a *= t * t
+        ndl = nx * lx + ny * ly + nz * lz
+        if not ndl > 0.0 or a == 0.0:
+            continue
+        hx, hy, hz = lx + vx, ly + vy, lz + vz
+        hl = np.sqrt(hx * hx + hy * hy + hz * hz)
+        highlight = 0.0
+        if hl > 0.0:
+            ndh = (nx * hx + ny * hy + nz * hz) / hl
+            highlight = max(ndh, 0.0) ** shininess
+        r += a * cr * (base[0] * ndl + specular[0] * highlight)
+        g += a * cg * (base[1] * ndl + specular[1] * highlight)
+        b += a * cb * (base[2] * ndl + specular[2] * highlight)
+    return r, g, b
+
+
+@kernel(fastmath=False)
+def lit_colors(points, normals, base, specular, shininess, emission, table, eye, perspective, view, two_sided):
+    """Blinn-Phong colours of K surface points.
+
+    Parameters
+    ----------
+    points, normals : (K, 3) float64
+        World space; the normals unit length (a zero normal gets the ambient light only).
+    base : (B, 3) float32
+        sRGB colours 0..255, one per point (``B == K``) or one for all (``B == 1``).
+    specular : (S, 3) float64, shininess : (S,) float64, emission : (S, 3) float64
+        Linear light, one per point (``S == K``) or one for all (``S == 1``).
+    table : (L, 14) float64
+        :func:`rasterkit.raster.lights.light_table`.
+    eye : (3,) float64
+        The camera's eye, world space: the viewer of a ``perspective`` camera.
+    perspective : bool
+    view : (3,) float64
+        Unit direction towards the viewer of a parallel camera.
+    two_sided : bool or (K,) bool
+        Points lit on both sides (:func:`rasterkit.raster.kernels.cull.per_face`).
+
+    Returns
+    -------
+    (K, 3) float32
+        sRGB colours 0..255 (not rounded).
+    """
+    k_count = points.shape[0]
+    out = np.empty((k_count, 3), np.float32)
+    one_base, one_spec = base.shape[0] == 1, specular.shape[0] == 1
+    for k in range(k_count):
+        px, py, pz = points[k, 0], points[k, 1], points[k, 2]
+        vx, vy, vz = view[0], view[1], view[2]
+        if perspective:
+            vx, vy, vz = eye[0] - px, eye[1] - py, eye[2] - pz
+            length = np.sqrt(vx * vx + vy * vy + vz * vz)
+            if length > 0.0:
+                vx, vy, vz = vx / length, vy / length, vz / length
+        nx, ny, nz = normals[k, 0], normals[k, 1], normals[k, 2]
+        if per_face(two_sided, k) and nx * vx + ny * vy + nz * vz < 0.0:
+            nx, ny, nz = -nx, -ny, -nz
+        kb = 0 if one_base else k
+        ks = 0 if one_spec else k
+        albedo = (decode(base[kb, 0] / 255.0), decode(base[kb, 1] / 255.0), decode(base[kb, 2] / 255.0))
+        r, g, b = light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, albedo,
+                            (specular[ks, 0], specular[ks, 1], specular[ks, 2]), shininess[ks], table)
+        out[k, 0] = encode255(r + emission[ks, 0])
+        out[k, 1] = encode255(g + emission[ks, 1])
+        out[k, 2] = encode255(b + emission[ks, 2])
+    return out

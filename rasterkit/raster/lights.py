@@ -1,0 +1,210 @@
+"""Lights: :class:`Light`, the record a render's ``lights`` hold, and :func:`light_table`, the
+lights of one frame as the lighting kernel reads them (:mod:`rasterkit.raster.kernels.lights`).
+
+Every position and direction is in world space. A light's colour is an sRGB colour (a name,
+``'#rrggbb'`` or 0-255 values) that the lighting turns into linear light and multiplies by
+``intensity``; the lights add up in linear light (:mod:`rasterkit.raster.lighting`).
+
+- ``directional``: parallel rays along ``direction`` (from the light towards the scene): the
+  sun; ``n · l`` with ``l = -direction``.
+- ``point``: from ``position`` in every direction, falling off with the inverse square of the
+  distance ``d`` (``intensity / d²``); with a ``range``, glTF's window
+  ``clamp(1 - (d / range)⁴, 0, 1)`` brings it to zero at that distance.
+- ``spot``: a point light limited to a cone around ``direction`` of full opening ``angle``
+  (degrees), whose edge fades over the outer ``blend`` fraction of its half-angle: glTF's
+  ``KHR_lights_punctual`` spot (outer cone ``angle / 2``, inner ``(1 - blend) angle / 2``,
+  the square of the linear ramp between their cosines).
+- ``ambient``: light from everywhere, ``base · colour · intensity`` whatever the normal.
+- ``headlight``: a directional light along the camera's viewing direction, resolved per frame.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rasterkit import values
+
+__all__ = ["KINDS", "FrameLights", "Light", "check_lights", "frame_lights", "light_table"]
+
+#: The kinds of :class:`Light`, in the order of their codes in :func:`light_table`.
+KINDS = ("ambient", "directional", "point", "spot", "headlight")
+AMBIENT, DIRECTIONAL, POINT, SPOT, HEADLIGHT = range(len(KINDS))
+
+#: Columns of a :func:`light_table` row.
+TABLE_WIDTH = 14
+
+
+@dataclass(frozen=True)
+class Light:
+    """One light of a render (``render(..., lights=[...])``, :meth:`rasterkit.Scene.add_light`).
+    Make it with the constructors (:meth:`directional`, :meth:`point`, :meth:`spot`,
+    :meth:`ambient`, :meth:`headlight`); the record is immutable, compares by value and
+    pickles, so it travels in :class:`rasterkit.RenderOptions` to batch workers.
+
+    Fields
+    ------
+    kind : {"ambient", "directional", "point", "spot", "headlight"}
+    color : colour
+        sRGB, as given (a name, ``'#rrggbb'``, or an (r, g, b) tuple of 0-255).
+    intensity : float >= 0
+        Multiplies the colour (in linear light).
+    position : (x, y, z) or None
+        World space: point and spot lights.
+    direction : (x, y, z) or None
+        World space, from the light towards the scene (unit length): directional and spot lights.
+    range : float or None
+        Point and spot lights: the distance at which they fade out (None: never).
+    angle : float
+        Spot lights: the cone's full opening, degrees in (0, 180).
+    blend : float
+        Spot lights: the fraction of the cone's half-angle, from its edge, over which the light fades, in [0, 1].
+    shadows : bool
+        Whether the light casts shadows.
+
+    Examples
+    --------
+    >>> key = Light.directional((-1, -2, -1), color="white", intensity=2.5)
+    >>> key.kind, key.direction == tuple(np.array((-1, -2, -1)) / np.sqrt(6))
+    ('directional', True)
+    >>> Light.point((0, 3, 0), intensity=20, range=10).range
+    10.0
+    """
+
+    kind: str
+    color: object = "white"
+    intensity: float = 1.0
+    position: tuple | None = None
+    direction: tuple | None = None
+    range: float | None = None
+    angle: float = 45.0
+    blend: float = 0.15
+    shadows: bool = False
+
+    def __post_init__(self):
+        values.choice("kind", self.kind, KINDS)
+        set_ = object.__setattr__
+        set_(self, "color", values.colour("color", self.color))
+        set_(self, "intensity", values.non_negative("intensity", self.intensity))
+        placed = self.kind in ("point", "spot")
+        aimed = self.kind in ("directional", "spot")
+        set_(self, "position", values.point("position", self.position) if placed else _absent("position", self))
+        set_(self, "direction", _unit("direction", self.direction) if aimed else _absent("direction", self))
+        if self.range is not None:
+            if not placed:
+                raise ValueError(f"range: only point and spot lights have one, not a {self.kind} light")
+            set_(self, "range", values.positive("range", self.range))
+        set_(self, "angle", _angle(self.angle))
+        set_(self, "blend", values.unit_interval("blend", self.blend))
+        set_(self, "shadows", values.flag("shadows", self.shadows))
+        if self.shadows and self.kind == "ambient":
+            raise ValueError("shadows: an ambient light has no direction to cast them")
+
+    @classmethod
+    def directional(cls, direction, color="white", intensity: float = 1.0, shadows: bool = False) -> Light:
+        """A distant light shining along ``direction`` (world space, towards the scene)."""
+        return cls("directional", color, intensity, direction=direction, shadows=shadows)
+
+    @classmethod
+    def point(cls, position, color="white", intensity: float = 1.0, range: float | None = None,
+              shadows: bool = False) -> Light:
+        """A light at ``position`` shining every way, ``intensity / d²`` at distance ``d``."""
+        return cls("point", color, intensity, position=position, range=range, shadows=shadows)
+
+    @classmethod
+    def spot(cls, position, direction, angle: float = 45.0, blend: float = 0.15, color="white",
+             intensity: float = 1.0, range: float | None = None, shadows: bool = False) -> Light:
+        """A point light limited to a cone of full opening ``angle`` degrees around ``direction``."""
+        return cls("spot", color, intensity, position=position, direction=direction, range=range, angle=angle,
+                   blend=blend, shadows=shadows)
+
+    @classmethod
+    def ambient(cls, color="white", intensity: float = 0.1) -> Light:
+        """Light from everywhere: every surface gets ``base · colour · intensity``."""
+        return cls("ambient", color, intensity)
+
+    @classmethod
+    def headlight(cls, color="white", intensity: float = 1.0, shadows: bool = False) -> Light:
+        """A directional light that follows the camera: it shines along the viewing direction."""
+        return cls("headlight", color, intensity, shadows=shadows)
+
+
+@dataclass(frozen=True)
+class FrameLights:
+    """A frame's lights as the shading reads them (:func:`frame_lights`)."""
+
+    table: np.ndarray  # (L, TABLE_WIDTH) float64, light_table's
+    eye: np.ndarray  # (3,) float64 the camera's eye, world space
+    perspective: bool  # the viewer is at the eye (else along ``view``)
+    view: np.ndarray  # (3,) float64 unit direction towards the viewer of a parallel camera
+    specular: float  # RenderOptions.specular: the highlight of faces without a material
+    shininess: float  # RenderOptions.shininess
+
+
+def frame_lights(lights: tuple, camera, specular: float, shininess: float) -> FrameLights | None:
+    """The :class:`FrameLights` of ``lights`` seen by ``camera`` (a rasterkit.Camera), or
+    None without lights (the frame is lit by the classic headlight)."""
+    if not lights:
+        return None
+    view = np.asarray(camera.backward(), np.float64)
+    return FrameLights(light_table(lights, -view), np.asarray(camera.eye, np.float64),
+                       camera.kind == "perspective", view, specular, shininess)
+
+
+def check_lights(name: str, value) -> tuple:
+    """A render's lights as they are stored: a tuple of :class:`Light` (``TypeError`` for anything else)."""
+    if isinstance(value, (str, bytes, Light)) or not hasattr(value, "__iter__"):
+        raise TypeError(f"{name} must be a list of rasterkit.Light, got {type(value).__name__}")
+    lights = tuple(value)
+    for k, light in enumerate(lights):
+        if not isinstance(light, Light):
+            raise TypeError(f"{name}[{k}] must be a rasterkit.Light, got {type(light).__name__}")
+    return lights
+
+
+def light_table(lights: tuple, view_direction: np.ndarray) -> np.ndarray:
+    """(L, TABLE_WIDTH) float64: one row per light for the kernels: its kind code, position
+    (3), unit direction towards the scene (3; a headlight's is ``view_direction``, the
+    camera's), linear colour times intensity (3), range (0: none) and the spot cone's
+    ``scale, offset`` (its factor is ``clamp(cos · scale + offset, 0, 1)²``, cos the angle's
+    between the cone's axis and the direction to the point)."""
+    from rasterkit.colors import parse_color
+    from rasterkit.material.colorspace import decode_srgb
+
+    table = np.zeros((len(lights), TABLE_WIDTH))
+    for row, light in zip(table, lights):
+        row[0] = KINDS.index(light.kind)
+        if light.position is not None:
+            row[1:4] = light.position
+        if light.kind == "headlight":
+            row[4:7] = view_direction
+        elif light.direction is not None:
+            row[4:7] = light.direction
+        row[7:10] = decode_srgb(parse_color(light.color)[:3] / 255.0) * light.intensity
+        row[10] = light.range or 0.0
+        outer = math.cos(math.radians(light.angle / 2))
+        inner = math.cos(math.radians(light.angle / 2 * (1.0 - light.blend)))
+        row[11] = 1.0 / max(1e-3, inner - outer)
+        row[12] = -outer * row[11]
+    return table
+
+
+def _unit(name: str, value) -> tuple:
+    from rasterkit._arrays import unit_vector
+
+    return tuple(float(c) for c in unit_vector(value, name))
+
+
+def _angle(value) -> float:
+    value = values.real("angle", value)
+    if not 0.0 < value < 180.0:
+        raise ValueError(f"angle must be between 0 and 180 degrees (the cone's full opening), got {value!r}")
+    return float(value)
+
+
+def _absent(name: str, light: Light):
+    if getattr(light, name) is not None:
+        raise ValueError(f"{name}: a {light.kind} light has none")
+    return None
