@@ -20,7 +20,7 @@ import numpy as np
 from rasterkit.material import Material, Texture
 from rasterkit.material.sampling import TextureArgs, texture_args, with_filter
 from rasterkit.raster.kernels.records import Textured
-from rasterkit.raster.kernels.texture_shade import encode_table
+from rasterkit.raster.kernels.surface import encode_table
 from rasterkit.raster.normals import unit
 from rasterkit.raster.sides import corner_sides
 from rasterkit.raster.vision import corner_uv

@@ -83,7 +83,7 @@ Maps = namedtuple("Maps", "want_normals normals smooth world_normals vertex_norm
 #: factor per corner, ``intensity`` (K,) float32 read through ``corners`` (M, 3) int64, else
 #: per face from the unit ``normals`` (M, 3) float32 and ``light`` (3,) float64 with
 #: ``ambient`` and ``back`` (1.0: two-sided, ``|cos|``; 0.0: ``max(cos, 0)``; or (M,) per face); ``encode``
-#: the sRGB table of :func:`rasterkit.raster.kernels.texture_shade.encode_table`; per face
+#: the sRGB table of :func:`rasterkit.raster.kernels.surface.encode_table`; per face
 #: ``face_alpha`` (M,) int32 the texture whose alpha (its first channel without one) times
 #: ``face_opacity`` (M,) float32 cuts it out (-1: none; :mod:`rasterkit.raster.kernels.cutout`),
 #: ``face_normal_map`` (M,) int32 its normal map (-1: none), bent by ``face_bump`` (M,)
