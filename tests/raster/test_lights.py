@@ -12,7 +12,7 @@ import rasterkit as rk
 from rasterkit.colors import rgba
 from rasterkit.raster.kernels.lights import lit_colors
 from rasterkit.raster.lights import light_table
-from tests.support.reference_lighting import blinn_phong, linear_to_srgb255, srgb_to_linear
+from support.reference_lighting import blinn_phong, linear_to_srgb255, srgb_to_linear
 
 GREY = np.array([[211.0, 211.0, 211.0]])  # "lightgray", the default colour
 
