@@ -46,8 +46,8 @@ HIDDEN = (None, "dashed")
 #: those facing it, or none.
 CULL = ("back", "front", "none")
 
-#: Lambert shading per face, or per vertex (Gouraud).
-SHADING = ("flat", "smooth")
+#: Shading per face, per vertex (Gouraud), or per pixel (Phong: Blinn-Phong under the lights).
+SHADING = ("flat", "smooth", "phong")
 
 #: How textures are filtered: mipmaps blended between two levels (GL_LINEAR_MIPMAP_LINEAR),
 #: the 4 nearest texels of the image (GL_LINEAR), or the one texel under the point (GL_NEAREST).
@@ -86,8 +86,12 @@ class RenderOptions:
     cull : {"back", "front", "none"}
         Faces removed before rasterization (the lecture's n·v test, as the sign of the
         screen-space area).
-    shading : {"flat", "smooth"}
-        Per-face Lambert or per-vertex (Gouraud) Lambert.
+    shading : {"flat", "smooth", "phong"}
+        Lighting per face, per vertex (Gouraud, interpolated across the faces) or per pixel
+        (Phong: the normals interpolated, Blinn-Phong under ``lights``; without lights, a
+        headlight with a little ambient light, :data:`rasterkit.raster.lights.PHONG_LIGHTS`).
+        Flat and smooth shading are Lambert's under the classic headlight (or ``light``),
+        or Blinn-Phong under ``lights``.
     color, line_color : colour
         ``'#rrggbb'``, a name, or an ``(r, g, b)`` tuple of 0-255. Vertex or face colours of
         the mesh take the place of ``color``.

@@ -33,8 +33,9 @@ from rasterkit import limits
 from rasterkit.batch import report as _report
 from rasterkit.runtime import stop as _stop
 from rasterkit.batch.report import UsageError
-from rasterkit.cli.args import (add_limits, add_view_arguments, attach_number_lists, finite, integers, point,
-                                positive_int, samples, task_from_args, unit_interval, view_from_args, whole_number)
+from rasterkit.cli.args import (LIGHT_FORMS, add_limits, add_view_arguments, attach_number_lists, finite, integers,
+                                light, non_negative, point, positive_int, samples, task_from_args, unit_interval,
+                                view_from_args, whole_number)
 from rasterkit.options import CULL, EDGES, HIDDEN, MODES, SHADING, TEXTURE_FILTERS
 
 __all__ = ["main", "Terminated"]
@@ -109,7 +110,15 @@ def _parser() -> argparse.ArgumentParser:
     look.add_argument("--background", default="white",
                       help="background colour; 'transparent' writes RGBA")
     look.add_argument("--cull", choices=CULL, default="back")
-    look.add_argument("--shading", choices=SHADING, default="flat")
+    look.add_argument("--shading", choices=SHADING, default="flat",
+                      help="per face (default), per vertex (smooth) or per pixel (phong, Blinn-Phong)")
+    look.add_argument("--light", dest="lights", type=light, action="append", default=[], metavar="KIND:...",
+                      help=f"a light, repeatable: {LIGHT_FORMS} (world space; directions towards the "
+                           "scene, spot ANGLE the cone's full opening in degrees)")
+    look.add_argument("--specular", type=unit_interval, default=0.25, metavar="S",
+                      help="highlight strength of surfaces without a material, 0 to 1 (default 0.25)")
+    look.add_argument("--shininess", type=non_negative, default=32.0, metavar="N",
+                      help="Blinn-Phong exponent of surfaces without a material (default 32)")
     look.add_argument("--aa", action="store_true", help="anti-aliased (Wu) lines")
     look.add_argument("--edges", choices=EDGES, default="all",
                       help="the polygons' edges (default), or feature edges: silhouettes, "

@@ -20,8 +20,8 @@ import re
 from rasterkit import limits
 from rasterkit.options import MAX_IMAGE_SIZE, MODEL_CAMERAS, PROJECTIONS
 
-__all__ = ["NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite", "focus", "integers",
-           "point", "positive_int", "samples", "size", "size_limit", "task_from_args", "unit_interval", "view_from_args",
+__all__ = ["LIGHT_FORMS", "NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite", "focus",
+           "integers", "light", "non_negative", "point", "positive_int", "samples", "size", "size_limit", "task_from_args", "unit_interval", "view_from_args",
            "whole_number"]
 
 
@@ -115,6 +115,50 @@ def unit_interval(text: str) -> float:
     if not 0.0 <= value <= 1.0:
         raise argparse.ArgumentTypeError(f"must lie in [0, 1], got {text!r}")
     return value
+
+
+def non_negative(text: str) -> float:
+    """A finite float >= 0."""
+    value = finite(text)
+    if value < 0.0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+    return value
+
+
+#: What ``--light`` takes after each kind: its numbers, at least and at most.
+_LIGHT_NUMBERS = {"directional": (3, 3, "DX,DY,DZ"), "point": (3, 4, "X,Y,Z[,RANGE]"),
+                  "spot": (6, 8, "X,Y,Z,DX,DY,DZ[,ANGLE[,BLEND]]"), "ambient": (0, 0, ""), "headlight": (0, 0, "")}
+LIGHT_FORMS = ("directional:DX,DY,DZ | point:X,Y,Z[,RANGE] | spot:X,Y,Z,DX,DY,DZ[,ANGLE[,BLEND]] | ambient | "
+               "headlight, then [:COLOR[:INTENSITY]]")
+
+
+def light(text: str):
+    """A :class:`rasterkit.Light` from ``KIND:NUMBERS[:COLOR[:INTENSITY]]`` (ambient and
+    headlight have no numbers: ``KIND[:COLOR[:INTENSITY]]``; see :data:`LIGHT_FORMS`)."""
+    kind, _, rest = text.partition(":")
+    if kind not in _LIGHT_NUMBERS:
+        raise argparse.ArgumentTypeError(f"a light is {LIGHT_FORMS}; unknown kind {kind!r} in {text!r}")
+    low, high, form = _LIGHT_NUMBERS[kind]
+    fields = rest.split(":") if rest else []
+    numbers = [] if high == 0 else (fields.pop(0).split(",") if fields else [])
+    if not low <= len(numbers) <= high or len(fields) > 2:
+        raise argparse.ArgumentTypeError(f"a {kind} light is {kind}{':' + form if form else ''}[:COLOR[:INTENSITY]], "
+                                         f"got {text!r}")
+    values = [finite(n) for n in numbers]
+    colour = fields[0] if fields and fields[0] else "white"
+    intensity = non_negative(fields[1]) if len(fields) > 1 else 1.0
+    from rasterkit.raster.lights import Light  # checks the colour: loads NumPy
+
+    try:
+        if kind == "directional":
+            return Light.directional(values, colour, intensity)
+        if kind == "point":
+            return Light.point(values[:3], colour, intensity, range=values[3] if len(values) > 3 else None)
+        if kind == "spot":
+            return Light.spot(values[:3], values[3:6], *values[6:], color=colour, intensity=intensity)
+        return Light(kind, colour, intensity)
+    except (TypeError, ValueError) as e:
+        raise argparse.ArgumentTypeError(f"{text!r}: {e}")
 
 
 def size_limit(text: str) -> int:

@@ -115,13 +115,16 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
 
 def _textures(mesh: Mesh, style: Style, sides: Sides):
     """The frame's :class:`rasterkit.raster.texturing.FrameTextures`, or None (textures off,
-    or no face of ``mesh`` textured); ``sides``: :func:`face_sides` of the mesh."""
-    if not style.textures or not mesh.materials or mesh.textured is None:  # no import for a plain mesh
+    or no face of ``mesh`` textured, and not shaded ``"phong"``: its faces are lit per pixel,
+    through the textured resolve); ``sides``: :func:`face_sides` of the mesh."""
+    textured = style.textures and bool(mesh.materials) and mesh.textured is not None
+    phong = style.shading == "phong"
+    if not textured and not phong:  # no import for a plain mesh
         return None
     from rasterkit.raster.texturing import frame_textures
 
-    return frame_textures(mesh, style.light, AMBIENT, sides.two_sided, style.shading == "smooth",
-                          style.texture_filter)
+    return frame_textures(mesh, style.light, AMBIENT, sides.two_sided, style.shading != "flat", style.texture_filter,
+                          lit=style.lights, phong=phong, textured=textured)
 
 
 def _cutouts(textures):

@@ -27,7 +27,7 @@ import numpy as np
 
 from rasterkit import values
 
-__all__ = ["KINDS", "FrameLights", "Light", "check_lights", "frame_lights", "light_table"]
+__all__ = ["KINDS", "PHONG_LIGHTS", "FrameLights", "Light", "check_lights", "frame_lights", "light_table"]
 
 #: The kinds of :class:`Light`, in the order of their codes in :func:`light_table`.
 KINDS = ("ambient", "directional", "point", "spot", "headlight")
@@ -208,3 +208,8 @@ def _absent(name: str, light: Light):
     if getattr(light, name) is not None:
         raise ValueError(f"{name}: a {light.kind} light has none")
     return None
+
+
+#: The lights of a phong frame that brings none: a headlight, and the ambient light that
+#: leaves the classic headlight's 25 % (sRGB) on faces turned away.
+PHONG_LIGHTS = (Light.headlight(), Light.ambient(intensity=0.05))

@@ -23,7 +23,7 @@ def frame_bytes(mesh: Mesh, width: int, height: int, style, alpha: bool, ids: bo
     if style.points is not None:  # their homogeneous coordinates
         total += len(style.points.positions) * 32
     if row.faces:
-        smooth = style.shading == "smooth" and row.shaded
+        smooth = style.shading != "flat" and row.shaded
         total += n * 32 + _triangles.scratch_bytes(n, m, width, get_threads(), smooth=smooth,
                                                     band_depth=not row.depth_kept)
         if row.shaded:  # the face normals (float64, then float32), or the vertex colours

@@ -14,7 +14,7 @@ from rasterkit.mesh import Mesh, as_mesh
 from rasterkit.options import RenderOptions
 from rasterkit.raster import accumulate as _accumulate
 from rasterkit.raster.memory import frame_bytes, maps_bytes
-from rasterkit.raster.lights import check_lights, frame_lights
+from rasterkit.raster.lights import PHONG_LIGHTS, check_lights, frame_lights
 from rasterkit.raster.modes import Mode, mode
 from rasterkit.raster.shading import light_direction
 from rasterkit.raster.vertex import transform_points
@@ -81,6 +81,8 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     mesh = as_mesh(mesh)
     if not isinstance(camera, Camera):
         raise TypeError(f"camera must be a rasterkit.Camera, got {type(camera).__name__}")
+    if not lights and options.shading == "phong":
+        lights = PHONG_LIGHTS
     row = mode(options.mode)
     if feature_edges and options.edges == "feature" and row.edges:
         mesh = _with_feature_edges(mesh, camera, options.crease_angle)

@@ -38,6 +38,8 @@ def shade(mesh: Mesh, options, sides: Sides | None = None):
     of ``mesh`` and ``options.cull``, worked out when None) says.
     """
     two_sided = (sides or face_sides(mesh, options.cull)).two_sided
+    if options.shading == "phong":  # lit per pixel (rasterkit.raster.kernels.lit_shade) from these
+        return _unlit(mesh, options)
     if options.lights is not None:
         return _lit(mesh, options, two_sided)
     towards_light = options.light
@@ -69,6 +71,17 @@ def shade(mesh: Mesh, options, sides: Sides | None = None):
     return None, _lambert(normals, base, towards_light, corner_sides(two_sided, mesh.faces, len(normals))), None
 
 
+def _unlit(mesh: Mesh, options):
+    """The faces' own colours, which phong shading lights per pixel: per face (face colours,
+    or ``color`` packed) or per vertex (vertex colours)."""
+    if mesh.face_colors is not None:
+        return mesh.face_colors * np.float32(255), None, None
+    if mesh.vertex_colors is not None:
+        return None, mesh.vertex_colors * np.float32(255), None
+    packed = shade_kernels.pack_colors(options.color[None, :3].astype(np.float32))
+    return np.full(len(mesh.faces), packed[0], np.uint32), None, None
+
+
 def _lit(mesh: Mesh, options, two_sided):
     """:func:`shade` under ``options.lights`` (:class:`rasterkit.raster.lights.FrameLights`):
     flat, each face's colour at its centroid with its normal; smooth, each face corner's
@@ -80,7 +93,7 @@ def _lit(mesh: Mesh, options, two_sided):
         normals = mesh.face_normals
         base = (mesh.face_colors * np.float32(255) if mesh.face_colors is not None
                 else _base_colors(mesh, options, per_face=True))
-        return _lit_rows(points, normals, base, _surfaces(mesh, options, 1), options.lights, two_sided), None, None
+        return _lit_rows(points, normals, base, surface_terms(mesh, options.lights, 1), options.lights, two_sided), None, None
     normals, corners, split = mesh.smooth_corners
     rows = normals[corners] if split else _vertex_normals(mesh)[mesh.faces]
     if mesh.face_colors is not None:
@@ -88,17 +101,17 @@ def _lit(mesh: Mesh, options, two_sided):
     else:
         base = _base_colors(mesh, options, per_face=False)
         base = base if len(base) == 1 else base[mesh.faces.ravel()]
-    colours = _lit_rows(mesh.vertices[mesh.faces.ravel()], rows.reshape(-1, 3), base, _surfaces(mesh, options, 3),
+    colours = _lit_rows(mesh.vertices[mesh.faces.ravel()], rows.reshape(-1, 3), base, surface_terms(mesh, options.lights, 3),
                         options.lights, np.repeat(two_sided, 3) if isinstance(two_sided, np.ndarray) else two_sided)
     return None, colours, np.arange(3 * m, dtype=np.int64).reshape(-1, 3)
 
 
-def _surfaces(mesh: Mesh, options, repeat: int):
+def surface_terms(mesh: Mesh, lights, repeat: int):
     """``(specular (S, 3), shininess (S,), emission (S, 3))``, linear, of each face (repeated
     ``repeat`` times: one per row) from its material's ``specular``, ``shininess`` and
     ``emission`` (sRGB colours), or one for all: a white highlight of ``specular`` (linear)
-    and ``shininess`` from the options, no emission, for faces without a material."""
-    lights = options.lights
+    and ``shininess`` from the frame's lights (:class:`rasterkit.raster.lights.FrameLights`),
+    no emission, for faces without a material."""
     plain = np.array([[lights.specular] * 3 + [lights.shininess, 0.0, 0.0, 0.0]])
     if not mesh.materials or mesh.face_materials is None:
         table, rows = plain, None

@@ -22,6 +22,7 @@ from rasterkit.material.sampling import TextureArgs, texture_args, with_filter
 from rasterkit.raster.kernels.records import Textured
 from rasterkit.raster.kernels.surface import encode_table
 from rasterkit.raster.normals import unit
+from rasterkit.raster.shading import surface_terms
 from rasterkit.raster.sides import corner_sides
 from rasterkit.raster.vision import corner_uv
 
@@ -182,19 +183,27 @@ def _linear(texture):
 
 
 def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided, smooth: bool,
-                   texture_filter: str | None) -> FrameTextures | None:
+                   texture_filter: str | None, lit=None, phong: bool = False,
+                   textured: bool = True) -> FrameTextures | None:
     """The band worker's :class:`FrameTextures` for a frame of
     ``mesh`` lit from the unit direction ``light`` (world space) with ``ambient``, lit on both
     sides or not (``two_sided``: a bool, or (M,) bool per face), flat or ``smooth``, every texture filtered with ``texture_filter`` (a name of
     :data:`rasterkit.material.sampling.FILTER_CODES`, or None for each texture's own); None
-    when no face of ``mesh`` is textured."""
-    layout = mesh.textured
-    if layout is None:
+    when no face of ``mesh`` is textured. With ``lit`` (the frame's
+    :class:`rasterkit.raster.lights.FrameLights`) the textured faces are lit per pixel by
+    Blinn-Phong instead, and with ``phong`` every face (a mesh without textures too);
+    ``textured`` False draws no face textured."""
+    layout = mesh.textured if textured else None
+    if layout is None and not (phong and lit is not None):
         return None
+    layout = layout or _untextured(len(mesh.faces))
     args = _arguments(layout.textures, texture_filter)
     light = np.ascontiguousarray(light, np.float64)
     no_normals = np.zeros((0, 3))
-    if smooth:
+    if smooth and lit is not None:  # the corners' normals, interpolated per pixel
+        corner_normals, corners, _ = mesh.smooth_corners
+        intensity, face_normals = np.ones(len(corner_normals), np.float32), np.zeros((0, 3), np.float32)
+    elif smooth:
         normals, corners, _ = mesh.smooth_corners
         cos = normals @ light
         both = corner_sides(two_sided, corners, len(normals))
@@ -207,8 +216,29 @@ def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided, smooth: b
     record = Textured(*args, layout.face_texture, layout.corner_uv, layout.tint, smooth, intensity, corners,
                       face_normals, light, float(ambient), _back(two_sided), _ENCODE, layout.face_alpha,
                       layout.face_opacity, layout.face_normal_map, layout.face_bump, layout.face_normal_space,
-                      layout.tangents, corner_normals)
-    return FrameTextures(record, record if layout.cutout else None, record if layout.normal_mapped else None)
+                      layout.tangents, corner_normals, *_lighting(mesh, lit, phong))
+    mapped = layout.normal_mapped or lit is not None
+    return FrameTextures(record, record if layout.cutout else None, record if mapped else None)
+
+
+def _lighting(mesh, lit, phong: bool) -> tuple:
+    """The lit frame's fields of the record (:class:`rasterkit.raster.kernels.records.Textured`),
+    empty without lights."""
+    if lit is None:
+        return (np.zeros((0, 14)), np.zeros(3), False, np.zeros(3), np.zeros((0, 3)), np.zeros((0, 3), np.int64),
+                np.zeros((1, 3)), np.zeros(1), np.zeros((1, 3)), False)
+    specular, shininess, emission = surface_terms(mesh, lit, 1)
+    return (lit.table, lit.eye, lit.perspective, lit.view, np.ascontiguousarray(mesh.vertices, np.float64),
+            np.ascontiguousarray(mesh.faces, np.int64), specular, shininess, emission, phong)
+
+
+def _untextured(m: int) -> MeshTextures:
+    """The layout of a mesh of ``m`` faces none of which is textured (a phong frame's): no
+    texture is read, only ``face_texture`` (all -1)."""
+    empty = np.zeros(0, np.int32)
+    return MeshTextures((_WHITE,), _sealed(np.full(m, -1, np.int32)), np.zeros((0, 3), np.float32),
+                        np.zeros((0, 6)), empty, np.zeros(0, np.float32), empty, np.zeros(0, np.float32),
+                        np.zeros(0, np.int8), np.zeros((0, 6), np.float32), False, False)
 
 
 @functools.lru_cache(maxsize=16)

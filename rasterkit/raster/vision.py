@@ -73,7 +73,7 @@ def maps_record(height: int, width: int, mesh, camera, matrix, normals: str | No
     from rasterkit.raster.vertex import transform_points
 
     rotation = np.ascontiguousarray(camera.rotation())  # rows u, v, w: world -> camera
-    smooth = normals == "smooth"
+    smooth = normals in ("smooth", "phong")
     world_normals, vertex, bary = readonly(np.zeros((0, 3), np.float32)), np.zeros((0, 3)), np.zeros((0, 9))
     if smooth or want_uv:
         bary = bary_matrices(transform_points(mesh.vertices, matrix), mesh.faces)

@@ -195,3 +195,118 @@ def test_lights_are_records_that_compare_hash_and_pickle():
 def test_bad_lights_fail_with_a_message_that_names_the_field(make, error, words):
     with pytest.raises(error, match=words.replace("[", r"\[").replace("]", r"\]")):
         make()
+
+
+def _ray_cast(mesh, camera, ids):
+    """(points (K, 3), weights (K, 3)) where the ray through each pixel centre with a face in
+    ``ids`` meets that face's plane (Moller-Trumbore), the pixels ``np.nonzero(ids >= 0)``."""
+    j, i = np.nonzero(ids >= 0)
+    origin, direction = camera.ray(i + 0.5, j + 0.5)
+    a, b, c = (mesh.vertices[mesh.faces[ids[j, i], k]] for k in range(3))
+    e1, e2 = b - a, c - a
+    p = np.cross(direction, e2)
+    det = (e1 * p).sum(axis=1)
+    s = origin - a
+    u = (s * p).sum(axis=1) / det
+    q = np.cross(s, e1)
+    v = (direction * q).sum(axis=1) / det
+    t = (e2 * q).sum(axis=1) / det
+    return origin + t[:, None] * direction, np.stack([1 - u - v, u, v], axis=1)
+
+
+@pytest.mark.parametrize("kind", ["perspective", "parallel"])
+def test_phong_pixels_are_lit_at_their_surface_points_as_a_ray_cast_says(kind):
+    mesh = rk.shapes.icosphere(3)
+    if kind == "perspective":
+        camera = rk.Camera.look_at((0.5, 0.8, 3.2), (0, 0, 0), width=160, height=120, fov_y=45)
+    else:
+        camera = rk.Camera.orthographic((0.5, 0.8, 3.2), (0, 0, 0), view_height=2.6, width=160, height=120)
+    fb = rk.render(mesh, camera, "solid", shading="phong", lights=LIGHTS, ids=True)
+    points, weights = _ray_cast(mesh, camera, fb.ids)
+    normals, corners, _ = mesh.smooth_corners
+    f = fb.ids[fb.ids >= 0]
+    normal = np.einsum("kc,kcd->kd", weights, normals[corners[f]])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    eye, view = (camera.eye, None) if kind == "perspective" else (None, camera.backward())
+    want = blinn_phong(points, normal, GREY, [as_dict(light) for light in LIGHTS], eye, view=view)
+    got = fb.color[fb.ids >= 0].astype(int)
+    diff = np.abs(got - np.floor(want + 0.5))
+    assert len(got) > 5000 and diff.max() <= 1, diff.max()
+    # lit within each face, not once per face: the faces drawn show many colours each
+    packed = got @ np.array([1, 256, 65536])
+    shades = [len(np.unique(packed[f == face])) for face in np.unique(f)]
+    assert np.median(shades) >= 5
+
+
+def _grid(n=24):
+    """A (2n x 2n)-quad square in the plane z = 0, facing +z, with texture coordinates."""
+    grid = rk.shapes.grid(n, n, 2.0)  # in the xz plane, y = 0
+    vertices = grid.vertices[:, [0, 2, 1]] * np.array([1.0, -1.0, 1.0])
+    faces = grid.faces
+    normal = np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]], vertices[faces[:, 2]] - vertices[faces[:, 0]])
+    if normal[:, 2].mean() < 0:  # wound to face +z
+        faces = faces[:, ::-1].copy()
+    return vertices, faces
+
+
+def test_phong_lights_a_textured_face_from_its_texture_times_its_diffuse_colour():
+    vertices, faces = _grid()
+    material = rk.Material(name="m", diffuse=(0.5, 1.0, 0.8),
+                           diffuse_map=rk.Texture(np.array([[[200, 120, 60]]], np.uint8), filter="nearest"))
+    uv = (vertices[:, :2] + 1) / 2
+    mesh = rk.Mesh(vertices, faces, uv=uv, uv_index=faces, materials=(material,), material_names=("m",),
+                   face_materials=np.zeros(len(faces), np.int32))
+    camera = rk.Camera.look_at((0.3, -0.4, 2.5), (0, 0, 0), width=120, height=100, fov_y=50)
+    lights = [rk.Light.spot((0.2, 0.1, 1.2), (0, 0, -1), angle=70, blend=0.4, intensity=2.0),
+              rk.Light.ambient(intensity=0.05)]
+    for shading in ("flat", "smooth", "phong"):  # a textured face is lit per pixel under lights, whatever the shading
+        fb = rk.render(mesh, camera, "solid", shading=shading, lights=lights, ids=True)
+        points, _ = _ray_cast(mesh, camera, fb.ids)
+        albedo = srgb_to_linear(np.array([200, 120, 60]) / 255.0) * srgb_to_linear(np.array([0.5, 1.0, 0.8]))
+        want = blinn_phong(points, np.tile([0.0, 0.0, 1.0], (len(points), 1)), linear_to_srgb255(albedo)[None],
+                           [as_dict(light) for light in lights], camera.eye, specular=(0.0, 0.0, 0.0))
+        diff = np.abs(fb.color[fb.ids >= 0].astype(int) - np.floor(want + 0.5))
+        assert diff.max() <= 1, (shading, diff.max())
+
+
+def test_phong_interpolates_vertex_colours_before_lighting_them():
+    vertices, faces = _grid(6)
+    colours = np.stack([(vertices[:, 0] + 1) / 2, (vertices[:, 1] + 1) / 2, np.full(len(vertices), 0.3)], axis=1)
+    mesh = rk.Mesh(vertices, faces, vertex_colors=colours)
+    camera = rk.Camera.look_at((0.3, -0.4, 2.5), (0, 0, 0), width=120, height=100, fov_y=50)
+    lights = [rk.Light.point((0.5, 0.5, 1.0), intensity=1.5)]
+    fb = rk.render(mesh, camera, "solid", shading="phong", lights=lights, ids=True)
+    points, weights = _ray_cast(mesh, camera, fb.ids)
+    base = np.einsum("kc,kcd->kd", weights, colours[faces[fb.ids[fb.ids >= 0]]]) * 255.0
+    want = blinn_phong(points, np.tile([0.0, 0.0, 1.0], (len(points), 1)), base, [as_dict(lights[0])], camera.eye)
+    assert np.abs(fb.color[fb.ids >= 0].astype(int) - np.floor(want + 0.5)).max() <= 1
+
+
+def test_phong_without_lights_is_lit_by_a_headlight_and_a_little_ambient_light():
+    from rasterkit.raster.lights import PHONG_LIGHTS
+
+    mesh = rk.shapes.icosphere(2)
+    camera = rk.Camera.look_at((0.4, 0.6, 3.5), (0, 0, 0), width=96, height=72)
+    np.testing.assert_array_equal(rk.render(mesh, camera, "solid", shading="phong").color,
+                                  rk.render(mesh, camera, "solid", shading="phong", lights=PHONG_LIGHTS).color)
+
+
+def test_phong_frames_are_the_same_at_any_thread_count_and_average_their_samples():
+    mesh = rk.shapes.icosphere(3)
+    camera = rk.Camera.look_at((0.5, 0.8, 3.2), (0, 0, 0), width=160, height=120, fov_y=45)
+    frames = {}
+    try:
+        for threads in (1, 2):
+            rk.set_threads(threads)
+            frames[threads] = [rk.render(mesh, camera, "solid", shading="phong", lights=LIGHTS, samples=samples).color
+                               for samples in (1, 4)]
+    finally:
+        rk.set_threads(None)
+    for one, two in zip(frames[1], frames[2]):
+        np.testing.assert_array_equal(one, two)
+    single, averaged = frames[1]
+    inside = rk.render(mesh, camera, "solid", ids=True).ids >= 0
+    inside[1:-1, 1:-1] &= inside[:-2, 1:-1] & inside[2:, 1:-1] & inside[1:-1, :-2] & inside[1:-1, 2:]
+    # inside the ball the samples see the same smooth surface: their average is near the centre's
+    assert np.abs(single[inside].astype(int) - averaged[inside]).mean() < 2.0
+    assert not np.array_equal(single, averaged)

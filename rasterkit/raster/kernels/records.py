@@ -90,7 +90,16 @@ Maps = namedtuple("Maps", "want_normals normals smooth world_normals vertex_norm
 #: float32, in tangent space or (``face_normal_space`` (M,) int8 1) object space, tangent
 #: space along ``tangents`` (M, 6) float32 (its unit tangent and
 #: bitangent; empty when no face has a normal map); smooth, normal-mapped faces interpolate
-#: ``corner_normals`` (K, 3) float64 through ``corners`` (empty otherwise).
+#: ``corner_normals`` (K, 3) float64 through ``corners`` (empty otherwise). A frame with
+#: lights (:mod:`rasterkit.raster.kernels.lit_shade`, L > 0) lights its textured faces (and,
+#: ``phong``, every face) per pixel by Blinn-Phong: ``lights`` (L, 14) float64
+#: (:func:`rasterkit.raster.lights.light_table`), the viewer at ``eye`` (3,) float64 when
+#: ``perspective``, else along ``toward_viewer`` (3,) float64, the surface point from ``positions``
+#: (N, 3) float64 and ``faces`` (M, 3) int64, the highlight and glow from ``specular``
+#: (S, 3), ``shininess`` (S,) and ``emission`` (S, 3) float64 (S = 1 or M), and smooth
+#: normals interpolated from ``corner_normals`` through ``corners``; L = 0 (the arrays
+#: empty): Lambert's factor as above.
 Textured = namedtuple("Textured", "texels levels samplers transforms decode face_texture corner_uv tint smooth "
                                   "intensity corners normals light ambient back encode face_alpha face_opacity "
-                                  "face_normal_map face_bump face_normal_space tangents corner_normals")
+                                  "face_normal_map face_bump face_normal_space tangents corner_normals "
+                                  "lights eye perspective toward_viewer positions faces specular shininess emission phong")

@@ -52,12 +52,16 @@ def encode(table, x):
 @kernel(inline="always")
 def texture_fields(textures):
     """The record's fields as locals, unpacked once per row: an access through the record
-    inside the pixel loop, or a call that passes it, costs the copy of a large structure."""
+    inside the pixel loop, or a call that passes it, costs the copy of a large structure.
+    Fields 0-20 are the textures' and their lighting's, 21-30 a lit frame's
+    (:func:`rasterkit.raster.kernels.lit_shade.lit_fields`)."""
     return (textures.texels, textures.levels, textures.samplers, textures.transforms, textures.decode,
             textures.face_texture, textures.corner_uv, textures.tint, textures.smooth, textures.intensity,
             textures.corners, textures.normals, textures.light, textures.ambient, textures.back, textures.encode,
             textures.face_normal_map, textures.face_bump, textures.tangents, textures.corner_normals,
-            textures.face_normal_space)
+            textures.face_normal_space, textures.lights, textures.eye, textures.perspective, textures.toward_viewer,
+            textures.positions, textures.faces, textures.specular, textures.shininess, textures.emission,
+            textures.phong)
 
 
 @kernel(inline="always")
@@ -94,8 +98,8 @@ def face_terms(f, bary, fields):
     """What the pixels of face ``f`` share: its barycentric rows, the planes of ``s``, ``U``,
     ``V`` and (smooth) the Lambert factor times ``s`` (see the module documentation), the flat
     Lambert factor and the tint."""
-    (_, _, _, _, _, _, corner_uv, tint, smooth, intensity, corners, normals, light, ambient, back, _, _, _, _, _,
-     _) = fields
+    corner_uv, tint, smooth, intensity, corners, normals = fields[6], fields[7], fields[8], fields[9], fields[10], fields[11]
+    light, ambient, back = fields[12], fields[13], fields[14]
     a0, b0, c0 = bary[f, 0], bary[f, 1], bary[f, 2]
     a1, b1, c1 = bary[f, 3], bary[f, 4], bary[f, 5]
     a2, b2, c2 = bary[f, 6], bary[f, 7], bary[f, 8]
@@ -119,8 +123,9 @@ def normal_terms(f, rows, fields):
     planes, bump, object_space, back)``, the normal's planes those of the interpolated corner
     normals (smooth) or the face normal (flat: constant planes); none of the frame for a map
     in object space; ``back`` the face's two-sided factor (:func:`lambert_factor`)."""
-    (_, _, _, _, _, _, _, _, smooth, _, corners, normals, _, _, back, _, face_normal_map, face_bump, tangents,
-     corner_normals, face_normal_space) = fields
+    smooth, corners, normals, back = fields[8], fields[10], fields[11], fields[14]
+    face_normal_map, face_bump, tangents, corner_normals, face_normal_space = (fields[16], fields[17], fields[18],
+                                                                               fields[19], fields[20])
     m = face_normal_map[f]
     zero = (0.0, 0.0, 0.0)
     tangent, bitangent, planes, bump = zero, zero, (zero, zero, zero), 1.0

@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.material.kernels.sample import lookup, texture_lod
+from rasterkit.raster.kernels.lit_shade import lit_face, lit_rgba
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, put_rgba, smooth_rgba, to_u8
 from rasterkit.raster.kernels.surface import (
     diffuse, encode, face_terms, mapped_shade, normal_terms, surface, texture_fields,
@@ -128,8 +129,11 @@ def pixel_rgba(mode, f, px, py, packed, vertex_colors, corners, bary, fields):
 
 @kernel(inline="always")
 def mapped_rgba(mode, f, px, py, packed, vertex_colors, corners, bary, fields):
-    """:func:`pixel_rgba` of a frame with normal maps."""
+    """:func:`pixel_rgba` of a frame with normal maps or lights (then
+    :func:`~rasterkit.raster.kernels.lit_shade.lit_rgba` where the face is lit per pixel)."""
     t = fields[5][f]
+    if lit_face(fields, t):
+        return lit_rgba(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields)
     if t >= 0:
         terms = face_terms(f, bary, fields)
         return mapped_pixel(f, t, terms, normal_terms(f, terms[0], fields), px, py, fields)
@@ -144,9 +148,11 @@ def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, ve
     """:func:`rasterkit.raster.kernels.shade.resolve_row` of a textured frame (``mode``
     SHADE_FLAT or SHADE_SMOOTH, or SHADE_NONE for a depth pass with cut-out faces: the
     visibility rows hold faces); ``textures`` a :class:`rasterkit.raster.kernels.records.Textured`,
-    and again as ``mapped`` when some face has a normal map (else None: that code is not
-    compiled). A run of pixels of one face shares its :func:`~rasterkit.raster.kernels.surface.face_terms`; without normal
-    maps :func:`textured_run` colours the run."""
+    and again as ``mapped`` when some face has a normal map or the frame has lights (else
+    None: that code is not compiled; a face lit per pixel is coloured by
+    :func:`~rasterkit.raster.kernels.lit_shade.lit_rgba`). A run of pixels of one face shares
+    its :func:`~rasterkit.raster.kernels.surface.face_terms`; without normal maps
+    :func:`textured_run` colours the run."""
     fields = texture_fields(textures)
     face_texture = fields[5]
     ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
@@ -164,6 +170,10 @@ def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, ve
         t = face_texture[f]
         if mode == SHADE_NONE:
             pass
+        elif mapped is not None and lit_face(fields, t):
+            for q in range(k, end):
+                put_rgba(color, ju, base + np.uint64(q), lit_rgba(mode, f, t, px + q, py, packed, vertex_colors,
+                                                                  corners, bary, fields))
         elif t >= 0:
             terms = face_terms(f, bary, fields)
             if mapped is None:

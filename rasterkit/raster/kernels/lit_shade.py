@@ -1,0 +1,125 @@
+"""Colours of visible pixels lit per pixel by Blinn-Phong (:mod:`rasterkit.raster.kernels.lights`):
+every face of a frame shaded ``"phong"``, and the textured faces of any frame with lights.
+
+At the pixel's sample point ``(px, py)``, from the face's perspective-correct barycentrics
+(:mod:`rasterkit.raster.kernels.surface`): the surface point (its corners' world positions
+interpolated), the unit normal (the corners' smooth normals interpolated, or the face normal
+for flat shading; bent by the face's normal map where it has one), the base colour in linear
+light (the texture's colour times the material's ``diffuse``; an untextured face's own colour,
+per face or interpolated from its corners, decoded from sRGB), the viewer's direction; the
+lights' sum plus the face's emission is encoded to sRGB by table.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit.raster.kernels.cull import per_face
+from rasterkit.raster.kernels.lights import decode, light_sum
+from rasterkit.raster.kernels.shade import SHADE_SMOOTH, to_u8
+from rasterkit.raster.kernels.surface import bent_normal, diffuse, encode, face_terms, normal_terms, surface
+from rasterkit.runtime.jit import kernel
+
+
+@kernel(inline="always")
+def lit_fields(fields):
+    """A lit frame's fields of :func:`rasterkit.raster.kernels.surface.texture_fields`:
+    ``(lights, eye, perspective, view, positions, faces, specular, shininess, emission, phong)``."""
+    return (fields[21], fields[22], fields[23], fields[24], fields[25], fields[26], fields[27], fields[28],
+            fields[29], fields[30])
+
+
+@kernel(inline="always")
+def lit_face(fields, t):
+    """Whether a face with texture ``t`` (-1: none) is lit per pixel in this frame."""
+    return fields[21].shape[0] > 0 and (t >= 0 or fields[30])
+
+
+@kernel(inline="always")
+def _weights(bary, f, px, py):
+    """Face ``f``'s barycentric weights (summing to 1) at raster point (px, py)."""
+    w0 = bary[f, 0] * px + bary[f, 1] * py + bary[f, 2]
+    w1 = bary[f, 3] * px + bary[f, 4] * py + bary[f, 5]
+    w2 = bary[f, 6] * px + bary[f, 7] * py + bary[f, 8]
+    total = w0 + w1 + w2
+    if total != 0.0:
+        return w0 / total, w1 / total, w2 / total
+    return 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0
+
+
+@kernel(inline="always")
+def _mix(rows, table, w, c):
+    """Column ``c`` of the rows ``rows`` (3 indices) of ``table``, weighted by ``w``."""
+    return w[0] * table[rows[0], c] + w[1] * table[rows[1], c] + w[2] * table[rows[2], c]
+
+
+@kernel(inline="always")
+def _normal(f, w, fields):
+    """The unit normal of face ``f`` at weights ``w``: its corners' interpolated (smooth) or its
+    own; zero for a degenerate face."""
+    if fields[8]:
+        corners, corner_normals = fields[10], fields[19]
+        rows = (corners[f, 0], corners[f, 1], corners[f, 2])
+        nx, ny, nz = _mix(rows, corner_normals, w, 0), _mix(rows, corner_normals, w, 1), _mix(rows, corner_normals,
+                                                                                              w, 2)
+    else:
+        normals = fields[11]
+        nx, ny, nz = np.float64(normals[f, 0]), np.float64(normals[f, 1]), np.float64(normals[f, 2])
+    length = np.sqrt(nx * nx + ny * ny + nz * nz)
+    if not length > 0.0:  # degenerate, or NaN
+        return 0.0, 0.0, 0.0
+    return nx / length, ny / length, nz / length
+
+
+@kernel(inline="always")
+def _base(mode, f, t, w, px, py, packed, vertex_colors, corners, bary, fields):
+    """``(base, normal)``: face ``f``'s linear base colour at weights ``w`` (texture ``t``, or its
+    flat or interpolated own colour) and its unit normal there (bent by its normal map)."""
+    normal = _normal(f, w, fields)
+    if t >= 0:
+        terms = face_terms(f, bary, fields)
+        inv, u, v, derivatives = surface(terms, px, py)
+        r, g, b = diffuse(t, u, v, derivatives, fields)
+        tint = terms[7]
+        m = fields[16][f]
+        if m >= 0:
+            normal = bent_normal(m, normal_terms(f, terms[0], fields), px, py, inv, u, v, derivatives, fields)
+        return (r * decode(tint[0] / 255.0), g * decode(tint[1] / 255.0), b * decode(tint[2] / 255.0)), normal
+    if mode == SHADE_SMOOTH:
+        rows = (corners[f, 0], corners[f, 1], corners[f, 2])
+        return (decode(_mix(rows, vertex_colors, w, 0) / 255.0), decode(_mix(rows, vertex_colors, w, 1) / 255.0),
+                decode(_mix(rows, vertex_colors, w, 2) / 255.0)), normal
+    table = fields[4]  # the 8-bit codes' linear values: row 1, sRGB
+    rgba = packed[f]
+    return (table[1, rgba & 0xFF], table[1, (rgba >> 8) & 0xFF], table[1, (rgba >> 16) & 0xFF]), normal
+
+
+@kernel(refcounts=False)
+def lit_rgba(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields):
+    """The packed colour of face ``f`` (texture ``t``) at raster point (px, py), lit per pixel;
+    ``mode`` SHADE_FLAT (its own colour ``packed[f]``) or SHADE_SMOOTH (``vertex_colors``
+    through ``corners``) for an untextured face. Compiled once, called from each resolve (the
+    single-sample rows, the multi-sample ones and their outlines), not inlined into each."""
+    lights, eye, perspective, view, positions, faces, specular, shininess, emission, _ = lit_fields(fields)
+    w = _weights(bary, f, px, py)
+    base, normal = _base(mode, f, t, w, px, py, packed, vertex_colors, corners, bary, fields)
+    rows = (faces[f, 0], faces[f, 1], faces[f, 2])
+    x, y, z = _mix(rows, positions, w, 0), _mix(rows, positions, w, 1), _mix(rows, positions, w, 2)
+    vx, vy, vz = view[0], view[1], view[2]
+    if perspective:
+        vx, vy, vz = eye[0] - x, eye[1] - y, eye[2] - z
+        length = np.sqrt(vx * vx + vy * vy + vz * vz)
+        if length > 0.0:
+            vx, vy, vz = vx / length, vy / length, vz / length
+    nx, ny, nz = normal
+    if per_face(fields[14], f) > 0.0 and nx * vx + ny * vy + nz * vz < 0.0:  # two-sided, seen from behind
+        nx, ny, nz = -nx, -ny, -nz
+    s = 0 if specular.shape[0] == 1 else f
+    r, g, b = light_sum(x, y, z, nx, ny, nz, vx, vy, vz, base, (specular[s, 0], specular[s, 1], specular[s, 2]),
+                        shininess[s], lights)
+    table = fields[15]
+    rgba = 255 << 24
+    rgba |= to_u8(encode(table, r + emission[s, 0]) * 255.0)
+    rgba |= to_u8(encode(table, g + emission[s, 1]) * 255.0) << 8
+    rgba |= to_u8(encode(table, b + emission[s, 2]) * 255.0) << 16
+    return np.uint32(rgba)
