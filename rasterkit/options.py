@@ -15,12 +15,15 @@ from rasterkit import values
 from rasterkit.raster.kernels.limits import MAX_IMAGE_SIZE
 
 __all__ = ["CULL", "EDGES", "FIELDS", "HIDDEN", "MAX_IMAGE_SIZE", "MAX_POINT_SIZE", "MAX_SAMPLES", "MODEL_CAMERAS",
-           "MODES", "PROJECTIONS", "RenderOptions", "SHADING", "SVG_MODES", "TEXTURE_FILTERS", "check_choice"]
+           "MAX_SHADOW_MAP", "MODES", "PROJECTIONS", "RenderOptions", "SHADING", "SVG_MODES", "TEXTURE_FILTERS",
+           "check_choice"]
 
 #: What ``View(camera=...)`` and ``--camera`` may name: a camera the model file brings (a glTF
 #: file's first camera node).
 MODEL_CAMERAS = ("gltf",)
 
+#: The side of a shadow map, texels, at most.
+MAX_SHADOW_MAP = 8192
 #: Samples per pixel of a render, at most.
 MAX_SAMPLES = 256
 
@@ -136,6 +139,15 @@ class RenderOptions:
         light), under ``lights``. Default 0.25.
     shininess : float
         The Blinn-Phong exponent of faces without a material, >= 0. Default 32.
+    shadows : bool
+        Every light (but ambient ones) casts shadows, as ``Light(shadows=True)`` does: shadow
+        maps (:mod:`rasterkit.raster.shadows`), and every face lit per pixel.
+    shadow_map_size : int or None
+        The side of each shadow map in texels, 16 to 8192; None: the power of two at least as
+        large as the image's longer side, 512 to 4096.
+    shadow_softness : float
+        The shadow maps' filter (percentage-closer filtering): the square of
+        ``2 ceil(s) + 1`` texels around each lookup, 0 (hard) to 8. Default 1 (3 x 3).
     texture_filter : {"trilinear", "bilinear", "nearest"} or None
         How every texture is filtered (:data:`TEXTURE_FILTERS`): ``trilinear`` uses the
         mipmaps with OpenGL's level of detail, ``bilinear`` the 4 texels around the point,
@@ -165,6 +177,9 @@ class RenderOptions:
     lights: tuple = ()
     specular: float = 0.25
     shininess: float = 32.0
+    shadows: bool = False
+    shadow_map_size: int | None = None
+    shadow_softness: float = 1.0
 
     def __post_init__(self):
         for name, check in _CHECKS.items():
@@ -214,6 +229,12 @@ def _lights(name: str, value) -> tuple:
     return check_lights(name, value)
 
 
+def _at_most(name: str, value: float, high: float) -> float:
+    if value > high:
+        raise ValueError(f"{name} must be at most {high:g}, got {value!r}")
+    return value
+
+
 def _optional(check):
     return lambda name, value: None if value is None else check(name, value)
 
@@ -237,5 +258,8 @@ _CHECKS = {
     "lights": lambda name, value: _lights(name, value),
     "specular": values.unit_interval,
     "shininess": values.non_negative,
+    "shadows": values.flag,
+    "shadow_map_size": _optional(lambda name, value: values.whole(name, value, 16, MAX_SHADOW_MAP)),
+    "shadow_softness": lambda name, value: _at_most(name, values.non_negative(name, value), 8.0),
 }
 assert set(_CHECKS) == FIELDS

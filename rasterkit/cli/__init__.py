@@ -34,8 +34,8 @@ from rasterkit.batch import report as _report
 from rasterkit.runtime import stop as _stop
 from rasterkit.batch.report import UsageError
 from rasterkit.cli.args import (LIGHT_FORMS, add_limits, add_view_arguments, attach_number_lists, finite, integers,
-                                light, non_negative, point, positive_int, samples, task_from_args, unit_interval,
-                                view_from_args, whole_number)
+                                light, non_negative, point, positive_int, samples, shadow_map_size, softness,
+                                task_from_args, unit_interval, view_from_args, whole_number)
 from rasterkit.options import CULL, EDGES, HIDDEN, MODES, SHADING, TEXTURE_FILTERS
 
 __all__ = ["main", "Terminated"]
@@ -119,6 +119,12 @@ def _parser() -> argparse.ArgumentParser:
                       help="highlight strength of surfaces without a material, 0 to 1 (default 0.25)")
     look.add_argument("--shininess", type=non_negative, default=32.0, metavar="N",
                       help="Blinn-Phong exponent of surfaces without a material (default 32)")
+    look.add_argument("--shadows", action="store_true",
+                      help="every light (but ambient ones) casts shadows (shadow maps; faces lit per pixel)")
+    look.add_argument("--shadow-map-size", type=shadow_map_size, default=None, metavar="N",
+                      help="side of each shadow map in texels, 16 to 8192 (default: by the image size, 512 to 4096)")
+    look.add_argument("--shadow-softness", type=softness, default=1.0, metavar="S",
+                      help="shadow filter radius in texels, 0 (hard) to 8 (default 1: 3x3)")
     look.add_argument("--aa", action="store_true", help="anti-aliased (Wu) lines")
     look.add_argument("--edges", choices=EDGES, default="all",
                       help="the polygons' edges (default), or feature edges: silhouettes, "

@@ -21,7 +21,7 @@ from rasterkit import limits
 from rasterkit.options import MAX_IMAGE_SIZE, MODEL_CAMERAS, PROJECTIONS
 
 __all__ = ["LIGHT_FORMS", "NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite", "focus",
-           "integers", "light", "non_negative", "point", "positive_int", "samples", "size", "size_limit", "task_from_args", "unit_interval", "view_from_args",
+           "integers", "light", "non_negative", "point", "positive_int", "shadow_map_size", "softness", "samples", "size", "size_limit", "task_from_args", "unit_interval", "view_from_args",
            "whole_number"]
 
 
@@ -122,6 +122,22 @@ def non_negative(text: str) -> float:
     value = finite(text)
     if value < 0.0:
         raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+    return value
+
+
+def shadow_map_size(text: str) -> int:
+    """A shadow map's side, 16 to 8192 texels."""
+    value = positive_int(text)
+    if not 16 <= value <= 8192:
+        raise argparse.ArgumentTypeError(f"a shadow map is 16 to 8192 texels a side, got {value}")
+    return value
+
+
+def softness(text: str) -> float:
+    """A shadow filter radius, 0 to 8 texels."""
+    value = non_negative(text)
+    if value > 8.0:
+        raise argparse.ArgumentTypeError(f"at most 8 texels, got {text!r}")
     return value
 
 

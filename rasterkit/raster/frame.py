@@ -18,7 +18,7 @@ from rasterkit.camera import Camera
 from rasterkit.mesh import Mesh
 from rasterkit.raster.framebuffer import Framebuffer
 from rasterkit.raster.plan import Style
-from rasterkit.raster.shading import AMBIENT, shade
+from rasterkit.raster.shading import AMBIENT, per_pixel, shade
 from rasterkit.raster.sides import Sides, face_sides
 from rasterkit.raster.triangles import rasterize_checked, rasterize_triangles
 from rasterkit.raster.vertex import transform_points
@@ -118,7 +118,7 @@ def _textures(mesh: Mesh, style: Style, sides: Sides):
     or no face of ``mesh`` textured, and not shaded ``"phong"``: its faces are lit per pixel,
     through the textured resolve); ``sides``: :func:`face_sides` of the mesh."""
     textured = style.textures and bool(mesh.materials) and mesh.textured is not None
-    phong = style.shading == "phong"
+    phong = per_pixel(style)
     if not textured and not phong:  # no import for a plain mesh
         return None
     from rasterkit.raster.texturing import frame_textures

@@ -21,20 +21,21 @@ Every position and direction is in world space. A light's colour is an sRGB colo
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from rasterkit import values
 
-__all__ = ["KINDS", "PHONG_LIGHTS", "FrameLights", "Light", "check_lights", "frame_lights", "light_table"]
+__all__ = ["KINDS", "NO_SHADOWS", "PHONG_LIGHTS", "TABLE_WIDTH", "FrameLights", "Light", "check_lights", "frame_lights",
+           "light_table"]
 
 #: The kinds of :class:`Light`, in the order of their codes in :func:`light_table`.
 KINDS = ("ambient", "directional", "point", "spot", "headlight")
 AMBIENT, DIRECTIONAL, POINT, SPOT, HEADLIGHT = range(len(KINDS))
 
 #: Columns of a :func:`light_table` row.
-TABLE_WIDTH = 14
+TABLE_WIDTH = 15
 
 
 @dataclass(frozen=True)
@@ -139,18 +140,61 @@ class FrameLights:
     eye: np.ndarray  # (3,) float64 the camera's eye, world space
     perspective: bool  # the viewer is at the eye (else along ``view``)
     view: np.ndarray  # (3,) float64 unit direction towards the viewer of a parallel camera
+    camera: object  # the frame's rasterkit.Camera (the shadow maps of directional lights fit its view)
     specular: float  # RenderOptions.specular: the highlight of faces without a material
     shininess: float  # RenderOptions.shininess
+    lights: tuple = ()  # the Light records (those that cast shadows marked so)
+    map_size: int = 0  # the side of each shadow map, texels
+    softness: float = 1.0  # RenderOptions.shadow_softness
+    _made: dict = field(default_factory=dict, compare=False, repr=False)  # shadow_terms' maps, per mesh
+
+    @property
+    def shadowed(self) -> bool:
+        """Whether some light casts shadows (then every face is lit per pixel)."""
+        return any(light.shadows for light in self.lights)
+
+    def shadow_terms(self, mesh) -> tuple:
+        """``(table, shadows)`` for the kernels: the light table with each light's first
+        shadow map and their count (columns 13, 14), and ``(maps, matrices, axes, softness)``
+        of :class:`rasterkit.raster.shadows.ShadowMaps`, drawn for ``mesh`` (world space) on
+        first use and kept (the samples of a render share them); empty without shadows."""
+        if not self.shadowed:
+            return self.table, NO_SHADOWS
+        made = self._made.get(id(mesh))
+        if made is None or made[0] is not mesh:
+            from rasterkit.raster.shadows import shadow_maps
+
+            maps = shadow_maps(mesh, self.lights, self.camera, self.map_size, self.softness)
+            table = self.table.copy()
+            table[:, 13] = maps.first
+            table[:, 14] = [6 if light.kind == "point" else 1 for light in self.lights]
+            table.flags.writeable = False
+            made = self._made[id(mesh)] = (mesh, table, (maps.maps, maps.matrices, maps.axes, float(self.softness)))
+        return made[1], made[2]
 
 
-def frame_lights(lights: tuple, camera, specular: float, shininess: float) -> FrameLights | None:
+#: The kernels' ``shadows`` of a frame without shadow maps.
+NO_SHADOWS = (np.zeros((0, 1, 1), np.float32), np.zeros((0, 4, 4)), np.zeros((0, 16)), 0.0)
+
+
+def frame_lights(lights: tuple, camera, specular: float, shininess: float, shadows: bool = False,
+                 map_size: int | None = None, softness: float = 1.0) -> FrameLights | None:
     """The :class:`FrameLights` of ``lights`` seen by ``camera`` (a rasterkit.Camera), or
-    None without lights (the frame is lit by the classic headlight)."""
+    None without lights (the frame is lit by the classic headlight); ``shadows``: every light
+    but the ambient ones casts shadows, in maps ``map_size`` texels a side (None: by the image
+    size, :func:`rasterkit.raster.shadows.default_map_size`) filtered over ``softness``
+    texels."""
     if not lights:
         return None
+    if shadows:
+        lights = tuple(light if light.kind == "ambient" else replace(light, shadows=True) for light in lights)
+    if map_size is None:
+        from rasterkit.raster.shadows import default_map_size
+
+        map_size = default_map_size(camera.width, camera.height)
     view = np.asarray(camera.backward(), np.float64)
     return FrameLights(light_table(lights, -view), np.asarray(camera.eye, np.float64),
-                       camera.kind == "perspective", view, specular, shininess)
+                       camera.kind == "perspective", view, camera, specular, shininess, lights, map_size, softness)
 
 
 def check_lights(name: str, value) -> tuple:
@@ -169,7 +213,8 @@ def light_table(lights: tuple, view_direction: np.ndarray) -> np.ndarray:
     (3), unit direction towards the scene (3; a headlight's is ``view_direction``, the
     camera's), linear colour times intensity (3), range (0: none) and the spot cone's
     ``scale, offset`` (its factor is ``clamp(cos · scale + offset, 0, 1)²``, cos the angle's
-    between the cone's axis and the direction to the point)."""
+    between the cone's axis and the direction to the point), its first shadow map (-1: none)
+    and their count."""
     from rasterkit.colors import parse_color
     from rasterkit.material.colorspace import decode_srgb
 
@@ -188,6 +233,7 @@ def light_table(lights: tuple, view_direction: np.ndarray) -> np.ndarray:
         inner = math.cos(math.radians(light.angle / 2 * (1.0 - light.blend)))
         row[11] = 1.0 / max(1e-3, inner - outer)
         row[12] = -outer * row[11]
+        row[13] = -1.0  # no shadow map (FrameLights.shadow_terms)
     return table
 
 

@@ -90,7 +90,8 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
                   options.aa, light_direction(light, camera), textures=options.textures,
                   texture_filter=options.texture_filter,
-                  lights=frame_lights(lights, camera, options.specular, options.shininess))
+                  lights=frame_lights(lights, camera, options.specular, options.shininess, options.shadows,
+                                      options.shadow_map_size, options.shadow_softness))
     one_sample = options.samples == 1 and options.vignette == 0.0
     normals, wanted_ids = options.normals, options.ids or options.normals or options.uv
     # the maps made by the band worker: a one-sample render of faces, nothing drawn after

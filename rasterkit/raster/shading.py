@@ -15,6 +15,7 @@ from rasterkit.camera import Camera
 from rasterkit.raster.normals import vertex_normals
 from rasterkit.material.colorspace import decode_srgb
 from rasterkit.raster.kernels import lights as light_kernels
+from rasterkit.raster.lights import NO_SHADOWS
 from rasterkit.raster.kernels import shade as shade_kernels
 from rasterkit.mesh import Mesh
 from rasterkit.raster.sides import Sides, corner_sides, face_sides
@@ -38,7 +39,7 @@ def shade(mesh: Mesh, options, sides: Sides | None = None):
     of ``mesh`` and ``options.cull``, worked out when None) says.
     """
     two_sided = (sides or face_sides(mesh, options.cull)).two_sided
-    if options.shading == "phong":  # lit per pixel (rasterkit.raster.kernels.lit_shade) from these
+    if per_pixel(options):  # lit per pixel (rasterkit.raster.kernels.lit_shade) from these
         return _unlit(mesh, options)
     if options.lights is not None:
         return _lit(mesh, options, two_sided)
@@ -69,6 +70,12 @@ def shade(mesh: Mesh, options, sides: Sides | None = None):
     base = _base_colors(mesh, options, per_face=False)
     normals = _vertex_normals(mesh)
     return None, _lambert(normals, base, towards_light, corner_sides(two_sided, mesh.faces, len(normals))), None
+
+
+def per_pixel(style) -> bool:
+    """Whether a frame's faces are lit per pixel (:mod:`rasterkit.raster.kernels.lit_shade`):
+    phong shading, or a light that casts shadows."""
+    return style.shading == "phong" or (style.lights is not None and style.lights.shadowed)
 
 
 def _unlit(mesh: Mesh, options):
@@ -131,7 +138,7 @@ def _lit_rows(points, normals, base, surfaces, lights, two_sided):
     with np.errstate(all="ignore"):  # faces with a non-finite corner are not drawn
         points = np.nan_to_num(np.ascontiguousarray(points, np.float64))
     return light_kernels.lit_colors(points, normals, base, *surfaces, lights.table, lights.eye, lights.perspective,
-                                    lights.view, two_sided)
+                                    lights.view, two_sided, NO_SHADOWS)
 
 
 def _vertex_normals(mesh: Mesh) -> np.ndarray:

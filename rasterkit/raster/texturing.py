@@ -22,6 +22,7 @@ from rasterkit.material.sampling import TextureArgs, texture_args, with_filter
 from rasterkit.raster.kernels.records import Textured
 from rasterkit.raster.kernels.surface import encode_table
 from rasterkit.raster.normals import unit
+from rasterkit.raster.lights import NO_SHADOWS, TABLE_WIDTH
 from rasterkit.raster.shading import surface_terms
 from rasterkit.raster.sides import corner_sides
 from rasterkit.raster.vision import corner_uv
@@ -225,11 +226,12 @@ def _lighting(mesh, lit, phong: bool) -> tuple:
     """The lit frame's fields of the record (:class:`rasterkit.raster.kernels.records.Textured`),
     empty without lights."""
     if lit is None:
-        return (np.zeros((0, 14)), np.zeros(3), False, np.zeros(3), np.zeros((0, 3)), np.zeros((0, 3), np.int64),
-                np.zeros((1, 3)), np.zeros(1), np.zeros((1, 3)), False)
+        return (np.zeros((0, TABLE_WIDTH)), np.zeros(3), False, np.zeros(3), np.zeros((0, 3)),
+                np.zeros((0, 3), np.int64), np.zeros((1, 3)), np.zeros(1), np.zeros((1, 3)), False, *NO_SHADOWS)
     specular, shininess, emission = surface_terms(mesh, lit, 1)
-    return (lit.table, lit.eye, lit.perspective, lit.view, np.ascontiguousarray(mesh.vertices, np.float64),
-            np.ascontiguousarray(mesh.faces, np.int64), specular, shininess, emission, phong)
+    table, shadows = lit.shadow_terms(mesh)
+    return (table, lit.eye, lit.perspective, lit.view, np.ascontiguousarray(mesh.vertices, np.float64),
+            np.ascontiguousarray(mesh.faces, np.int64), specular, shininess, emission, phong, *shadows)
 
 
 def _untextured(m: int) -> MeshTextures:

@@ -31,6 +31,8 @@ def test_each_light_flag_is_the_light_it_names():
                               rk.Light.ambient("gray", 0.2),
                               rk.Light.headlight(intensity=0.5))
     assert _options().lights == ()
+    shadowed = _options("--shadows", "--shadow-map-size", "256", "--shadow-softness", "0.5")
+    assert (shadowed.shadows, shadowed.shadow_map_size, shadowed.shadow_softness) == (True, 256, 0.5)
 
 
 def test_the_command_line_draws_what_the_api_draws(tmp_path):

@@ -29,7 +29,8 @@ POINTS = dict(point_size=3, point_color="red")
 TEXTURE = dict(textures=False, texture_filter="nearest")
 #: The fields of lit frames, each away from its default.
 LIGHTING = dict(lights=(rasterkit.Light.point((1.5, 2.0, 1.0), color="#f5deb3", intensity=6.0),
-                        rasterkit.Light.ambient("white", 0.08)), specular=0.7, shininess=6.0)
+                        rasterkit.Light.ambient("white", 0.08)), specular=0.7, shininess=6.0, shadows=True,
+                shadow_map_size=64, shadow_softness=2.0)
 CLOUD = np.array([[0.8, 0.9, 0.9], [1.2, 0.3, 0.8], [0.4, 1.3, 0.5]])  # outside the ball, facing the camera
 
 
@@ -135,9 +136,9 @@ def test_the_texture_fields_change_a_textured_frame(path):
 
 @pytest.mark.parametrize("path", ["plain", "distorted", "samples"])
 def test_the_lighting_fields_change_a_lit_frame(path):
-    """``lights``, ``specular`` and ``shininess`` are seen in each path: with the other image
-    fields set (``light`` aside: the lights replace it), putting back any one default changes
-    the frame."""
+    """``lights``, ``specular``, ``shininess`` and the shadow fields are seen in each path: with
+    the other image fields set (``light`` aside: the lights replace it), putting back any one
+    default changes the frame."""
     camera = _distorted(CAMERA) if path == "distorted" else CAMERA
     full = RenderOptions(**IMAGE, **LIGHTING).replace(samples=4 if path == "samples" else 1)
     reference = rasterkit.render(BOWL, camera, options=full).color

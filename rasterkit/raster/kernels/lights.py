@@ -11,7 +11,8 @@ the direction ``l`` towards it:
 
 (directional and headlight: ``a = 1``; point and spot: ``a = 1 / d²`` times glTF's range
 window ``clamp(1 - (d / range)⁴, 0, 1)``, and for a spot the cone's
-``clamp(cos · scale + offset, 0, 1)²``). The sum, plus ``emission``, is clamped to [0, 1] per
+``clamp(cos · scale + offset, 0, 1)²``; times the light's shadow factor where it has a shadow
+map, :func:`shadow_factor`). The sum, plus ``emission``, is clamped to [0, 1] per
 channel and encoded to sRGB. A two-sided surface seen from behind (``n · v < 0``) is lit with
 its normal turned towards the viewer.
 """
@@ -42,10 +43,96 @@ def encode255(x):
 
 
 @kernel(inline="always")
-def light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, base, specular, shininess, table):
+def _map_texel(maps, m, i, j):
+    """Texel (i, j) of map ``m``, the nearest inside it."""
+    size = maps.shape[1]
+    i = min(max(i, 0), size - 1)
+    j = min(max(j, 0), size - 1)
+    return maps[np.uint64(m), np.uint64(j), np.uint64(i)]
+
+
+@kernel(inline="always")
+def _cube_face(k, table, first, px, py, pz):
+    """The map of light ``k``'s cube (its six from ``first``) that the point is seen in: the
+    face of the largest component of the direction from the light."""
+    dx, dy, dz = px - table[k, 1], py - table[k, 2], pz - table[k, 3]
+    ax, ay, az = abs(dx), abs(dy), abs(dz)
+    if ax >= ay and ax >= az:
+        return first + (0 if dx >= 0.0 else 1)
+    if ay >= az:
+        return first + (2 if dy >= 0.0 else 3)
+    return first + (4 if dz >= 0.0 else 5)
+
+
+@kernel(inline="always")
+def _plane_depth(axes, mu, i, j, size, px, py, pz, nx, ny, nz, depth, texel):
+    """The depth (along the map's axis) at which the ray of texel (i, j) of map ``mu`` meets
+    the plane through the point (px, py, pz) with normal (nx, ny, nz); the point's own
+    ``depth`` when the ray runs along the plane (within 10 texels of it)."""
+    a = (i + 0.5 - 0.5 * size) * axes[mu, 6]
+    b = (j + 0.5 - 0.5 * size) * axes[mu, 6]
+    ex, ey, ez = px - axes[mu, 0], py - axes[mu, 1], pz - axes[mu, 2]  # from the eye
+    fx, fy, fz = axes[mu, 3], axes[mu, 4], axes[mu, 5]
+    rx, ry, rz = axes[mu, 10] * a + axes[mu, 13] * b, axes[mu, 11] * a + axes[mu, 14] * b, \
+        axes[mu, 12] * a + axes[mu, 15] * b  # across the axis to the texel's ray
+    if axes[mu, 7] > 0.0:  # perspective: the ray from the eye along f + r
+        den = nx * (fx + rx) + ny * (fy + ry) + nz * (fz + rz)
+        num = nx * ex + ny * ey + nz * ez
+    else:  # parallel: the ray along f from the eye's plane, r across
+        den = nx * fx + ny * fy + nz * fz
+        num = nx * (ex - rx) + ny * (ey - ry) + nz * (ez - rz)
+    if not abs(den) > 1e-6:
+        return depth
+    found = num / den
+    return found if abs(found - depth) < 10.0 * texel else depth
+
+
+@kernel(inline="always")
+def shadow_factor(k, table, px, py, pz, nx, ny, nz, shadows):
+    """The fraction (0 to 1) of light ``k`` of ``table`` that reaches the point (px, py, pz)
+    with unit normal (nx, ny, nz): 1 for a light without a shadow map (column 13 of its row
+    -1), else the share of the map's texels around the point's (a square of ``2 r + 1`` a
+    side, ``r = ceil(softness)``: percentage-closer filtering) that see nothing nearer the
+    light than the point's surface there: the depth of each texel is compared with the
+    depth at which its ray meets the plane of the point's face (normal (nx, ny, nz): a
+    receiver-plane bias, so that a lit face does not shadow itself at any slope), less half
+    a texel. ``shadows``:
+    ``(maps, matrices, axes, softness)`` of :class:`rasterkit.raster.shadows.ShadowMaps`."""
+    first = np.int64(table[k, 13])
+    if first < 0:
+        return 1.0
+    maps, matrices, axes, softness = shadows
+    m = first if table[k, 14] < 2.0 else _cube_face(k, table, first, px, py, pz)
+    mu = np.uint64(m)
+    w = matrices[mu, 3, 0] * px + matrices[mu, 3, 1] * py + matrices[mu, 3, 2] * pz + matrices[mu, 3, 3]
+    if not w > 0.0:
+        return 1.0
+    x = (matrices[mu, 0, 0] * px + matrices[mu, 0, 1] * py + matrices[mu, 0, 2] * pz + matrices[mu, 0, 3]) / w
+    y = (matrices[mu, 1, 0] * px + matrices[mu, 1, 1] * py + matrices[mu, 1, 2] * pz + matrices[mu, 1, 3]) / w
+    size = maps.shape[1]
+    if not (x >= 0.0 and y >= 0.0 and x < size and y < size):
+        return 1.0  # outside the map: nothing there casts a shadow
+    depth = (px - axes[mu, 0]) * axes[mu, 3] + (py - axes[mu, 1]) * axes[mu, 4] + (pz - axes[mu, 2]) * axes[mu, 5]
+    texel = axes[mu, 6] * (depth if axes[mu, 7] > 0.0 else 1.0)
+    reach = np.int64(np.ceil(softness))
+    i0, j0 = np.int64(x), np.int64(y)
+    seen = 0
+    for dj in range(-reach, reach + 1):
+        for di in range(-reach, reach + 1):
+            expected = _plane_depth(axes, mu, i0 + di, j0 + dj, size, px, py, pz, nx, ny, nz, depth, texel)
+            if _map_texel(maps, m, i0 + di, j0 + dj) >= expected - 0.5 * texel:
+                seen += 1
+    side = 2 * reach + 1
+    return seen / (side * side)
+
+
+@kernel(inline="always")
+def light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, base, specular, shininess, table, shadows, plane):
     """The linear (r, g, b) that the lights of ``table`` send back from the point (px, py, pz)
     with unit normal (nx, ny, nz), seen along the unit (vx, vy, vz); ``base`` and
-    ``specular`` linear (r, g, b) tuples (see the module documentation)."""
+    ``specular`` linear (r, g, b) tuples (see the module documentation); ``shadows`` the
+    frame's shadow maps (:func:`shadow_factor`), looked up with ``plane``, the unit normal
+    of the face the point is on (its shading normal may be interpolated or bent)."""
     r = g = b = 0.0
     for k in range(table.shape[0]):
         kind = np.int64(table[k, 0])
@@ -74,6 +161,9 @@ def light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, base, specular, shininess, tab
         ndl = nx * lx + ny * ly + nz * lz
         if not ndl > 0.0 or a == 0.0:
             continue
+        a *= shadow_factor(k, table, px, py, pz, plane[0], plane[1], plane[2], shadows)
+        if a == 0.0:
+            continue
         hx, hy, hz = lx + vx, ly + vy, lz + vz
         hl = np.sqrt(hx * hx + hy * hy + hz * hz)
         highlight = 0.0
@@ -87,7 +177,8 @@ def light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, base, specular, shininess, tab
 
 
 @kernel(fastmath=False)
-def lit_colors(points, normals, base, specular, shininess, emission, table, eye, perspective, view, two_sided):
+def lit_colors(points, normals, base, specular, shininess, emission, table, eye, perspective, view, two_sided,
+               shadows):
     """Blinn-Phong colours of K surface points.
 
     Parameters
@@ -107,6 +198,8 @@ def lit_colors(points, normals, base, specular, shininess, emission, table, eye,
         Unit direction towards the viewer of a parallel camera.
     two_sided : bool or (K,) bool
         Points lit on both sides (:func:`rasterkit.raster.kernels.cull.per_face`).
+    shadows : tuple
+        The frame's shadow maps (:func:`shadow_factor`; none: empty arrays).
 
     Returns
     -------
@@ -131,7 +224,8 @@ def lit_colors(points, normals, base, specular, shininess, emission, table, eye,
         ks = 0 if one_spec else k
         albedo = (decode(base[kb, 0] / 255.0), decode(base[kb, 1] / 255.0), decode(base[kb, 2] / 255.0))
         r, g, b = light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, albedo,
-                            (specular[ks, 0], specular[ks, 1], specular[ks, 2]), shininess[ks], table)
+                            (specular[ks, 0], specular[ks, 1], specular[ks, 2]), shininess[ks], table, shadows,
+                            (nx, ny, nz))
         out[k, 0] = encode255(r + emission[ks, 0])
         out[k, 1] = encode255(g + emission[ks, 1])
         out[k, 2] = encode255(b + emission[ks, 2])

@@ -72,6 +72,21 @@ def _normal(f, w, fields):
 
 
 @kernel(inline="always")
+def _face_plane(positions, rows, fallback):
+    """The unit normal of the face whose corners are ``positions[rows]`` (``fallback`` for a
+    degenerate one)."""
+    ax, ay, az = positions[rows[1], 0] - positions[rows[0], 0], positions[rows[1], 1] - positions[rows[0], 1], \
+        positions[rows[1], 2] - positions[rows[0], 2]
+    bx, by, bz = positions[rows[2], 0] - positions[rows[0], 0], positions[rows[2], 1] - positions[rows[0], 1], \
+        positions[rows[2], 2] - positions[rows[0], 2]
+    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    length = np.sqrt(cx * cx + cy * cy + cz * cz)
+    if not length > 0.0:
+        return fallback
+    return cx / length, cy / length, cz / length
+
+
+@kernel(inline="always")
 def _base(mode, f, t, w, px, py, packed, vertex_colors, corners, bary, fields):
     """``(base, normal)``: face ``f``'s linear base colour at weights ``w`` (texture ``t``, or its
     flat or interpolated own colour) and its unit normal there (bent by its normal map)."""
@@ -116,7 +131,8 @@ def lit_rgba(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields):
         nx, ny, nz = -nx, -ny, -nz
     s = 0 if specular.shape[0] == 1 else f
     r, g, b = light_sum(x, y, z, nx, ny, nz, vx, vy, vz, base, (specular[s, 0], specular[s, 1], specular[s, 2]),
-                        shininess[s], lights)
+                        shininess[s], lights, (fields[31], fields[32], fields[33], fields[34]),
+                        _face_plane(positions, rows, (nx, ny, nz)))
     table = fields[15]
     rgba = 255 << 24
     rgba |= to_u8(encode(table, r + emission[s, 0]) * 255.0)

@@ -97,9 +97,11 @@ Maps = namedtuple("Maps", "want_normals normals smooth world_normals vertex_norm
 #: ``perspective``, else along ``toward_viewer`` (3,) float64, the surface point from ``positions``
 #: (N, 3) float64 and ``faces`` (M, 3) int64, the highlight and glow from ``specular``
 #: (S, 3), ``shininess`` (S,) and ``emission`` (S, 3) float64 (S = 1 or M), and smooth
-#: normals interpolated from ``corner_normals`` through ``corners``; L = 0 (the arrays
-#: empty): Lambert's factor as above.
+#: normals interpolated from ``corner_normals`` through ``corners``, and the lights' shadow
+#: maps ``shadow_maps shadow_matrices shadow_axes softness`` (:class:`rasterkit.raster.shadows.ShadowMaps`,
+#: columns 13-14 of ``lights`` say whose); L = 0 (the arrays empty): Lambert's factor as above.
 Textured = namedtuple("Textured", "texels levels samplers transforms decode face_texture corner_uv tint smooth "
                                   "intensity corners normals light ambient back encode face_alpha face_opacity "
                                   "face_normal_map face_bump face_normal_space tangents corner_normals "
-                                  "lights eye perspective toward_viewer positions faces specular shininess emission phong")
+                                  "lights eye perspective toward_viewer positions faces specular shininess emission phong "
+                                  "shadow_maps shadow_matrices shadow_axes softness")

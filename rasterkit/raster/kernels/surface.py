@@ -53,7 +53,7 @@ def encode(table, x):
 def texture_fields(textures):
     """The record's fields as locals, unpacked once per row: an access through the record
     inside the pixel loop, or a call that passes it, costs the copy of a large structure.
-    Fields 0-20 are the textures' and their lighting's, 21-30 a lit frame's
+    Fields 0-20 are the textures' and their lighting's, 21-34 a lit frame's
     (:func:`rasterkit.raster.kernels.lit_shade.lit_fields`)."""
     return (textures.texels, textures.levels, textures.samplers, textures.transforms, textures.decode,
             textures.face_texture, textures.corner_uv, textures.tint, textures.smooth, textures.intensity,
@@ -61,7 +61,7 @@ def texture_fields(textures):
             textures.face_normal_map, textures.face_bump, textures.tangents, textures.corner_normals,
             textures.face_normal_space, textures.lights, textures.eye, textures.perspective, textures.toward_viewer,
             textures.positions, textures.faces, textures.specular, textures.shininess, textures.emission,
-            textures.phong)
+            textures.phong, textures.shadow_maps, textures.shadow_matrices, textures.shadow_axes, textures.softness)
 
 
 @kernel(inline="always")

@@ -1,0 +1,171 @@
+"""Shadow maps: the depth of the scene seen from each shadowing light, drawn by the depth pass
+of the triangle rasterizer, for the per-pixel lighting to look up
+(:func:`rasterkit.raster.kernels.lights.shadow_factor`).
+
+- A directional light (and a headlight) sees the scene through a parallel camera looking along
+  its direction, fitted to the mesh's bounding sphere.
+- A spot light sees it through a perspective camera at its position along its direction, its
+  field of view the cone's opening (and a margin).
+- A point light sees it through six perspective cameras (a cube map), one along each axis,
+  each a little wider than 90 degrees so that the filter of a lookup near a face's edge stays
+  within that face: no seams.
+
+Each map holds the distance along its camera's optical axis (world units, +inf where nothing
+was drawn), square, ``size`` texels a side. Faces cast shadows from both sides.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rasterkit.camera import Camera
+from rasterkit.raster.vertex import transform_points
+
+__all__ = ["AXES_WIDTH", "ShadowMaps", "default_map_size", "shadow_maps"]
+
+#: Columns of :attr:`ShadowMaps.axes`: the camera's eye (3), unit viewing direction (3), the
+#: size of a texel (world units; per unit of distance for a perspective camera), 1 for a
+#: perspective camera (else 0), its near and far distances, the unit world directions of the
+#: map's x (3) and y (3, raster y: down).
+AXES_WIDTH = 16
+
+#: The six directions of a point light's cube map, in the order the lookup picks them
+#: (+x, -x, +y, -y, +z, -z: ``2 * axis + (component < 0)``).
+CUBE = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], np.float64)
+
+
+@dataclass(frozen=True)
+class ShadowMaps:
+    """The shadow maps of a frame's lights."""
+
+    maps: np.ndarray  # (K, S, S) float32 distance along each camera's axis, +inf: nothing
+    matrices: np.ndarray  # (K, 4, 4) float64 world -> raster of each map's camera
+    axes: np.ndarray  # (K, AXES_WIDTH) float64, see AXES_WIDTH
+    first: np.ndarray  # (L,) int64 each light's first map (-1: none); a point light's are six
+
+
+def default_map_size(width: int, height: int) -> int:
+    """The side of a shadow map for an image of ``width`` x ``height``: the power of two at
+    least as large as its longer side, 512 to 4096."""
+    side = max(width, height, 1)
+    return int(min(4096, max(512, 1 << (side - 1).bit_length())))
+
+
+def shadow_maps(mesh, lights: tuple, camera: Camera, size: int, softness: float) -> ShadowMaps:
+    """The maps of the shadowing ``lights`` (:class:`rasterkit.Light` with ``shadows``; a
+    headlight along ``camera``'s viewing direction) of ``mesh`` (world space) seen by
+    ``camera``, ``size`` texels a side, for lookups filtered over ``softness`` texels."""
+    centre, radius = mesh.bounding_sphere()
+    radius = max(radius, 1e-9 * max(1.0, float(np.abs(centre).max())))
+    corners = _box_corners(mesh.bounds)
+    cameras, first = [], np.full(len(lights), -1, np.int64)
+    for k, light in enumerate(lights):
+        if not light.shadows:
+            continue
+        first[k] = len(cameras)
+        if light.kind in ("directional", "headlight"):
+            direction = -np.asarray(camera.backward()) if light.kind == "headlight" else np.asarray(light.direction)
+            cameras.append(_parallel(corners, _seen(camera, centre, radius), direction, size))
+        elif light.kind == "spot":
+            margin = 2.0 * math.degrees(math.atan((softness + 2.0) / size))
+            cameras.append(_perspective(np.asarray(light.position), np.asarray(light.direction),
+                                        min(light.angle + margin, 170.0), centre, radius, size))
+        else:  # point: a cube, each face wide enough for the filter at its edges
+            fov = 2.0 * math.degrees(math.atan(1.0 + 2.0 * (softness + 2.0) / size))
+            cameras += [_perspective(np.asarray(light.position), axis, fov, centre, radius, size) for axis in CUBE]
+    maps = np.empty((len(cameras), size, size), np.float32)
+    matrices = np.empty((len(cameras), 4, 4))
+    axes = np.empty((len(cameras), AXES_WIDTH))
+    for k, camera in enumerate(cameras):
+        matrices[k] = camera.world_to_raster()
+        maps[k] = _depth(mesh, camera)
+        axes[k] = _axes(camera, size)
+    return ShadowMaps(maps, matrices, axes, first)
+
+
+def _up(direction: np.ndarray) -> np.ndarray:
+    """A world axis far from parallel to ``direction``."""
+    return np.eye(3)[int(np.argmin(np.abs(direction)))]
+
+
+def _box_corners(bounds: np.ndarray) -> np.ndarray:
+    """(8, 3): the corners of the box ``bounds`` (2, 3)."""
+    return np.array([[bounds[i, 0], bounds[j, 1], bounds[k, 2]] for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+
+
+def _seen(camera: Camera, centre: np.ndarray, radius: float) -> np.ndarray:
+    """(8, 3): the corners of the part of ``camera``'s view between the nearest and the
+    farthest points of the sphere (``centre``, ``radius``): the rays through the image's
+    corners, from where they could first meet the scene to where they leave it."""
+    x = np.array([0.0, camera.width, 0.0, camera.width])
+    y = np.array([0.0, 0.0, camera.height, camera.height])
+    origin, direction = camera.ray(x, y)
+    along = ((centre - origin) * direction).sum(axis=1)  # each ray's closest approach to the centre
+    near, far = np.maximum(along - radius, 0.0), along + radius
+    return np.concatenate([origin + direction * near[:, None], origin + direction * far[:, None]])
+
+
+def _parallel(corners: np.ndarray, seen: np.ndarray, direction: np.ndarray, size: int) -> Camera:
+    """A directional light's camera: looking along ``direction`` at the scene whose box has
+    ``corners``, its square window the box's extent across the light, cut down to where the
+    camera's view (``seen``, :func:`_seen`) spreads across it (only there can a shadow be
+    seen), its depth the whole box's (every caster)."""
+    forward = direction / np.linalg.norm(direction)
+    right = np.cross(forward, _up(forward))
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    basis = np.stack([right, up, forward])
+    scene, view = corners @ basis.T, seen @ basis.T
+    low = np.maximum(scene.min(axis=0)[:2], view.min(axis=0)[:2])
+    high = np.minimum(scene.max(axis=0)[:2], view.max(axis=0)[:2])
+    if not (high > low).all():  # the view misses the scene's box: the whole box
+        low, high = scene.min(axis=0)[:2], scene.max(axis=0)[:2]
+    depth_low, depth_high = scene[:, 2].min(), scene[:, 2].max()
+    extent = max(float((high - low).max()), 1e-9 * max(1.0, float(np.abs(scene).max())))
+    pad = 0.05 * max(depth_high - depth_low, extent)
+    side = extent * (1.0 + 4.0 / size)  # a texel or two of margin for the filter
+    mid = (low + high) / 2.0
+    eye = mid[0] * right + mid[1] * up + (depth_low - pad) * forward
+    return Camera.orthographic(tuple(eye), tuple(eye + forward), up=tuple(up), view_height=side, width=size,
+                               height=size, near=pad * 0.5, far=depth_high - depth_low + pad * 1.5)
+
+
+def _perspective(position, direction, fov, centre, radius, size) -> Camera:
+    direction = direction / np.linalg.norm(direction)
+    distance = float(np.linalg.norm(centre - position))
+    far = (distance + radius) * 1.01
+    near = max(distance - radius, far * 1e-4) * 0.99
+    return Camera.look_at(tuple(position), tuple(position + direction), up=tuple(_up(direction)), fov_y=fov,
+                          width=size, height=size, near=near, far=far)
+
+
+def _axes(camera: Camera, size: int) -> np.ndarray:
+    row = np.zeros(AXES_WIDTH)
+    row[0:3] = camera.eye
+    row[3:6] = -np.asarray(camera.backward())
+    if camera.kind == "perspective":
+        row[6] = 2.0 * math.tan(math.radians(camera.fov_y) / 2.0) / size
+        row[7] = 1.0
+    else:
+        row[6] = camera.view_height / size
+    row[8], row[9] = camera.near, camera.far
+    right, up, _ = camera.basis()
+    row[10:13], row[13:16] = right, -np.asarray(up)
+    return row
+
+
+def _depth(mesh, camera: Camera) -> np.ndarray:
+    """(S, S) float32: the distance along ``camera``'s axis of the nearest face at each texel
+    (+inf where none), faces drawn from both sides."""
+    from rasterkit.raster.triangles import rasterize_checked
+    from rasterkit.raster.vision import camera_depth
+
+    depth = np.full((camera.height, camera.width), np.inf, np.float32)
+    clip = transform_points(np.ascontiguousarray(mesh.vertices, np.float64), np.ascontiguousarray(camera.world_to_raster()))
+    rasterize_checked(None, depth, clip, mesh.faces, None, None, None, "none", (), (0.0, 0.0), None, trusted=True)
+    metric = camera_depth(depth, camera)
+    metric[~np.isfinite(depth)] = np.inf
+    return metric
