@@ -165,7 +165,7 @@ def test_mesh_inputs_are_accepted_in_three_forms():
 
 @pytest.mark.parametrize("kwargs, error", [
     ({"mode": "sketch"}, ValueError), ({"cull": "sideways"}, ValueError),
-    ({"shading": "phong"}, ValueError), ({"color": "#12"}, ValueError),
+    ({"shading": "gouraud"}, ValueError), ({"color": "#12"}, ValueError),
     ({"line_color": (1, 2, 300)}, ValueError),
 ])
 def test_bad_options_are_rejected_before_any_kernel_runs(kwargs, error):
