@@ -10,13 +10,15 @@ and files beside the model), ``buffers`` (buffers and buffer views, range-checke
 ``primitives`` (attributes and the triangles, lines and points of each mode), ``materials``
 (:class:`rasterkit.Material` and :class:`rasterkit.Texture` of the glTF materials),
 ``meshes`` (a glTF mesh as one :class:`rasterkit.Mesh`), ``nodes`` (the default scene's
-hierarchy and world matrices), ``cameras`` (:class:`GltfCamera`, :func:`camera_of`) and
-``reader`` (:func:`read_gltf`, :class:`GltfScene`).
+hierarchy and world matrices), ``cameras`` (:class:`GltfCamera`, :func:`camera_of`),
+``lights`` (``KHR_lights_punctual``: :class:`GltfLight` and the :class:`rasterkit.Light` of
+it) and ``reader`` (:func:`read_gltf`, :class:`GltfScene`).
 
 Coordinates: glTF's are right-handed, +Y up, metres, as rasterkit's world is (right-handed,
 any up; the framing works from the bounding sphere): no conversion is applied. Texture
 coordinates are flipped once (``v' = 1 - v``: glTF's ``v`` runs down the image, rasterkit's
-up). Colours are linear in glTF and sRGB in rasterkit: they are encoded once.
+up). Colours are linear in glTF and sRGB in rasterkit: they are encoded once (a light's
+brightness above 1 goes into its intensity).
 
 ``docs/formats-gltf.md`` says what is read and what is refused.
 """
@@ -24,6 +26,8 @@ up). Colours are linear in glTF and sRGB in rasterkit: they are encoded once.
 from rasterkit.gltf.cameras import GltfCamera, camera_of
 from rasterkit.gltf.container import sniff
 from rasterkit.gltf.errors import GltfError, GltfLimitError
+from rasterkit.gltf.lights import GltfLight, light_of
 from rasterkit.gltf.reader import GltfScene, read_gltf
 
-__all__ = ["GltfCamera", "GltfError", "GltfLimitError", "GltfScene", "camera_of", "read_gltf", "sniff"]
+__all__ = ["GltfCamera", "GltfError", "GltfLight", "GltfLimitError", "GltfScene", "camera_of", "light_of", "read_gltf",
+           "sniff"]

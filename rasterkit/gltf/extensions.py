@@ -1,8 +1,8 @@
 """glTF extensions: which are read, which refuse a file, which are ignored.
 
 - Read: ``KHR_mesh_quantization`` (attributes of integer types, normalized or not: the
-  accessors read every component type anyway) and ``KHR_lights_punctual`` (the lights are
-  kept in :attr:`rasterkit.gltf.GltfScene.lights`).
+  accessors read every component type anyway) and ``KHR_lights_punctual`` (the lights the
+  default scene's nodes place light the Scene, :mod:`rasterkit.gltf.lights`).
 - Refused when the file lists them in ``extensionsRequired``, in one line naming the
   extension: those that change the geometry, without which the file has none or the wrong
   one (:data:`GEOMETRY`: Draco and meshopt compression, GPU instancing). When such an

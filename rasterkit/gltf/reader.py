@@ -1,18 +1,18 @@
 """``read_gltf(path) -> GltfScene``: the default scene of a glTF or GLB file, each mesh node one
-object of a :class:`rasterkit.Scene`, with the file's first camera and its lights recorded.
+object of a :class:`rasterkit.Scene` lit by the file's lights, with its first camera recorded.
 
 The steps: the container and its JSON (:mod:`.container`), the extensions (:mod:`.extensions`),
 the GLB's binary buffer checked against its declared length, then the walk of the default
 scene's nodes (:mod:`.nodes`): a node with a ``mesh`` adds that mesh (:mod:`.meshes`, read
 once however many nodes use it) with the node's world matrix as its model matrix; the first
-node with a ``camera`` is recorded (:mod:`.cameras`); nodes with a ``KHR_lights_punctual``
-light add it to :attr:`GltfScene.lights`. Skins are not applied (a skinned mesh is drawn
+node with a ``camera`` is recorded (:mod:`.cameras`); a node with a ``KHR_lights_punctual``
+light adds it to the Scene's lights as a :class:`rasterkit.Light` (:mod:`.lights`), its record
+to :attr:`GltfScene.gltf_lights`. Skins are not applied (a skinned mesh is drawn
 where its node puts it, in its bind shape), with a warning; animations are not played.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -23,14 +23,13 @@ from rasterkit.gltf.container import open_document
 from rasterkit.gltf.document import Document, Obj
 from rasterkit.gltf.errors import readable
 from rasterkit.gltf.extensions import check_extensions
+from rasterkit.gltf.lights import node_light, place_light
 from rasterkit.gltf.meshes import read_mesh
 from rasterkit.gltf.nodes import walk
 from rasterkit.scene import Scene
 from rasterkit.transform import apply_points
 
 __all__ = ["GltfScene", "read_gltf"]
-
-_LIGHT_TYPES = ("directional", "point", "spot")
 
 
 @dataclass
@@ -45,12 +44,12 @@ class GltfScene(Scene):
         The default scene's first camera node (depth first, in the order nodes list their
         children): :func:`rasterkit.gltf.camera_of` makes a :class:`rasterkit.Camera` of it.
         ``Scene.camera`` is left None (the file's camera is not imposed).
-    lights : list of dict
-        The ``KHR_lights_punctual`` lights placed by the default scene's nodes: ``type``
-        (``directional``, ``point`` or ``spot``), ``color`` (linear RGB), ``intensity``,
-        ``range`` (None: infinite), ``inner_cone_angle`` and ``outer_cone_angle`` (spot,
-        radians), ``name``, ``node``, and in world space ``position`` and ``direction``
-        (the unit direction the light shines in, its node's -Z).
+    lights : list of rasterkit.Light
+        (The Scene's.) The ``KHR_lights_punctual`` lights placed by the default scene's
+        nodes, in world space (:mod:`rasterkit.gltf.lights`): ``render(scene)`` uses them.
+    gltf_lights : list of GltfLight
+        The same lights as the file gives them (type, linear colour, intensity, range, cone
+        angles in radians, name), with their node and world position and direction.
     points : (K, 3) float64 or None
         World-space positions of the points primitives (mode 0), for ``render(...,
         points=...)``; their vertices are in the objects' meshes too (no face draws them).
@@ -62,7 +61,7 @@ class GltfScene(Scene):
 
     path: str | None = None
     gltf_camera: GltfCamera | None = None
-    lights: list = field(default_factory=list)
+    gltf_lights: list = field(default_factory=list)
     points: np.ndarray | None = None
     point_colors: np.ndarray | None = None
     warnings: tuple = ()
@@ -122,36 +121,9 @@ def _node_contents(doc: Document, scene: GltfScene, index: int, node: Obj, world
     camera = node.ref("camera", "cameras", None)
     if camera is not None and scene.gltf_camera is None:
         scene.gltf_camera = read_camera(doc, camera, index, world)
-    extensions = node.obj("extensions", None)
-    lights = None if extensions is None else extensions.obj("KHR_lights_punctual", None)
-    if lights is not None:
-        scene.lights.append(_light(doc, lights, index, world))
-
-
-def _light(doc: Document, ref: Obj, node: int, world: np.ndarray) -> dict:
-    """The light ``ref.light`` names, placed by the node's ``world`` matrix."""
-    root = doc.root.obj("extensions", None)
-    table = None if root is None else root.obj("KHR_lights_punctual", None)
-    if table is None:
-        raise doc.error(ref.path("light"), "names a light, but the file's extensions define none")
-    lights = table.objects("lights")
-    index = ref.int("light")
-    if index >= len(lights):
-        raise doc.error(ref.path("light"), f"must be an index of the {len(lights)} lights, got {index}")
-    light = lights[index]
-    kind = light.string("type")
-    if kind not in _LIGHT_TYPES:
-        raise doc.error(light.path("type"), f"must be one of {', '.join(_LIGHT_TYPES)}, got {kind!r}")
-    spot = light.obj("spot", None) if kind == "spot" else None
-    direction = -world[:3, 2]
-    length = float(np.linalg.norm(direction))
-    return {
-        "type": kind, "color": light.numbers("color", (3,), (1.0, 1.0, 1.0)),
-        "intensity": light.number("intensity", 1.0, low=0.0), "range": light.number("range", None, low=0.0),
-        "inner_cone_angle": None if spot is None else spot.number("innerConeAngle", 0.0, low=0.0, high=math.pi / 2),
-        "outer_cone_angle": None if spot is None else spot.number("outerConeAngle", math.pi / 4, low=0.0,
-                                                                   high=math.pi / 2),
-        "name": light.string("name", None), "node": node, "position": world[:3, 3].copy(),
-        "direction": direction / length if length > 0.0 else direction,
-    }
-
+    ref = node_light(node)
+    if ref is not None:
+        placed = place_light(doc, ref, index, world)
+        if placed is not None:
+            scene.gltf_lights.append(placed[0])
+            scene.add_light(placed[1])

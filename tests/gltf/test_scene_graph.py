@@ -215,13 +215,15 @@ def test_lights_are_kept_in_world_space(tmp_path):
     b.scene(b.node(mesh=mesh), spot, sun)
     scene = read_gltf(b.write_glb(tmp_path / "l.glb"))
     assert not scene.warnings
-    first, second = scene.lights
-    assert (first["type"], first["color"], first["intensity"], first["name"], first["node"]) == \
-        ("spot", (1.0, 0.5, 0.0), 3.0, "lamp", 0)
-    assert (first["inner_cone_angle"], first["outer_cone_angle"], first["range"]) == (0.0, 0.5, None)
-    np.testing.assert_array_equal(first["position"], [1, 2, 3])
-    np.testing.assert_allclose(first["direction"], [0, 0, -1])
-    np.testing.assert_allclose(second["direction"], [0, -1, 0], atol=1e-12)  # tilted down: shines along -y
+    first, second = scene.gltf_lights  # the file's records (tests/gltf/test_lights_punctual.py: the Lights)
+    assert (first.kind, first.color, first.intensity, first.name, first.node) == ("spot", (1.0, 0.5, 0.0), 3.0,
+                                                                                    "lamp", 0)
+    assert (first.inner_cone_angle, first.outer_cone_angle, first.range) == (0.0, 0.5, None)
+    np.testing.assert_array_equal(first.position, [1, 2, 3])
+    np.testing.assert_allclose(first.direction, [0, 0, -1])
+    np.testing.assert_allclose(second.direction, [0, -1, 0], atol=1e-12)  # tilted down: shines along -y
+    assert [light.kind for light in scene.lights] == ["spot", "directional"]
+    np.testing.assert_allclose(scene.lights[1].direction, [0, -1, 0], atol=1e-12)
 
 
 def test_a_scene_pickles_whole(tmp_path):

@@ -2,9 +2,10 @@
 
 The sources: small valid files made here (a textured quad with interleaved attributes, a
 cut-out material and a sampler; a mesh of every primitive mode with normalized colours; a
-sparse accessor, a node hierarchy of matrices and TRS, a camera and a light), and the small
-public glTF and GLB files of ``../shared/models/formats`` when the folder is there. Each case
-is one of them, mutated:
+sparse accessor, a node hierarchy of matrices and TRS, a camera and ``KHR_lights_punctual``
+point, spot and directional lights, which the render then uses), and the small public glTF
+and GLB files of ``../shared/models/formats`` when the folder is there. Each case is one of
+them, mutated:
 
 - **JSON**: 1-4 changes to the document's tree: a value (a count, an offset, an index, a
   matrix entry, a URI, a whole object...) replaced by a hostile one (negative, huge, 2**64,
@@ -142,11 +143,19 @@ def made_sources() -> list:
                                    "values": {"bufferView": values}})
     mesh = b.mesh({"attributes": {"POSITION": pos}, "indices": b.accessor(np.array([0, 1, 2, 2, 3, 0], np.uint32))})
     b.json["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}]
-    b.json["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "point"}]}}
+    b.json["extensionsUsed"] = ["KHR_lights_punctual"]
+    b.json["extensions"] = {"KHR_lights_punctual": {"lights": [
+        {"type": "point"},
+        {"type": "spot", "color": [1, 0.8, 0.5], "intensity": 20, "range": 9,
+         "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.7}, "name": "spot"},
+        {"type": "directional", "color": [2, 1, 0.5], "intensity": 0.5}]}}
+    lit = lambda k: {"extensions": {"KHR_lights_punctual": {"light": k}}}  # noqa: E731
     leaf = b.node(mesh=mesh, rotation=[0, 0.6, 0, 0.8], scale=[1, 2, 1])
-    cam = b.node(camera=0, translation=[0, 0, 5], extensions={"KHR_lights_punctual": {"light": 0}})
-    mid = b.node(children=[leaf, cam], matrix=[2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 1, 2, 3, 1])
-    b.scene(b.node(children=[mid], translation=[0, 1, 0]), b.node(mesh=mesh))
+    cam = b.node(camera=0, translation=[0, 0, 5], **lit(0))
+    spot = b.node(translation=[0, 0, 3], rotation=[0.1, 0, 0, 0.995], **lit(1))
+    mid = b.node(children=[leaf, cam, spot], matrix=[2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 1, 2, 3, 1])
+    b.scene(b.node(children=[mid], translation=[0, 1, 0]), b.node(mesh=mesh),
+            b.node(rotation=[-0.5, 0, 0, 0.87], **lit(2)))
     sources.append(b)
     return [(b._document(None), bytes(b.bin), {}) for b in sources]
 
