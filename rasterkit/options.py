@@ -148,6 +148,10 @@ class RenderOptions:
     shadow_softness : float
         The shadow maps' filter (percentage-closer filtering): the square of
         ``2 ceil(s) + 1`` texels around each lookup, 0 (hard) to 8. Default 1 (3 x 3).
+    ground : colour or None
+        A square of ground of this colour under the model (:mod:`rasterkit.raster.ground`),
+        which catches its shadows; None (the default): none. The frame is then a scene's:
+        with ``ids``, ``fb.object_ids`` tells the model's objects from the ground (the last).
     texture_filter : {"trilinear", "bilinear", "nearest"} or None
         How every texture is filtered (:data:`TEXTURE_FILTERS`): ``trilinear`` uses the
         mipmaps with OpenGL's level of detail, ``bilinear`` the 4 texels around the point,
@@ -180,6 +184,7 @@ class RenderOptions:
     shadows: bool = False
     shadow_map_size: int | None = None
     shadow_softness: float = 1.0
+    ground: object = None
 
     def __post_init__(self):
         for name, check in _CHECKS.items():
@@ -261,5 +266,6 @@ _CHECKS = {
     "shadows": values.flag,
     "shadow_map_size": _optional(lambda name, value: values.whole(name, value, 16, MAX_SHADOW_MAP)),
     "shadow_softness": lambda name, value: _at_most(name, values.non_negative(name, value), 8.0),
+    "ground": _optional(values.colour),
 }
 assert set(_CHECKS) == FIELDS

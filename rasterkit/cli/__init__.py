@@ -119,6 +119,8 @@ def _parser() -> argparse.ArgumentParser:
                       help="highlight strength of surfaces without a material, 0 to 1 (default 0.25)")
     look.add_argument("--shininess", type=non_negative, default=32.0, metavar="N",
                       help="Blinn-Phong exponent of surfaces without a material (default 32)")
+    look.add_argument("--ground", nargs="?", const="#d8d8d8", default=None, metavar="COLOR",
+                      help="a ground under the model that catches its shadows (default colour #d8d8d8)")
     look.add_argument("--shadows", action="store_true",
                       help="every light (but ambient ones) casts shadows (shadow maps; faces lit per pixel)")
     look.add_argument("--shadow-map-size", type=shadow_map_size, default=None, metavar="N",

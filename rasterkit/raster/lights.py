@@ -146,6 +146,7 @@ class FrameLights:
     lights: tuple = ()  # the Light records (those that cast shadows marked so)
     map_size: int = 0  # the side of each shadow map, texels
     softness: float = 1.0  # RenderOptions.shadow_softness
+    casters: tuple | None = None  # (vertices, faces): the mesh's first ones cast shadows (None: all)
     _made: dict = field(default_factory=dict, compare=False, repr=False)  # shadow_terms' maps, per mesh
 
     @property
@@ -164,7 +165,7 @@ class FrameLights:
         if made is None or made[0] is not mesh:
             from rasterkit.raster.shadows import shadow_maps
 
-            maps = shadow_maps(mesh, self.lights, self.camera, self.map_size, self.softness)
+            maps = shadow_maps(mesh, self.lights, self.camera, self.map_size, self.softness, self.casters)
             table = self.table.copy()
             table[:, 13] = maps.first
             table[:, 14] = [6 if light.kind == "point" else 1 for light in self.lights]
@@ -178,12 +179,12 @@ NO_SHADOWS = (np.zeros((0, 1, 1), np.float32), np.zeros((0, 4, 4)), np.zeros((0,
 
 
 def frame_lights(lights: tuple, camera, specular: float, shininess: float, shadows: bool = False,
-                 map_size: int | None = None, softness: float = 1.0) -> FrameLights | None:
+                 map_size: int | None = None, softness: float = 1.0, casters=None) -> FrameLights | None:
     """The :class:`FrameLights` of ``lights`` seen by ``camera`` (a rasterkit.Camera), or
     None without lights (the frame is lit by the classic headlight); ``shadows``: every light
     but the ambient ones casts shadows, in maps ``map_size`` texels a side (None: by the image
     size, :func:`rasterkit.raster.shadows.default_map_size`) filtered over ``softness``
-    texels."""
+    texels; ``casters``: :attr:`FrameLights.casters`."""
     if not lights:
         return None
     if shadows:
@@ -194,7 +195,8 @@ def frame_lights(lights: tuple, camera, specular: float, shininess: float, shado
         map_size = default_map_size(camera.width, camera.height)
     view = np.asarray(camera.backward(), np.float64)
     return FrameLights(light_table(lights, -view), np.asarray(camera.eye, np.float64),
-                       camera.kind == "perspective", view, camera, specular, shininess, lights, map_size, softness)
+                       camera.kind == "perspective", view, camera, specular, shininess, lights, map_size, softness,
+                       casters)
 
 
 def check_lights(name: str, value) -> tuple:

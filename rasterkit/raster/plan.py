@@ -70,6 +70,14 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
         if mesh is None:
             mesh = Mesh(np.zeros((0, 3)), np.zeros((0, 3), np.int64))
     object_faces, background, light, lights = None, options.background, options.light, options.lights
+    ground = None
+    if options.ground is not None and isinstance(camera if camera is not None else getattr(mesh, "camera", None),
+                                                 Camera):
+        from rasterkit.raster.ground import with_ground
+
+        seen_by = camera if camera is not None else mesh.camera
+        mesh = with_ground(mesh if isinstance(mesh, Scene) else as_mesh(mesh), options.ground, seen_by.basis()[1])
+        ground = mesh.objects[-1].mesh  # the last object: it only receives shadows
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
         background = background if background is not None else mesh.background
@@ -87,11 +95,12 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     if feature_edges and options.edges == "feature" and row.edges:
         mesh = _with_feature_edges(mesh, camera, options.crease_angle)
     background = "white" if background is None else background
+    casters = None if ground is None else (len(mesh.vertices) - len(ground.vertices), len(mesh.faces) - len(ground.faces))
     style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
                   options.aa, light_direction(light, camera), textures=options.textures,
                   texture_filter=options.texture_filter,
                   lights=frame_lights(lights, camera, options.specular, options.shininess, options.shadows,
-                                      options.shadow_map_size, options.shadow_softness))
+                                      options.shadow_map_size, options.shadow_softness, casters))
     one_sample = options.samples == 1 and options.vignette == 0.0
     normals, wanted_ids = options.normals, options.ids or options.normals or options.uv
     # the maps made by the band worker: a one-sample render of faces, nothing drawn after

@@ -54,13 +54,22 @@ def default_map_size(width: int, height: int) -> int:
     return int(min(4096, max(512, 1 << (side - 1).bit_length())))
 
 
-def shadow_maps(mesh, lights: tuple, camera: Camera, size: int, softness: float) -> ShadowMaps:
+def shadow_maps(mesh, lights: tuple, camera: Camera, size: int, softness: float, casters=None) -> ShadowMaps:
     """The maps of the shadowing ``lights`` (:class:`rasterkit.Light` with ``shadows``; a
     headlight along ``camera``'s viewing direction) of ``mesh`` (world space) seen by
-    ``camera``, ``size`` texels a side, for lookups filtered over ``softness`` texels."""
-    centre, radius = mesh.bounding_sphere()
-    radius = max(radius, 1e-9 * max(1.0, float(np.abs(centre).max())))
-    corners = _box_corners(mesh.bounds)
+    ``camera``, ``size`` texels a side, for lookups filtered over ``softness`` texels;
+    ``casters``: ``(vertices, faces)``, the counts of the mesh's first vertices and faces that
+    cast shadows (the others, a ground under them, only receive them), None: all. The maps
+    are fitted to the casters: a point outside a map has nothing between it and the light."""
+    vertices = mesh.vertices if casters is None else mesh.vertices[:casters[0]]
+    faces = mesh.faces if casters is None else mesh.faces[:casters[1]]
+    finite = vertices[np.isfinite(vertices).all(axis=1)]
+    if len(finite) == 0:
+        finite = np.zeros((1, 3))
+    low, high = finite.min(axis=0), finite.max(axis=0)
+    centre = low / 2.0 + high / 2.0
+    radius = max(float(np.linalg.norm(high - low)) / 2.0, 1e-9 * max(1.0, float(np.abs(centre).max())))
+    corners = _box_corners(np.stack([low, high]))
     cameras, first = [], np.full(len(lights), -1, np.int64)
     for k, light in enumerate(lights):
         if not light.shadows:
@@ -81,7 +90,7 @@ def shadow_maps(mesh, lights: tuple, camera: Camera, size: int, softness: float)
     axes = np.empty((len(cameras), AXES_WIDTH))
     for k, camera in enumerate(cameras):
         matrices[k] = camera.world_to_raster()
-        maps[k] = _depth(mesh, camera)
+        maps[k] = _depth(mesh.vertices, faces, camera)
         axes[k] = _axes(camera, size)
     return ShadowMaps(maps, matrices, axes, first)
 
@@ -157,15 +166,15 @@ def _axes(camera: Camera, size: int) -> np.ndarray:
     return row
 
 
-def _depth(mesh, camera: Camera) -> np.ndarray:
-    """(S, S) float32: the distance along ``camera``'s axis of the nearest face at each texel
-    (+inf where none), faces drawn from both sides."""
+def _depth(vertices, faces, camera: Camera) -> np.ndarray:
+    """(S, S) float32: the distance along ``camera``'s axis of the nearest of ``faces`` (of a
+    Mesh's ``vertices``) at each texel (+inf where none), faces drawn from both sides."""
     from rasterkit.raster.triangles import rasterize_checked
     from rasterkit.raster.vision import camera_depth
 
     depth = np.full((camera.height, camera.width), np.inf, np.float32)
-    clip = transform_points(np.ascontiguousarray(mesh.vertices, np.float64), np.ascontiguousarray(camera.world_to_raster()))
-    rasterize_checked(None, depth, clip, mesh.faces, None, None, None, "none", (), (0.0, 0.0), None, trusted=True)
+    clip = transform_points(np.ascontiguousarray(vertices, np.float64), np.ascontiguousarray(camera.world_to_raster()))
+    rasterize_checked(None, depth, clip, faces, None, None, None, "none", (), (0.0, 0.0), None, trusted=True)
     metric = camera_depth(depth, camera)
     metric[~np.isfinite(depth)] = np.inf
     return metric

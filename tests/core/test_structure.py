@@ -153,6 +153,7 @@ def _all_imports(path: Path) -> set[str]:
 #: caller's module must import it): the textured resolve samples textures.
 KERNEL_CONSTANTS = {("rasterkit.options", "rasterkit.raster.kernels.limits"),
                     ("rasterkit.raster.kernels.texture_shade", "rasterkit.material.kernels.sample"),
+                    ("rasterkit.raster.kernels.surface", "rasterkit.material.kernels.sample"),
                     ("rasterkit.raster.kernels.cutout", "rasterkit.material.kernels.sample")}
 
 

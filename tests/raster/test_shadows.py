@@ -108,3 +108,25 @@ def test_shadows_of_public_models_agree_with_a_ray_cast(name):
         rendered, cast, lit, darkened = shadow_sets(mesh, LIGHTS[kind], softness=0.0, size=2048)
         assert iou(rendered, cast) >= AGREEMENT[kind], (kind, iou(rendered, cast))
         assert (darkened & lit).sum() <= 0.001 * lit.sum(), (kind, (darkened & lit).sum())
+
+
+def test_the_ground_lies_under_the_model_facing_up_and_catches_its_shadow():
+    from rasterkit.raster.ground import GROUND_SCALE, with_ground
+
+    mesh = rk.shapes.demo()
+    scene = with_ground(mesh, "#d2b48c", (0.0, 1.0, 0.0))
+    ground = scene.objects[-1].mesh
+    assert np.allclose(ground.vertices[:, 1], mesh.vertices[:, 1].min())
+    assert (ground.face_normals[:, 1] > 0.99).all()
+    half = (mesh.bounds[1] - mesh.bounds[0]) / 2
+    assert np.isclose(np.ptp(ground.vertices[:, 0]), 2 * GROUND_SCALE * np.linalg.norm(half))
+    camera = rk.Camera.look_at((2.0, 2.5, 3.0), (0, 0, 0), width=200, height=150)
+    light = [rk.Light.directional((-1, -2, -0.7))]
+    lit = rk.render(mesh, camera, "solid", shading="phong", lights=light, ground="#d2b48c", ids=True)
+    shadowed = rk.render(mesh, camera, "solid", shading="phong", lights=light, ground="#d2b48c", shadows=True)
+    on_ground = lit.object_ids == 1  # the frame of a scene: the model, then the ground
+    assert on_ground.sum() > 5000
+    darker = (shadowed.color.astype(int).sum(axis=2) < lit.color.astype(int).sum(axis=2) - 30) & on_ground
+    assert darker.sum() > 150  # the model's shadow on the ground
+    assert np.array_equal(rk.render(mesh, camera, "solid", shading="phong", lights=light).color,
+                          rk.render(mesh, camera, "solid", shading="phong", lights=light, ground=None).color)
