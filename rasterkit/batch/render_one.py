@@ -69,6 +69,8 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
     textures = options.textures and not svg and mode(options.mode).shaded
     model = demo() if source is None else load(source, textures=textures)
     mesh, cloud = as_drawn(model)  # mesh None: a point cloud alone; cloud with a mesh: a glTF scene's points
+    if isinstance(model, Scene) and model.lights and not options.lights:  # a glTF file's lights, unless --light
+        options = options.replace(lights=tuple(model.lights))
     if mesh is not None and cloud is None and len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:
         raise UsageError(f"{'; '.join(map(_report.one_line, mesh.warnings)) or source}: nothing left to draw")
     if say is not None:

@@ -322,3 +322,20 @@ def test_a_scene_with_lights_pickles(tmp_path):
     copy = pickle.loads(pickle.dumps(scene))
     assert copy.lights == scene.lights
     np.testing.assert_array_equal(copy.gltf_lights[0].direction, scene.gltf_lights[0].direction)
+
+
+def test_the_command_line_lights_a_file_with_its_lights_unless_told_otherwise(tmp_path):
+    from support.hostile import run_cli
+
+    scene = placed_scene(tmp_path)
+    path = tmp_path / "lights.gltf"
+    view = ["--mode", "solid", "--size", "48x40", "--eye", "0,0,6", "--target", "0,0,0", "--fov", "40"]
+    for extra, lights in (([], scene.lights), (["--light", "ambient:white:0.3"], [rasterkit.Light.ambient(intensity=0.3)])):
+        out = tmp_path / f"cli{len(extra)}.png"
+        result = run_cli("render", str(path), "-o", str(out), *view, *extra)
+        assert result.code == 0, result.stderr
+        camera = rasterkit.Camera.look_at((0, 0, 6), (0, 0, 0), (0, 1, 0), fov_y=40, width=48, height=40)
+        expected = rasterkit.render(scene.world_mesh(), camera, mode="solid", lights=lights).color
+        from PIL import Image
+
+        np.testing.assert_array_equal(np.asarray(Image.open(out).convert("RGB")), expected)
