@@ -115,12 +115,17 @@ def shadow_factor(k, table, px, py, pz, nx, ny, nz, shadows):
     depth = (px - axes[mu, 0]) * axes[mu, 3] + (py - axes[mu, 1]) * axes[mu, 4] + (pz - axes[mu, 2]) * axes[mu, 5]
     texel = axes[mu, 6] * (depth if axes[mu, 7] > 0.0 else 1.0)
     reach = np.int64(np.ceil(softness))
+    # curved surfaces leave their face's plane across the filter: more leeway the more the
+    # face slopes away from the light
+    facing = abs(nx * axes[mu, 3] + ny * axes[mu, 4] + nz * axes[mu, 5])
+    slope = min(np.sqrt(max(1.0 - facing * facing, 0.0)) / max(facing, 1e-3), 4.0)
+    leeway = texel * (0.5 + 0.25 * reach * slope)
     i0, j0 = np.int64(x), np.int64(y)
     seen = 0
     for dj in range(-reach, reach + 1):
         for di in range(-reach, reach + 1):
             expected = _plane_depth(axes, mu, i0 + di, j0 + dj, size, px, py, pz, nx, ny, nz, depth, texel)
-            if _map_texel(maps, m, i0 + di, j0 + dj) >= expected - 0.5 * texel:
+            if _map_texel(maps, m, i0 + di, j0 + dj) >= expected - leeway:
                 seen += 1
     side = 2 * reach + 1
     return seen / (side * side)
