@@ -11,7 +11,8 @@ import pytest
 import rasterkit as rk
 from rasterkit.colors import rgba
 from rasterkit.raster.kernels.lights import lit_colors
-from rasterkit.raster.lights import light_table
+from rasterkit.raster.lights import NO_SHADOWS, light_table
+from support.raycast import surface_points
 from support.reference_lighting import blinn_phong, linear_to_srgb255, srgb_to_linear
 
 GREY = np.array([[211.0, 211.0, 211.0]])  # "lightgray", the default colour
@@ -47,7 +48,7 @@ def test_the_kernel_agrees_with_the_reference_for_every_kind_of_light():
     for chosen in [[light] for light in lights] + [lights]:
         table = light_table(tuple(chosen), -np.asarray(camera.backward()))
         got = lit_colors(points, normals, base, np.full((1, 3), 0.3), np.array([20.0]), np.zeros((1, 3)), table, eye,
-                         True, np.zeros(3), False)
+                         True, np.zeros(3), False, NO_SHADOWS)
         want = blinn_phong(points, normals, base, [as_dict(light, camera) for light in chosen], eye,
                            specular=(0.3, 0.3, 0.3), shininess=20.0)
         np.testing.assert_allclose(got, want, atol=1e-3, err_msg=str(chosen))
@@ -61,7 +62,7 @@ def test_a_spot_light_is_full_inside_its_inner_cone_and_dark_outside_its_outer_c
     normals = -points  # facing the light: n.l = 1
     table = light_table((spot,), np.array([0, 0, -1.0]))
     got = lit_colors(points, normals, np.full((1, 3), 255, np.float32), np.zeros((1, 3)), np.array([1.0]),
-                     np.zeros((1, 3)), table, np.zeros(3), True, np.zeros(3), False)[:, 0]
+                     np.zeros((1, 3)), table, np.zeros(3), True, np.zeros(3), False, NO_SHADOWS)[:, 0]
     assert (got[angles < np.radians(15)] > 254.9).all()  # full light: white
     assert (got[angles > half] == 0).all()
     fading = (angles > np.radians(15)) & (angles < half)
@@ -197,23 +198,6 @@ def test_bad_lights_fail_with_a_message_that_names_the_field(make, error, words)
         make()
 
 
-def _ray_cast(mesh, camera, ids):
-    """(points (K, 3), weights (K, 3)) where the ray through each pixel centre with a face in
-    ``ids`` meets that face's plane (Moller-Trumbore), the pixels ``np.nonzero(ids >= 0)``."""
-    j, i = np.nonzero(ids >= 0)
-    origin, direction = camera.ray(i + 0.5, j + 0.5)
-    a, b, c = (mesh.vertices[mesh.faces[ids[j, i], k]] for k in range(3))
-    e1, e2 = b - a, c - a
-    p = np.cross(direction, e2)
-    det = (e1 * p).sum(axis=1)
-    s = origin - a
-    u = (s * p).sum(axis=1) / det
-    q = np.cross(s, e1)
-    v = (direction * q).sum(axis=1) / det
-    t = (e2 * q).sum(axis=1) / det
-    return origin + t[:, None] * direction, np.stack([1 - u - v, u, v], axis=1)
-
-
 @pytest.mark.parametrize("kind", ["perspective", "parallel"])
 def test_phong_pixels_are_lit_at_their_surface_points_as_a_ray_cast_says(kind):
     mesh = rk.shapes.icosphere(3)
@@ -222,7 +206,7 @@ def test_phong_pixels_are_lit_at_their_surface_points_as_a_ray_cast_says(kind):
     else:
         camera = rk.Camera.orthographic((0.5, 0.8, 3.2), (0, 0, 0), view_height=2.6, width=160, height=120)
     fb = rk.render(mesh, camera, "solid", shading="phong", lights=LIGHTS, ids=True)
-    points, weights = _ray_cast(mesh, camera, fb.ids)
+    points, weights = surface_points(mesh, camera, fb.ids)
     normals, corners, _ = mesh.smooth_corners
     f = fb.ids[fb.ids >= 0]
     normal = np.einsum("kc,kcd->kd", weights, normals[corners[f]])
@@ -261,7 +245,7 @@ def test_phong_lights_a_textured_face_from_its_texture_times_its_diffuse_colour(
               rk.Light.ambient(intensity=0.05)]
     for shading in ("flat", "smooth", "phong"):  # a textured face is lit per pixel under lights, whatever the shading
         fb = rk.render(mesh, camera, "solid", shading=shading, lights=lights, ids=True)
-        points, _ = _ray_cast(mesh, camera, fb.ids)
+        points, _ = surface_points(mesh, camera, fb.ids)
         albedo = srgb_to_linear(np.array([200, 120, 60]) / 255.0) * srgb_to_linear(np.array([0.5, 1.0, 0.8]))
         want = blinn_phong(points, np.tile([0.0, 0.0, 1.0], (len(points), 1)), linear_to_srgb255(albedo)[None],
                            [as_dict(light) for light in lights], camera.eye, specular=(0.0, 0.0, 0.0))
@@ -276,7 +260,7 @@ def test_phong_interpolates_vertex_colours_before_lighting_them():
     camera = rk.Camera.look_at((0.3, -0.4, 2.5), (0, 0, 0), width=120, height=100, fov_y=50)
     lights = [rk.Light.point((0.5, 0.5, 1.0), intensity=1.5)]
     fb = rk.render(mesh, camera, "solid", shading="phong", lights=lights, ids=True)
-    points, weights = _ray_cast(mesh, camera, fb.ids)
+    points, weights = surface_points(mesh, camera, fb.ids)
     base = np.einsum("kc,kcd->kd", weights, colours[faces[fb.ids[fb.ids >= 0]]]) * 255.0
     want = blinn_phong(points, np.tile([0.0, 0.0, 1.0], (len(points), 1)), base, [as_dict(lights[0])], camera.eye)
     assert np.abs(fb.color[fb.ids >= 0].astype(int) - np.floor(want + 0.5)).max() <= 1

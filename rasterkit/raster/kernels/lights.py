@@ -132,6 +132,19 @@ def shadow_factor(k, table, px, py, pz, nx, ny, nz, shadows):
 
 
 @kernel(inline="always")
+def toward_viewer(px, py, pz, eye, perspective, view):
+    """The unit direction from the point (px, py, pz) towards the viewer: the ``eye`` of a
+    ``perspective`` camera, else along the parallel camera's ``view``."""
+    if not perspective:
+        return view[0], view[1], view[2]
+    vx, vy, vz = eye[0] - px, eye[1] - py, eye[2] - pz
+    length = np.sqrt(vx * vx + vy * vy + vz * vz)
+    if length > 0.0:
+        return vx / length, vy / length, vz / length
+    return vx, vy, vz
+
+
+@kernel(inline="always")
 def light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, base, specular, shininess, table, shadows, plane):
     """The linear (r, g, b) that the lights of ``table`` send back from the point (px, py, pz)
     with unit normal (nx, ny, nz), seen along the unit (vx, vy, vz); ``base`` and
@@ -216,12 +229,7 @@ def lit_colors(points, normals, base, specular, shininess, emission, table, eye,
     one_base, one_spec = base.shape[0] == 1, specular.shape[0] == 1
     for k in range(k_count):
         px, py, pz = points[k, 0], points[k, 1], points[k, 2]
-        vx, vy, vz = view[0], view[1], view[2]
-        if perspective:
-            vx, vy, vz = eye[0] - px, eye[1] - py, eye[2] - pz
-            length = np.sqrt(vx * vx + vy * vy + vz * vz)
-            if length > 0.0:
-                vx, vy, vz = vx / length, vy / length, vz / length
+        vx, vy, vz = toward_viewer(px, py, pz, eye, perspective, view)
         nx, ny, nz = normals[k, 0], normals[k, 1], normals[k, 2]
         if per_face(two_sided, k) and nx * vx + ny * vy + nz * vz < 0.0:
             nx, ny, nz = -nx, -ny, -nz

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.raster.kernels.cull import per_face
-from rasterkit.raster.kernels.lights import decode, light_sum
+from rasterkit.raster.kernels.lights import decode, light_sum, toward_viewer
 from rasterkit.raster.kernels.shade import SHADE_SMOOTH, to_u8
 from rasterkit.raster.kernels.surface import bent_normal, diffuse, encode, face_terms, normal_terms, surface
 from rasterkit.runtime.jit import kernel
@@ -120,12 +120,7 @@ def lit_rgba(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields):
     base, normal = _base(mode, f, t, w, px, py, packed, vertex_colors, corners, bary, fields)
     rows = (faces[f, 0], faces[f, 1], faces[f, 2])
     x, y, z = _mix(rows, positions, w, 0), _mix(rows, positions, w, 1), _mix(rows, positions, w, 2)
-    vx, vy, vz = view[0], view[1], view[2]
-    if perspective:
-        vx, vy, vz = eye[0] - x, eye[1] - y, eye[2] - z
-        length = np.sqrt(vx * vx + vy * vy + vz * vz)
-        if length > 0.0:
-            vx, vy, vz = vx / length, vy / length, vz / length
+    vx, vy, vz = toward_viewer(x, y, z, eye, perspective, view)
     nx, ny, nz = normal
     if per_face(fields[14], f) > 0.0 and nx * vx + ny * vy + nz * vz < 0.0:  # two-sided, seen from behind
         nx, ny, nz = -nx, -ny, -nz
