@@ -154,6 +154,12 @@ class FrameLights:
         """Whether some light casts shadows (then every face is lit per pixel)."""
         return any(light.shadows for light in self.lights)
 
+    def shadow_bytes(self) -> int:
+        """Memory the shadow maps take while they are made and used: per map (six for a point
+        light) its float32 texels, the depth buffer drawn and the distances made of it."""
+        maps = sum(6 if light.kind == "point" else 1 for light in self.lights if light.shadows)
+        return maps * self.map_size * self.map_size * 4 * 3
+
     def shadow_terms(self, mesh) -> tuple:
         """``(table, shadows)`` for the kernels: the light table with each light's first
         shadow map and their count (columns 13, 14), and ``(maps, matrices, axes, softness)``

@@ -116,7 +116,8 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
             + _accumulate.extra_bytes(width, height, alpha, options.samples, options.vignette,
                                       len(mesh.faces) if row.faces else 0)
             + maps_bytes(mesh, width * height, normals, object_faces is not None, options.camera_depth and in_bands,
-                         options.uv))
+                         options.uv)
+            + (0 if style.lights is None else style.lights.shadow_bytes()))
     return FramePlan(mesh, camera, style, background, options, one_sample, in_bands, object_faces, need)
 
 

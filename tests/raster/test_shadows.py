@@ -130,3 +130,14 @@ def test_the_ground_lies_under_the_model_facing_up_and_catches_its_shadow():
     assert darker.sum() > 150  # the model's shadow on the ground
     assert np.array_equal(rk.render(mesh, camera, "solid", shading="phong", lights=light).color,
                           rk.render(mesh, camera, "solid", shading="phong", lights=light, ground=None).color)
+
+
+def test_the_shadow_maps_count_in_the_memory_a_render_asks_for():
+    mesh = rk.shapes.demo()
+    camera = rk.Camera.look_at((2.0, 2.5, 3.0), (0, 0, 0), width=64, height=48)
+    lights = [rk.Light.point((0, 2, 0)), rk.Light.directional((0, -1, 0))]
+    from rasterkit.raster.render import render_bytes
+
+    plain = render_bytes(mesh, camera, "solid", shading="phong", lights=lights)
+    shadowed = render_bytes(mesh, camera, "solid", shading="phong", lights=lights, shadows=True, shadow_map_size=1024)
+    assert shadowed - plain == (6 + 1) * 1024 * 1024 * 12
