@@ -18,22 +18,22 @@ from pathlib import Path
 
 import numba
 
-from . import (aa, batch, cli, contention, cv, fill, lines2d, loading, memory, render, report, scaling, startup, svg,
-               textures)
+from . import (aa, batch, cli, contention, cv, fill, lighting, lines2d, loading, memory, render, report, scaling,
+               startup, svg, textures)
 from .first_models import MODES as FIRST_MODES
 from .peers import Peers
 from .settings import FULL, QUICK, TARGETS, TINY
 
 # The families that start processes come last: in one run, rasterkit's 2-thread kernels in this
 # process were seen to slow down ~10x for a minute after the CLI family's subprocesses.
-FAMILIES = {"render": render.run, "aa": aa.run, "cv": cv.run, "textures": textures.run, "svg": svg.run,
-            "fill": fill.run, "lines2d": lines2d.run, "loading": loading.run, "scaling": scaling.run, "memory": memory.run,
-            "cli": cli.run, "startup": startup.run, "contention": contention.run, "batch": batch.run,
+FAMILIES = {"render": render.run, "aa": aa.run, "cv": cv.run, "textures": textures.run, "lighting": lighting.run,
+            "svg": svg.run, "fill": fill.run, "lines2d": lines2d.run, "loading": loading.run, "scaling": scaling.run,
+            "memory": memory.run, "cli": cli.run, "startup": startup.run, "contention": contention.run, "batch": batch.run,
             "threads": scaling.run_threads}
-DEFAULT_FAMILIES = ("render", "aa", "cv", "textures", "svg", "fill", "lines2d", "loading", "scaling", "memory", "cli",
-                    "startup", "contention", "batch")
+DEFAULT_FAMILIES = ("render", "aa", "cv", "textures", "lighting", "svg", "fill", "lines2d", "loading", "scaling",
+                    "memory", "cli", "startup", "contention", "batch")
 """What a run measures unless ``--only`` says otherwise (``threads`` is part of ``scaling``)."""
-TARGET_FAMILIES = ("render", "aa", "fill", "threads", "textures")
+TARGET_FAMILIES = ("render", "aa", "fill", "threads", "textures", "lighting")
 
 PACKAGES = ("rasterkit", "numpy", "numba", "llvmlite", "pillow", "moderngl", "opencv-python-headless",
             "trimesh", "scikit-image")
@@ -48,8 +48,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="a small version (about 4 minutes, most of it cold start-up runs)")
     parser.add_argument("--targets", action="store_true",
                         help="only the targets: 3 models at 1920x1080, 4 samples against 4x MSAA, "
-                             "the fill scene, 2 threads vs 1 and textured frames (about 40 seconds; "
-                             "families render,aa,fill,threads,textures)")
+                             "the fill scene, 2 threads vs 1, textured and lit frames (about a minute; "
+                             "families render,aa,fill,threads,textures,lighting)")
     parser.add_argument("--tiny", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--out", type=Path, default=Path("benchmark-results"),
                         help="folder for results.json, results.md and the plots "

@@ -104,6 +104,12 @@ class Settings:
         Repetitions of the ``startup`` family's first textured render against the first
         untextured one (fuze, each in an empty cache; :mod:`benchmarks.first_textured`); 0
         leaves them out.
+    lighting_models : tuple of str
+        Models of the ``lighting`` family (phong with two lights, phong with a shadowed
+        directional light, the unlit solid frame, against llvmpipe): ``"demo"`` is the built-in
+        demo model (``rasterkit.shapes.demo()``), any other name a shared OBJ.
+    lighting_size : (width, height)
+        Their image size.
     """
 
     name: str
@@ -143,6 +149,8 @@ class Settings:
     texture_models: tuple = ("spot", "beast")
     texture_size: tuple = TARGET_SIZE
     textured_cold_runs: int = 1
+    lighting_models: tuple = ("demo", "stanford-bunny")
+    lighting_size: tuple = TARGET_SIZE
 
 
 FULL = Settings(
@@ -157,6 +165,7 @@ FULL = Settings(
     sweep_model="stanford-bunny", memory=("render", "fill", "lines2d", "loading"), process_repeat=5,
     startup_cold_runs=3, first_model_runs=3, contention_seconds=5.0,
     texture_models=("spot", "african_head", "fuze", "beast", "lost_empire"), textured_cold_runs=3,
+    lighting_models=("demo", "stanford-bunny", "ogre"),
 )
 
 QUICK = Settings(
@@ -184,7 +193,7 @@ TARGETS = Settings(
 )
 """Only what the targets need (``--targets``): the rasterization issue's three models at
 1920x1080 in every mode, the 200-triangle fill scene and its thread scaling; the textured
-frames of spot and the larger textured models."""
+frames of spot and the larger textured models; the lit frames of the demo model and the bunny."""
 
 TINY = Settings(
     name="tiny", warmup=1, repeat=1,
@@ -201,6 +210,7 @@ TINY = Settings(
     aa_model="suzanne", aa_size=(64, 48), cv_model="suzanne", cv_size=(64, 48),
     svg_models=("suzanne",), svg_size=(64, 48), batch_size=(64, 48), batch_models=("suzanne",),
     texture_models=("spot", "fuze"), texture_size=(64, 48), textured_cold_runs=0,
+    lighting_models=("demo",), lighting_size=(64, 48),
 )
 
 
