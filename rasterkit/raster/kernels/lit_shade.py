@@ -16,7 +16,7 @@ import numpy as np
 
 from rasterkit.raster.kernels.cull import per_face
 from rasterkit.raster.kernels.lights import decode, light_sum, toward_viewer
-from rasterkit.raster.kernels.shade import SHADE_SMOOTH, to_u8
+from rasterkit.raster.kernels.shade import SHADE_SMOOTH, put_rgba, to_u8
 from rasterkit.raster.kernels.surface import bent_normal, diffuse, encode, face_terms, normal_terms, surface
 from rasterkit.runtime.jit import kernel
 
@@ -109,12 +109,9 @@ def _base(mode, f, t, w, px, py, packed, vertex_colors, corners, bary, fields):
     return (table[1, rgba & 0xFF], table[1, (rgba >> 8) & 0xFF], table[1, (rgba >> 16) & 0xFF]), normal
 
 
-@kernel(refcounts=False)
-def lit_rgba(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields):
-    """The packed colour of face ``f`` (texture ``t``) at raster point (px, py), lit per pixel;
-    ``mode`` SHADE_FLAT (its own colour ``packed[f]``) or SHADE_SMOOTH (``vertex_colors``
-    through ``corners``) for an untextured face. Compiled once, called from each resolve (the
-    single-sample rows, the multi-sample ones and their outlines), not inlined into each."""
+@kernel(inline="always")
+def _lit_pixel(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields):
+    """:func:`lit_rgba`'s colour, inlined into it and into :func:`lit_run`."""
     lights, eye, perspective, view, positions, faces, specular, shininess, emission, _ = lit_fields(fields)
     w = _weights(bary, f, px, py)
     base, normal = _base(mode, f, t, w, px, py, packed, vertex_colors, corners, bary, fields)
@@ -127,10 +124,29 @@ def lit_rgba(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields):
     s = 0 if specular.shape[0] == 1 else f
     r, g, b = light_sum(x, y, z, nx, ny, nz, vx, vy, vz, base, (specular[s, 0], specular[s, 1], specular[s, 2]),
                         shininess[s], lights, (fields[31], fields[32], fields[33], fields[34]),
-                        _face_plane(positions, rows, (nx, ny, nz)))
+                        _face_plane(positions, rows, (nx, ny, nz)) if fields[31].shape[0] else (nx, ny, nz))
     table = fields[15]
     rgba = 255 << 24
     rgba |= to_u8(encode(table, r + emission[s, 0]) * 255.0)
     rgba |= to_u8(encode(table, g + emission[s, 1]) * 255.0) << 8
     rgba |= to_u8(encode(table, b + emission[s, 2]) * 255.0) << 16
     return np.uint32(rgba)
+
+
+@kernel(refcounts=False)
+def lit_rgba(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields):
+    """The packed colour of face ``f`` (texture ``t``) at raster point (px, py), lit per pixel;
+    ``mode`` SHADE_FLAT (its own colour ``packed[f]``) or SHADE_SMOOTH (``vertex_colors``
+    through ``corners``) for an untextured face. Compiled once, called from the multi-sample
+    resolves (their rows and outlines), not inlined into each."""
+    return _lit_pixel(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields)
+
+
+@kernel(refcounts=False)
+def lit_run(color, j, i0, n, mode, f, t, x0, y, packed, vertex_colors, corners, bary, fields):
+    """Colour ``n`` pixels of row ``j`` from column ``i0`` on, of face ``f`` (texture ``t``),
+    lit per pixel (:func:`lit_rgba`), ``(x0, y)`` the first one's sample point: one call per
+    run of a face's pixels in the single-sample resolve."""
+    for q in range(n):
+        put_rgba(color, j, i0 + np.uint64(q), _lit_pixel(mode, f, t, x0 + q, y, packed, vertex_colors, corners,
+                                                          bary, fields))

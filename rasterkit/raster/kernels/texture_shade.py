@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.material.kernels.sample import lookup, texture_lod
-from rasterkit.raster.kernels.lit_shade import lit_face, lit_rgba
+from rasterkit.raster.kernels.lit_shade import lit_face, lit_rgba, lit_run
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, put_rgba, smooth_rgba, to_u8
 from rasterkit.raster.kernels.surface import (
     diffuse, encode, face_terms, mapped_shade, normal_terms, surface, texture_fields,
@@ -171,9 +171,8 @@ def resolve_textured_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, ve
         if mode == SHADE_NONE:
             pass
         elif mapped is not None and lit_face(fields, t):
-            for q in range(k, end):
-                put_rgba(color, ju, base + np.uint64(q), lit_rgba(mode, f, t, px + q, py, packed, vertex_colors,
-                                                                  corners, bary, fields))
+            lit_run(color, ju, base + np.uint64(k), np.int64(end - k), mode, f, t, px + k, py, packed, vertex_colors,
+                    corners, bary, fields)
         elif t >= 0:
             terms = face_terms(f, bary, fields)
             if mapped is None:
