@@ -26,6 +26,7 @@ from rasterkit.raster.lights import NO_SHADOWS, TABLE_WIDTH
 from rasterkit.raster.shading import surface_terms
 from rasterkit.raster.sides import corner_sides
 from rasterkit.raster.vision import corner_uv
+from rasterkit.runtime.jit import readonly
 
 __all__ = ["FrameTextures", "MeshTextures", "face_tangents", "frame_textures", "mesh_textures"]
 
@@ -214,10 +215,12 @@ def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided, smooth: b
     else:
         intensity, corners, face_normals = np.zeros(0, np.float32), np.zeros((0, 3), np.int64), mesh.face_normals
         corner_normals = no_normals
-    record = Textured(*args, layout.face_texture, layout.corner_uv, layout.tint, smooth, intensity, corners,
-                      face_normals, light, float(ambient), _back(two_sided), _ENCODE, layout.face_alpha,
-                      layout.face_opacity, layout.face_normal_map, layout.face_bump, layout.face_normal_space,
-                      layout.tangents, corner_normals, *_lighting(mesh, lit, phong))
+    fields = (*args, layout.face_texture, layout.corner_uv, layout.tint, smooth, intensity, corners, face_normals,
+              light, float(ambient), _back(two_sided), _ENCODE, layout.face_alpha, layout.face_opacity,
+              layout.face_normal_map, layout.face_bump, layout.face_normal_space, layout.tangents, corner_normals,
+              *_lighting(mesh, lit, phong))
+    # every array read-only: one record type (and one compiled band worker) whatever the frame
+    record = Textured(*(readonly(v) if isinstance(v, np.ndarray) else v for v in fields))
     mapped = layout.normal_mapped or lit is not None
     return FrameTextures(record, record if layout.cutout else None, record if mapped else None)
 
