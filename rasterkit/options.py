@@ -27,6 +27,9 @@ MAX_SHADOW_MAP = 8192
 #: Samples per pixel of a render, at most.
 MAX_SAMPLES = 256
 
+#: Ambient occlusion's rays per pixel, at most.
+MAX_AO_SAMPLES = 256
+
 #: The side of a drawn point, in pixels, at most.
 MAX_POINT_SIZE = 64
 
@@ -152,6 +155,16 @@ class RenderOptions:
         A square of ground of this colour under the model (:mod:`rasterkit.raster.ground`),
         which catches its shadows; None (the default): none. The frame is then a scene's:
         with ``ids``, ``fb.object_ids`` tells the model's objects from the ground (the last).
+    ao : bool
+        Ambient occlusion (:mod:`rasterkit.raster.ao`): the darkening of creases and contacts,
+        estimated in screen space from the frame's depth, each drawn face pixel's colour
+        multiplied by the share of ambient light reaching it (``fb.ao``), in the modes that
+        draw faces.
+    ao_radius : float or None
+        How far (world units) a surface occludes; None: a tenth of the model's bounding-box
+        diagonal.
+    ao_samples : int
+        Rays per pixel, 1 to 256. Default 16.
     texture_filter : {"trilinear", "bilinear", "nearest"} or None
         How every texture is filtered (:data:`TEXTURE_FILTERS`): ``trilinear`` uses the
         mipmaps with OpenGL's level of detail, ``bilinear`` the 4 texels around the point,
@@ -185,6 +198,9 @@ class RenderOptions:
     shadow_map_size: int | None = None
     shadow_softness: float = 1.0
     ground: object = None
+    ao: bool = False
+    ao_radius: float | None = None
+    ao_samples: int = 16
 
     def __post_init__(self):
         for name, check in _CHECKS.items():
@@ -267,5 +283,8 @@ _CHECKS = {
     "shadow_map_size": _optional(lambda name, value: values.whole(name, value, 16, MAX_SHADOW_MAP)),
     "shadow_softness": lambda name, value: _at_most(name, values.non_negative(name, value), 8.0),
     "ground": _optional(values.colour),
+    "ao": values.flag,
+    "ao_radius": _optional(values.positive),
+    "ao_samples": lambda name, value: values.whole(name, value, 1, MAX_AO_SAMPLES),
 }
 assert set(_CHECKS) == FIELDS

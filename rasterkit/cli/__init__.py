@@ -34,7 +34,7 @@ from rasterkit.batch import report as _report
 from rasterkit.runtime import stop as _stop
 from rasterkit.batch.report import UsageError
 from rasterkit.cli.args import (LIGHT_FORMS, add_limits, add_view_arguments, attach_number_lists, finite, integers,
-                                light, non_negative, point, positive_int, samples, shadow_map_size, softness,
+                                light, non_negative, point, positive, positive_int, samples, shadow_map_size, softness,
                                 task_from_args, unit_interval, view_from_args, whole_number)
 from rasterkit.options import CULL, EDGES, HIDDEN, MODES, SHADING, TEXTURE_FILTERS
 
@@ -127,6 +127,12 @@ def _parser() -> argparse.ArgumentParser:
                       help="side of each shadow map in texels, 16 to 8192 (default: by the image size, 512 to 4096)")
     look.add_argument("--shadow-softness", type=softness, default=1.0, metavar="S",
                       help="shadow filter radius in texels, 0 (hard) to 8 (default 1: 3x3)")
+    look.add_argument("--ao", action="store_true",
+                      help="ambient occlusion: creases and contacts darkened (screen space, from the depth)")
+    look.add_argument("--ao-radius", type=positive, default=None, metavar="R",
+                      help="how far a surface occludes, world units (default: a tenth of the model's diagonal)")
+    look.add_argument("--ao-samples", type=samples, default=16, metavar="N",
+                      help="ambient occlusion rays per pixel, 1 to 256 (default 16)")
     look.add_argument("--aa", action="store_true", help="anti-aliased (Wu) lines")
     look.add_argument("--edges", choices=EDGES, default="all",
                       help="the polygons' edges (default), or feature edges: silhouettes, "

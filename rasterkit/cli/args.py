@@ -21,7 +21,7 @@ from rasterkit import limits
 from rasterkit.options import MAX_IMAGE_SIZE, MODEL_CAMERAS, PROJECTIONS
 
 __all__ = ["LIGHT_FORMS", "NUMBER_LISTS", "add_limits", "add_view_arguments", "attach_number_lists", "finite", "focus",
-           "integers", "light", "non_negative", "point", "positive_int", "shadow_map_size", "softness", "samples", "size", "size_limit", "task_from_args", "unit_interval", "view_from_args",
+           "integers", "light", "non_negative", "point", "positive", "positive_int", "shadow_map_size", "softness", "samples", "size", "size_limit", "task_from_args", "unit_interval", "view_from_args",
            "whole_number"]
 
 
@@ -106,6 +106,14 @@ def samples(text: str) -> int:
     value = positive_int(text)
     if value > 256:
         raise argparse.ArgumentTypeError(f"at most 256 samples, got {value}")
+    return value
+
+
+def positive(text: str) -> float:
+    """A finite float > 0."""
+    value = finite(text)
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {text!r}")
     return value
 
 

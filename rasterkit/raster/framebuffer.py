@@ -62,6 +62,10 @@ class Framebuffer:
         ``render(..., uv=True)``: the texture coordinates (u, v) seen at each pixel centre,
         interpolated perspective-correctly; NaN where nothing, or a face without texture
         coordinates, was drawn.
+    ao : (H, W) float32 or None
+        ``render(..., ao=True)``: the ambient light each pixel's surface receives, 1 in the
+        open to 0 fully enclosed (one minus its ambient occlusion, :mod:`rasterkit.raster.ao`),
+        NaN where no face was drawn; the colour was multiplied by it.
     camera : Camera or None
         The camera a render drew with (:meth:`camera_depth` inverts its depth mapping).
     width, height : int
@@ -95,7 +99,7 @@ class Framebuffer:
         self._depth = None  # not made yet: all farthest, or what _depth_source draws (defer_depth)
         self._depth_source = None
         self.ids = _memory.take((height, width), np.int32) if ids else None
-        self.object_ids = self.normals = self.uv = self.camera = None
+        self.object_ids = self.normals = self.uv = self.camera = self.ao = None
         self.object_first = None  # (K,) int64: each scene object's first face, with object_ids
         self._camera_depth = None  # (metric depth, its camera), made by a render (keep_camera_depth)
         if cleared:

@@ -37,6 +37,12 @@ def frame_bytes(mesh: Mesh, width: int, height: int, style, alpha: bool, ids: bo
     return total
 
 
+def ao_bytes(pixels: int, metric_made: bool) -> int:
+    """Bytes of ambient occlusion's images (rasterkit.raster.ao): the rays' shares, the map,
+    and the metric depth it reads unless the band worker made it (``metric_made``)."""
+    return (8 if metric_made else 12) * pixels
+
+
 def maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool, metric: bool, uv: bool = False) -> int:
     """Bytes of the normal, object-id, metric depth and texture-coordinate images and their
     per-vertex and per-face terms."""

@@ -13,7 +13,8 @@ from rasterkit.colors import parse_color
 from rasterkit.mesh import Mesh, as_mesh
 from rasterkit.options import RenderOptions
 from rasterkit.raster import accumulate as _accumulate
-from rasterkit.raster.memory import frame_bytes, maps_bytes
+from rasterkit.raster.ao import default_radius
+from rasterkit.raster.memory import ao_bytes, frame_bytes, maps_bytes
 from rasterkit.raster.lights import PHONG_LIGHTS, check_lights, frame_lights
 from rasterkit.raster.modes import Mode, mode
 from rasterkit.raster.shading import light_direction
@@ -55,6 +56,12 @@ class FramePlan:
     in_bands: bool  # the maps made by the band worker
     object_faces: list | None  # a scene's faces per object, when ids are asked for
     need: int  # bytes, for check_memory
+    ao_radius: float | None = None  # ambient occlusion's radius (rasterkit.raster.ao), None: no AO
+
+    @property
+    def metric(self) -> bool:
+        """Whether the frame's metric depth is made (asked for, or read by the AO)."""
+        return self.options.camera_depth or self.ao_radius is not None
 
 
 def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=None,
@@ -76,7 +83,7 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
         from rasterkit.raster.ground import with_ground
 
         seen_by = camera if camera is not None else mesh.camera
-        mesh = with_ground(mesh if isinstance(mesh, Scene) else as_mesh(mesh), options.ground, seen_by.basis()[1])
+        mesh = with_ground(mesh if isinstance(mesh, Scene) else as_mesh(mesh), options.ground, seen_by.up)
         ground = mesh.objects[-1].mesh  # the last object: it only receives shadows
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
@@ -96,6 +103,10 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
         mesh = _with_feature_edges(mesh, camera, options.crease_angle)
     background = "white" if background is None else background
     casters = None if ground is None else (len(mesh.vertices) - len(ground.vertices), len(mesh.faces) - len(ground.faces))
+    ao_radius = None
+    if options.ao and row.faces:
+        ao_radius = options.ao_radius or default_radius(mesh.vertices[:None if casters is None else casters[0]])
+    metric = options.camera_depth or ao_radius is not None
     style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
                   options.aa, light_direction(light, camera), textures=options.textures,
                   texture_filter=options.texture_filter,
@@ -104,9 +115,9 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     one_sample = options.samples == 1 and options.vignette == 0.0
     normals, wanted_ids = options.normals, options.ids or options.normals or options.uv
     # the maps made by the band worker: a one-sample render of faces, nothing drawn after
-    in_bands = (normals or options.uv or object_faces is not None or options.camera_depth) and one_sample \
+    in_bands = (normals or options.uv or object_faces is not None or metric) and one_sample \
         and row.faces and points is None
-    if wanted_ids and one_sample and not (options.camera_depth and in_bands) or points is not None:
+    if wanted_ids and one_sample and not (metric and in_bands) or points is not None:
         # a vision frame (its depth is wanted too), or points to test against the depth: a
         # deferred depth pass would draw again
         style = replace(style, keep_depth=True, points=points)
@@ -115,10 +126,10 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     need = (frame_bytes(mesh, width, height, style, alpha, wanted_ids)
             + _accumulate.extra_bytes(width, height, alpha, options.samples, options.vignette,
                                       len(mesh.faces) if row.faces else 0)
-            + maps_bytes(mesh, width * height, normals, object_faces is not None, options.camera_depth and in_bands,
-                         options.uv)
-            + (0 if style.lights is None else style.lights.shadow_bytes()))
-    return FramePlan(mesh, camera, style, background, options, one_sample, in_bands, object_faces, need)
+            + maps_bytes(mesh, width * height, normals, object_faces is not None, metric and in_bands, options.uv)
+            + (0 if style.lights is None else style.lights.shadow_bytes())
+            + (0 if ao_radius is None else ao_bytes(width * height, in_bands)))
+    return FramePlan(mesh, camera, style, background, options, one_sample, in_bands, object_faces, need, ao_radius)
 
 
 def _with_feature_edges(mesh: Mesh, camera: Camera, crease_angle: float) -> Mesh:

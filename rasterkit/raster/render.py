@@ -132,7 +132,7 @@ def _render_planned(plan: FramePlan) -> Framebuffer:
 
         style = replace(style, maps=maps_record(camera.height, camera.width, mesh, camera, camera.world_to_raster(),
                                                 options.shading if options.normals else None, plan.object_faces,
-                                                options.camera_depth, options.uv))
+                                                plan.metric, options.uv))
     with_ids = options.ids or options.normals or options.uv
     if plan.one_sample:
         fb = new_frame(mesh, camera, style, plan.background, with_ids)
@@ -158,6 +158,11 @@ def _finish(fb: Framebuffer, plan: FramePlan, style) -> Framebuffer:
                   options.shading if options.normals else None, object_faces, options.uv)
     if (options.normals or options.uv or object_faces is not None) and not options.ids:
         fb.ids = None
+    if plan.ao_radius is not None:
+        from rasterkit.raster.ao import ambient_occlusion, apply_ao
+
+        fb.ao = ambient_occlusion(fb.camera_depth(), plan.camera, plan.ao_radius, options.ao_samples)
+        apply_ao(fb.color, fb.ao)
     return fb
 
 

@@ -1,0 +1,153 @@
+"""Ambient occlusion of a rendered frame, from its depth buffer (``render(..., ao=True)``).
+
+Definition
+    The ambient occlusion of a surface point ``P`` with normal ``N`` is the cosine-weighted
+    share of the hemisphere around ``N`` whose rays from ``P`` meet geometry within the
+    radius ``R``: ``AO(P) = (1/pi) integral V_R(P, w) (w . N) dw``, ``V_R`` 1 where the ray
+    meets a surface closer than ``R``. A frame's ``ao`` map holds ``1 - AO``, the light an
+    ambient sky lets through (1 in the open, 0 fully enclosed; glTF's occlusion maps use the
+    same sense), and the colour of each drawn pixel is multiplied by it in linear light.
+
+Estimate (screen space)
+    :mod:`rasterkit.raster.kernels.ao` works it out from the frame's metric depth alone:
+    ``P`` from the pixel's ray and depth, ``N`` from the neighbouring depths (the geometric
+    normal), ``samples`` rays in cosine-weighted directions (a Fibonacci spiral, turned per
+    pixel within a 4x4 tile), each marched in four steps up to ``R`` and blocked where a step
+    falls behind the surface the depth buffer holds there by less than ``R``; then each
+    pixel's share is averaged over its tile on the same surface. What the camera does not see
+    (the back of a model, surfaces hidden by others) cannot occlude, and every surface is taken
+    to be at most ``R`` thick: the estimate's differences from the ray-traced definition.
+    Everything is a function of the depth buffer, so the result is the same at any thread count.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from rasterkit.runtime import scratch as _memory
+from rasterkit.runtime.threads import run_workers
+
+__all__ = ["DEFAULT_RADIUS", "ambient_occlusion", "apply_ao", "default_radius", "directions"]
+
+#: The radius, as a share of the model's bounding-box diagonal, when none is given.
+DEFAULT_RADIUS = 0.1
+
+#: Pixels below this many go on one thread.
+_SMALL = 1 << 15
+
+
+def default_radius(vertices: np.ndarray) -> float:
+    """:data:`DEFAULT_RADIUS` times the diagonal of the finite ``vertices``' bounding box
+    (1 for none)."""
+    finite = vertices[np.isfinite(vertices).all(axis=1)] if len(vertices) else vertices
+    if not len(finite):
+        return 1.0
+    diagonal = float(np.linalg.norm(finite.max(axis=0) - finite.min(axis=0)))
+    return DEFAULT_RADIUS * diagonal if diagonal > 0 else 1.0
+
+
+def directions(count: int) -> np.ndarray:
+    """(count, 3) unit directions about +z, cosine-weighted: a Fibonacci spiral over the unit
+    disk (equal areas) lifted onto the hemisphere (Malley's method)."""
+    k = np.arange(count, dtype=np.float64)
+    r = np.sqrt((k + 0.5) / count)
+    phi = k * (math.pi * (3.0 - math.sqrt(5.0)))
+    return np.ascontiguousarray(np.stack([r * np.cos(phi), r * np.sin(phi), np.sqrt(1.0 - r * r)], axis=1))
+
+
+def camera_geometry(camera) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(rays (6, 3), matrix (4, 4), axis (4,))`` of :func:`rasterkit.raster.kernels.ao.ao_raw`
+    for ``camera``: the point at raster (x, y) with axial depth d is ``O0 + x Ox + y Oy + d
+    (V0 + x Vx + y Vy)`` (exact for perspective and parallel cameras, sheared or shifted), found
+    by inverting the world -> raster matrix; the axial depth of a world point ``q`` is
+    ``axis[:3] . q + axis[3]``."""
+    matrix = np.asarray(camera.world_to_raster(), np.float64)
+    inverse = np.linalg.inv(matrix)
+    near, far, perspective = float(camera.near), float(camera.far), camera.kind == "perspective"
+
+    def point(x, y, d):
+        window = far * (d - near) / (d * (far - near)) if perspective else (d - near) / (far - near)
+        h = inverse @ np.array([x, y, window, 1.0])
+        return h[:3] / h[3]
+
+    d1, d2 = near * 2.0, (near + far) / 2.0
+    o, v = {}, {}
+    for x, y in ((0.0, 0.0), (1.0, 0.0), (0.0, 1.0)):
+        a, b = point(x, y, d1), point(x, y, d2)
+        v[x, y] = (b - a) / (d2 - d1)
+        o[x, y] = a - d1 * v[x, y]
+    rays = np.array([o[0, 0], o[1, 0] - o[0, 0], o[0, 1] - o[0, 0], v[0, 0], v[1, 0] - v[0, 0], v[0, 1] - v[0, 0]])
+    # the axial depth is affine in the world point: fitted to points of known depth
+    samples = [(x, y, d) for x in (0.0, 100.0) for y in (0.0, 100.0) for d in (d1, d2)]
+    points = np.array([np.append(point(x, y, d), 1.0) for x, y, d in samples])
+    axis = np.linalg.lstsq(points, np.array([d for _, _, d in samples]), rcond=None)[0]
+    return np.ascontiguousarray(rays), np.ascontiguousarray(matrix), np.ascontiguousarray(axis)
+
+
+def ambient_occlusion(metric: np.ndarray, camera, radius: float, samples: int) -> np.ndarray:
+    """(H, W) float32 ``1 - AO`` (see the module) of the frame whose metric depth (axial
+    distances, 0 where nothing was drawn, as :meth:`rasterkit.Framebuffer.camera_depth`) is
+    ``metric`` and camera ``camera``; NaN where nothing was drawn."""
+    from rasterkit.raster.kernels.ao import ao_blur, ao_map, ao_raw
+
+    metric = np.ascontiguousarray(metric, np.float32)
+    height, width = metric.shape
+    rays, matrix, axis = camera_geometry(camera)
+    s = stride(width, height)
+    ys, xs = _grid_pixels(height, s), _grid_pixels(width, s)
+    grid = np.ascontiguousarray(metric[ys[:, None], xs[None, :]])
+    threads = 1 if metric.size < _SMALL else None
+    raw, shares = _memory.take(grid.shape, np.float32), _memory.take(grid.shape, np.float32)
+    run_workers(ao_raw, metric, grid, rays, matrix, axis, directions(samples), float(radius), s, raw, threads=threads)
+    run_workers(ao_blur, grid, raw, float(radius), shares, threads=threads)
+    out = np.empty(metric.shape, np.float32)
+    lows, fractions = zip(*(_between(size, s) for size in (height, width)))
+    run_workers(ao_map, metric, grid, shares, float(radius), np.concatenate(lows), np.concatenate(fractions), out,
+                threads=threads)
+    return out
+
+
+def _grid_pixels(size: int, s: int) -> np.ndarray:
+    """The pixels (along one axis of ``size``) where rays are sent: the middle of every ``s``."""
+    return np.minimum(np.arange(-(-size // s)) * s + s // 2, size - 1)
+
+
+def _between(size: int, s: int) -> tuple[np.ndarray, np.ndarray]:
+    """For each pixel along an axis of ``size``: the grid point before it (int64) and the
+    weight of the one after it (float32, 0 to 1), for bilinear interpolation."""
+    points = _grid_pixels(size, s)
+    at = np.arange(size)
+    low = np.clip(np.searchsorted(points, at, side="right") - 1, 0, len(points) - 1)
+    high = np.minimum(low + 1, len(points) - 1)
+    span = np.maximum(points[high] - points[low], 1)
+    fraction = np.clip((at - points[low]) / span, 0.0, 1.0)
+    return low.astype(np.int64), fraction.astype(np.float32)
+
+
+def stride(width: int, height: int) -> int:
+    """Every how many pixels (across and down) the rays are sent: 1 up to 511 pixels on the
+    shorter side, then one more per 256 pixels, at most 4 (1080p: every 4th)."""
+    return max(1, min(4, min(width, height) // 256))
+
+
+def apply_ao(color: np.ndarray, ao: np.ndarray) -> None:
+    """Multiply the RGB of ``color`` (H, W, 3|4) uint8 sRGB by ``ao`` (H, W) in linear light,
+    in place, where ``ao`` is not NaN."""
+    from rasterkit.raster.kernels.ao import darken
+
+    run_workers(darken, color, ao, _DECODE, _ENCODE, threads=1 if ao.size < _SMALL else None)
+
+
+def _tables() -> tuple[np.ndarray, np.ndarray]:
+    c = np.arange(256) / 255.0
+    decode = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    x = np.arange(_ENCODE_SIZE) / (_ENCODE_SIZE - 1)
+    encode = 255.0 * np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
+    return decode.astype(np.float32), np.rint(encode).astype(np.uint8)
+
+
+#: Entries of the linear -> sRGB table (linear steps of 1/4095: within one level of 255).
+_ENCODE_SIZE = 4096
+_DECODE, _ENCODE = _tables()

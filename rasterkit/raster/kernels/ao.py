@@ -1,0 +1,280 @@
+"""Screen-space ambient occlusion (:mod:`rasterkit.raster.ao`): rays marched through a
+frame's metric depth buffer.
+
+Each pixel's surface point ``P`` and geometric normal ``N`` come from the depth buffer (the
+point from the pixel's ray and its axial depth; the normal from the neighbours on the side
+whose depth continues the pixel's). From ``P`` go ``K`` rays in cosine-weighted directions
+around ``N``, each marched in ``STEPS`` steps up to the radius ``R``; a ray is blocked at the
+first step whose point lies behind the surface the depth buffer holds there, by less than
+``R`` (so a surface far in front of the point, which hides it, does not count). The share of
+rays blocked estimates ``1 - (1/pi) integral V(P, w) cos(w, N) dw`` for the rays ``w`` that meet
+geometry within ``R`` — the ray-traced definition, with the scene as the depth buffer shows it.
+
+The rays' directions turn with each pixel's place in a 4x4 tile (and their steps shift), so
+that the 16 pixels of a tile together send ``16 K`` different rays; :func:`ao_blur` averages
+each pixel with its tile's neighbours on the same surface. Compiled only when a render asks
+for ``ao``.
+"""
+
+import math
+
+import numpy as np
+
+from rasterkit.runtime.intrinsics import fetch_add
+from rasterkit.runtime.jit import kernel
+
+#: The rows are worked on in this many chunks, shared out among the threads.
+N_CHUNKS = 64
+
+#: Steps each ray is marched in.
+STEPS = 4
+
+#: The 4x4 tile's order (Bayer's): neighbouring pixels turn their rays far apart.
+TILE = np.array([0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5], np.int64)
+
+
+@kernel(inline="always")
+def _point(rays, x, y, d):
+    """The world-space point at raster (x, y) with axial depth d: ``O(x, y) + d V(x, y)``."""
+    px = rays[0, 0] + x * rays[1, 0] + y * rays[2, 0] + d * (rays[3, 0] + x * rays[4, 0] + y * rays[5, 0])
+    py = rays[0, 1] + x * rays[1, 1] + y * rays[2, 1] + d * (rays[3, 1] + x * rays[4, 1] + y * rays[5, 1])
+    pz = rays[0, 2] + x * rays[1, 2] + y * rays[2, 2] + d * (rays[3, 2] + x * rays[4, 2] + y * rays[5, 2])
+    return px, py, pz
+
+
+@kernel(inline="always")
+def _side(metric, x, y, dx, dy, d, width, height):
+    """The neighbour of (x, y) that continues its surface along (dx, dy): +1 or -1, or 0
+    when neither is drawn, and the difference of depths on that side."""
+    xa, ya, xb, yb = x + dx, y + dy, x - dx, y - dy
+    da = metric[ya, xa] if 0 <= xa < width and 0 <= ya < height else np.float32(0.0)
+    db = metric[yb, xb] if 0 <= xb < width and 0 <= yb < height else np.float32(0.0)
+    if da > 0.0 and (db <= 0.0 or abs(da - d) <= abs(db - d)):
+        return 1, da - d
+    if db > 0.0:
+        return -1, d - db
+    return 0, 0.0
+
+
+@kernel(inline="always")
+def _normal(metric, rays, x, y, d, width, height):
+    """The unit normal at pixel (x, y) from its neighbours' points, facing the camera, and
+    the depth's change over a pixel (across plus down)."""
+    cx, cy = x + 0.5, y + 0.5
+    p0, p1, p2 = _point(rays, cx, cy, d)
+    sx, gx = _side(metric, x, y, 1, 0, d, width, height)
+    sy, gy = _side(metric, x, y, 0, 1, d, width, height)
+    vx = rays[3, 0] + cx * rays[4, 0] + cy * rays[5, 0]
+    vy = rays[3, 1] + cx * rays[4, 1] + cy * rays[5, 1]
+    vz = rays[3, 2] + cx * rays[4, 2] + cy * rays[5, 2]
+    if sx == 0 or sy == 0:
+        nx, ny, nz = -vx, -vy, -vz
+    else:
+        a0, a1, a2 = _point(rays, cx + sx, cy, d + sx * gx)
+        b0, b1, b2 = _point(rays, cx, cy + sy, d + sy * gy)
+        ux, uy, uz = (a0 - p0) * sx, (a1 - p1) * sx, (a2 - p2) * sx
+        wx, wy, wz = (b0 - p0) * sy, (b1 - p1) * sy, (b2 - p2) * sy
+        nx, ny, nz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+        if nx * vx + ny * vy + nz * vz > 0.0:
+            nx, ny, nz = -nx, -ny, -nz
+    size = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if size == 0.0:
+        nx, ny, nz, size = -vx, -vy, -vz, math.sqrt(vx * vx + vy * vy + vz * vz)
+    return p0, p1, p2, nx / size, ny / size, nz / size, abs(gx) + abs(gy)
+
+
+@kernel(inline="always")
+def _march(grid, stride, h0, h1, h3, r0, r1, r3, depth, rise, shift, slack, radius, columns, rows):
+    """Whether the ray whose point at ``t`` projects to the homogeneous raster point
+    ``h + t r`` with axial depth ``depth + t rise`` is blocked within ``radius``: at one of
+    its ``STEPS`` steps the point lies behind the drawn surface (``grid``: the depth of every
+    ``stride``-th pixel) by more than ``slack`` and less than ``radius``. A ray that leaves the
+    image, or the near side of the camera, is not."""
+    for j in range(STEPS):
+        t = radius * (j + shift) / STEPS
+        w = h3 + t * r3
+        if not w > 0.0:
+            return False
+        scale = 1.0 / (w * stride)
+        x = (h0 + t * r0) * scale
+        y = (h1 + t * r1) * scale
+        if not (0.0 <= x < columns and 0.0 <= y < rows):
+            return False
+        seen = grid[int(y), int(x)]
+        if seen > 0.0:
+            behind = depth + t * rise - seen
+            if slack < behind < radius:
+                return True
+    return False
+
+
+@kernel(inline="always")
+def _pixel_ao(metric, grid, stride, rays, matrix, axis, directions, radius, x, y, d, width, height, turn, shift):
+    """The share of the rays from pixel (x, y) (depth d > 0) that are blocked."""
+    p0, p1, p2, n0, n1, n2, slope = _normal(metric, rays, x, y, d, width, height)
+    # a tangent frame (t, b, n), turned by ``turn`` radians about n
+    if abs(n0) < 0.6:
+        t0, t1, t2 = 0.0, -n2, n1
+    else:
+        t0, t1, t2 = n2, 0.0, -n0
+    size = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+    t0, t1, t2 = t0 / size, t1 / size, t2 / size
+    b0, b1, b2 = n1 * t2 - n2 * t1, n2 * t0 - n0 * t2, n0 * t1 - n1 * t0
+    c, s = math.cos(turn), math.sin(turn)
+    t0, t1, t2, b0, b1, b2 = c * t0 + s * b0, c * t1 + s * b1, c * t2 + s * b2, c * b0 - s * t0, c * b1 - s * t1, c * b2 - s * t2
+    # a grid cell's footprint: the rays start that far off the surface
+    footprint = 0.5 * stride * math.sqrt((rays[1, 0] + d * rays[4, 0]) ** 2 + (rays[1, 1] + d * rays[4, 1]) ** 2
+                          + (rays[1, 2] + d * rays[4, 2]) ** 2)
+    s0, s1, s2 = p0 + footprint * n0, p1 + footprint * n1, p2 + footprint * n2
+    h0 = matrix[0, 0] * s0 + matrix[0, 1] * s1 + matrix[0, 2] * s2 + matrix[0, 3]
+    h1 = matrix[1, 0] * s0 + matrix[1, 1] * s1 + matrix[1, 2] * s2 + matrix[1, 3]
+    h3 = matrix[3, 0] * s0 + matrix[3, 1] * s1 + matrix[3, 2] * s2 + matrix[3, 3]
+    depth = axis[0] * s0 + axis[1] * s1 + axis[2] * s2 + axis[3]
+    slack = 0.75 * slope * stride + 1e-5 * d
+    blocked = 0
+    for k in range(directions.shape[0]):
+        a, b, z = directions[k, 0], directions[k, 1], directions[k, 2]
+        r0, r1, r2 = a * t0 + b * b0 + z * n0, a * t1 + b * b1 + z * n1, a * t2 + b * b2 + z * n2
+        if _march(grid, stride, h0, h1, h3,
+                  matrix[0, 0] * r0 + matrix[0, 1] * r1 + matrix[0, 2] * r2,
+                  matrix[1, 0] * r0 + matrix[1, 1] * r1 + matrix[1, 2] * r2,
+                  matrix[3, 0] * r0 + matrix[3, 1] * r1 + matrix[3, 2] * r2,
+                  depth, axis[0] * r0 + axis[1] * r1 + axis[2] * r2, shift, slack, radius, width / stride,
+                  height / stride):
+            blocked += 1
+    return blocked / directions.shape[0]
+
+
+@kernel(inline="always")
+def _grid_pixel(i, stride, size):
+    """The pixel (column or row) of grid point ``i``: the middle of its ``stride`` pixels."""
+    return min(i * stride + stride // 2, size - 1)
+
+
+@kernel(refcounts=False)
+def ao_raw(slot, counter, metric, grid, rays, matrix, axis, directions, radius, stride, out):
+    """``out`` (Hg, Wg) float32: the share of blocked rays at every ``stride``-th pixel of
+    ``metric`` (H, W) float32 (axial depths, 0 where nothing was drawn; -1 there in
+    ``out``); grid point (i, j) is the pixel (``i stride + stride // 2``, likewise j), within
+    the image, and ``grid`` (Hg, Wg) float32 its depth: what the rays are tested against.
+
+    ``rays`` (6, 3) float64: the rows O0, Ox, Oy, V0, Vx, Vy of the world-space point
+    ``O0 + x Ox + y Oy + d (V0 + x Vx + y Vy)`` at raster (x, y) with axial depth d;
+    ``matrix`` (4, 4) float64 world -> homogeneous raster; ``axis`` (4,) float64: the axial
+    depth of a world point, ``axis[:3] . q + axis[3]``; ``directions`` (K, 3) float64 unit
+    tangent-space directions (z along the normal); ``radius`` > 0, world units. A worker of
+    :func:`rasterkit.runtime.threads.run_workers` over ``N_CHUNKS`` pieces of rows."""
+    height, width = metric.shape
+    rows, columns = out.shape
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for j in range(rows * ch // N_CHUNKS, rows * (ch + 1) // N_CHUNKS):
+            y = _grid_pixel(j, stride, height)
+            for i in range(columns):
+                x = _grid_pixel(i, stride, width)
+                d = grid[j, i]
+                if d <= 0.0:
+                    out[j, i] = -1.0
+                    continue
+                rank = TILE[(j & 3) * 4 + (i & 3)]
+                turn = rank * (2.0 * math.pi / 16.0)
+                shift = ((rank * 7) % 16 + 0.5) / 16.0
+                out[j, i] = _pixel_ao(metric, grid, stride, rays, matrix, axis, directions, radius, x, y, d, width, height, turn, shift)
+    return 0
+
+
+@kernel(refcounts=False)
+def ao_blur(slot, counter, grid, raw, radius, out):
+    """``out`` (Hg, Wg) float32: each grid point's share of ``raw`` (Hg, Wg) (:func:`ao_raw`)
+    averaged over the 4x4 grid points around it (i - 1 .. i + 2, j - 1 .. j + 2: a whole
+    tile) whose depth (``grid``, :func:`ao_raw`'s) lies within ``radius / 2`` of its own; -1
+    where nothing was drawn."""
+    rows, columns = out.shape
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for j in range(rows * ch // N_CHUNKS, rows * (ch + 1) // N_CHUNKS):
+            for i in range(columns):
+                if raw[j, i] < 0.0:
+                    out[j, i] = -1.0
+                    continue
+                d = grid[j, i]
+                total, weight = 0.0, 0.0
+                for v in range(max(j - 1, 0), min(j + 3, rows)):
+                    for u in range(max(i - 1, 0), min(i + 3, columns)):
+                        other = grid[v, u]
+                        if other > 0.0 and abs(other - d) < 0.5 * radius:
+                            total += raw[v, u]
+                            weight += 1.0
+                out[j, i] = total / weight
+    return 0
+
+
+@kernel(refcounts=False)
+def ao_map(slot, counter, metric, grid, shares, radius, lows, fractions, out):
+    """``out`` (H, W) float32: one minus the share of blocked rays at each pixel drawn in
+    ``metric`` (NaN elsewhere), interpolated bilinearly from the grid ``shares`` (Hg, Wg)
+    (:func:`ao_blur`) among the grid points whose depth (``grid``) lies within ``radius / 2``
+    of the pixel's (the nearest in depth when none does). ``lows`` (H + W,) int64 and
+    ``fractions`` (H + W,) float32: each row's, then each column's, grid point before it
+    and its weight of the one after."""
+    height, width = metric.shape
+    rows, columns = shares.shape
+    nan = np.float32(np.nan)
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for y in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
+            j0 = lows[y]
+            j1 = min(j0 + 1, rows - 1)
+            fy = fractions[y]
+            for x in range(width):
+                d = metric[y, x]
+                if d <= 0.0:
+                    out[y, x] = nan
+                    continue
+                i0 = lows[height + x]
+                i1 = min(i0 + 1, columns - 1)
+                fx = fractions[height + x]
+                total, weight, nearest, gap = np.float32(0.0), np.float32(0.0), np.float32(0.0), np.float32(np.inf)
+                for corner in range(4):
+                    j = j1 if corner >= 2 else j0
+                    i = i1 if corner & 1 else i0
+                    share = shares[j, i]
+                    if share < 0.0:
+                        continue
+                    off = abs(grid[j, i] - d)
+                    w = (fy if corner >= 2 else 1.0 - fy) * (fx if corner & 1 else 1.0 - fx)
+                    if off < 0.5 * radius:
+                        total += w * share
+                        weight += w
+                    if off < gap:
+                        nearest, gap = share, off
+                out[y, x] = 1.0 - (total / weight if weight > 1e-6 else nearest)
+    return 0
+
+
+@kernel(refcounts=False)
+def darken(slot, counter, color, ao, decode, encode):
+    """Multiply the RGB of ``color`` (H, W, C) uint8 sRGB by ``ao`` (H, W) float32 in linear
+    light where ``ao`` is not NaN: ``decode`` (256,) float32 sRGB -> linear, ``encode`` (S,)
+    uint8 linear ``i / (S - 1)`` -> sRGB. A worker like :func:`ao_raw`."""
+    height, width = ao.shape
+    top = encode.shape[0] - 1
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for y in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
+            for x in range(width):
+                a = ao[y, x]
+                if not a >= 0.0:  # NaN: nothing drawn
+                    continue
+                a = min(a, np.float32(1.0)) * top
+                for c in range(3):
+                    color[y, x, c] = encode[int(decode[color[y, x, c]] * a + 0.5)]
+    return 0
