@@ -27,6 +27,9 @@ MAX_SHADOW_MAP = 8192
 #: Samples per pixel of a render, at most.
 MAX_SAMPLES = 256
 
+#: ``ground=`` for a ground that shows only the shadows it catches.
+SHADOW_GROUND = "shadow"
+
 #: Ambient occlusion's rays per pixel, at most.
 MAX_AO_SAMPLES = 256
 
@@ -151,10 +154,14 @@ class RenderOptions:
     shadow_softness : float
         The shadow maps' filter (percentage-closer filtering): the square of
         ``2 ceil(s) + 1`` texels around each lookup, 0 (hard) to 8. Default 1 (3 x 3).
-    ground : colour or None
+    ground : colour, "shadow" or None
         A square of ground of this colour under the model (:mod:`rasterkit.raster.ground`),
-        which catches its shadows; None (the default): none. The frame is then a scene's:
-        with ``ids``, ``fb.object_ids`` tells the model's objects from the ground (the last).
+        which catches its shadows; ``"shadow"``: only the shadows (and the ambient occlusion)
+        the ground catches, as black of their darkness' opacity over the background (a
+        transparent one unless ``background`` is given; a scene's own is not used), for
+        compositing; None (the default): none. The
+        frame is then a scene's: with ``ids``, ``fb.object_ids`` tells the model's objects from
+        the ground (the last).
     ao : bool
         Ambient occlusion (:mod:`rasterkit.raster.ao`): the darkening of creases and contacts,
         estimated in screen space from the frame's depth, each drawn face pixel's colour
@@ -164,7 +171,8 @@ class RenderOptions:
         How far (world units) a surface occludes; None: a tenth of the model's bounding-box
         diagonal.
     ao_samples : int
-        Rays per pixel, 1 to 256. Default 16.
+        Rays per pixel, 1 to 256. Default 8 (each pixel's are turned against its
+        neighbours': 128 directions over each 4x4 tile).
     texture_filter : {"trilinear", "bilinear", "nearest"} or None
         How every texture is filtered (:data:`TEXTURE_FILTERS`): ``trilinear`` uses the
         mipmaps with OpenGL's level of detail, ``bilinear`` the 4 texels around the point,
@@ -200,7 +208,7 @@ class RenderOptions:
     ground: object = None
     ao: bool = False
     ao_radius: float | None = None
-    ao_samples: int = 16
+    ao_samples: int = 8
 
     def __post_init__(self):
         for name, check in _CHECKS.items():
@@ -282,7 +290,7 @@ _CHECKS = {
     "shadows": values.flag,
     "shadow_map_size": _optional(lambda name, value: values.whole(name, value, 16, MAX_SHADOW_MAP)),
     "shadow_softness": lambda name, value: _at_most(name, values.non_negative(name, value), 8.0),
-    "ground": _optional(values.colour),
+    "ground": _optional(lambda name, value: value if value == SHADOW_GROUND else values.colour(name, value)),
     "ao": values.flag,
     "ao_radius": _optional(values.positive),
     "ao_samples": lambda name, value: values.whole(name, value, 1, MAX_AO_SAMPLES),

@@ -131,8 +131,8 @@ def _parser() -> argparse.ArgumentParser:
                       help="ambient occlusion: creases and contacts darkened (screen space, from the depth)")
     look.add_argument("--ao-radius", type=positive, default=None, metavar="R",
                       help="how far a surface occludes, world units (default: a tenth of the model's diagonal)")
-    look.add_argument("--ao-samples", type=samples, default=16, metavar="N",
-                      help="ambient occlusion rays per pixel, 1 to 256 (default 16)")
+    look.add_argument("--ao-samples", type=samples, default=8, metavar="N",
+                      help="ambient occlusion rays per pixel, 1 to 256 (default 8)")
     look.add_argument("--aa", action="store_true", help="anti-aliased (Wu) lines")
     look.add_argument("--edges", choices=EDGES, default="all",
                       help="the polygons' edges (default), or feature edges: silhouettes, "

@@ -29,7 +29,7 @@ import numpy as np
 from rasterkit.runtime import scratch as _memory
 from rasterkit.runtime.threads import run_workers
 
-__all__ = ["DEFAULT_RADIUS", "ambient_occlusion", "apply_ao", "default_radius", "directions"]
+__all__ = ["DEFAULT_RADIUS", "ambient_occlusion", "default_radius", "directions"]
 
 #: The radius, as a share of the model's bounding-box diagonal, when none is given.
 DEFAULT_RADIUS = 0.1
@@ -86,10 +86,11 @@ def camera_geometry(camera) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return np.ascontiguousarray(rays), np.ascontiguousarray(matrix), np.ascontiguousarray(axis)
 
 
-def ambient_occlusion(metric: np.ndarray, camera, radius: float, samples: int) -> np.ndarray:
+def ambient_occlusion(metric: np.ndarray, camera, radius: float, samples: int, color: np.ndarray) -> np.ndarray:
     """(H, W) float32 ``1 - AO`` (see the module) of the frame whose metric depth (axial
     distances, 0 where nothing was drawn, as :meth:`rasterkit.Framebuffer.camera_depth`) is
-    ``metric`` and camera ``camera``; NaN where nothing was drawn."""
+    ``metric`` and camera ``camera``; NaN where nothing was drawn. The RGB of ``color``
+    (H, W, 3|4) uint8 sRGB is multiplied by it in linear light, in place."""
     from rasterkit.raster.kernels.ao import ao_blur, ao_map, ao_raw
 
     metric = np.ascontiguousarray(metric, np.float32)
@@ -102,10 +103,10 @@ def ambient_occlusion(metric: np.ndarray, camera, radius: float, samples: int) -
     raw, shares = _memory.take(grid.shape, np.float32), _memory.take(grid.shape, np.float32)
     run_workers(ao_raw, metric, grid, rays, matrix, axis, directions(samples), float(radius), s, raw, threads=threads)
     run_workers(ao_blur, grid, raw, float(radius), shares, threads=threads)
-    out = np.empty(metric.shape, np.float32)
+    out = _memory.take(metric.shape, np.float32)
     lows, fractions = zip(*(_between(size, s) for size in (height, width)))
-    run_workers(ao_map, metric, grid, shares, float(radius), np.concatenate(lows), np.concatenate(fractions), out,
-                threads=threads)
+    run_workers(ao_map, metric, grid, shares, float(radius), np.concatenate(lows), np.concatenate(fractions), color,
+                _DECODE, _ENCODE, out, threads=threads)
     return out
 
 
@@ -127,17 +128,9 @@ def _between(size: int, s: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def stride(width: int, height: int) -> int:
-    """Every how many pixels (across and down) the rays are sent: 1 up to 511 pixels on the
-    shorter side, then one more per 256 pixels, at most 4 (1080p: every 4th)."""
-    return max(1, min(4, min(width, height) // 256))
-
-
-def apply_ao(color: np.ndarray, ao: np.ndarray) -> None:
-    """Multiply the RGB of ``color`` (H, W, 3|4) uint8 sRGB by ``ao`` (H, W) in linear light,
-    in place, where ``ao`` is not NaN."""
-    from rasterkit.raster.kernels.ao import darken
-
-    run_workers(darken, color, ao, _DECODE, _ENCODE, threads=1 if ao.size < _SMALL else None)
+    """Every how many pixels (across and down) the rays are sent: one per 180 pixels of the
+    shorter side, rounded, 1 to 8 (1080p: every 6th; 480p: every 3rd; below 270: each)."""
+    return max(1, min(8, round(min(width, height) / 180)))
 
 
 def _tables() -> tuple[np.ndarray, np.ndarray]:

@@ -11,7 +11,7 @@ import numpy as np
 from rasterkit.camera import Camera
 from rasterkit.colors import parse_color
 from rasterkit.mesh import Mesh, as_mesh
-from rasterkit.options import RenderOptions
+from rasterkit.options import SHADOW_GROUND, RenderOptions
 from rasterkit.raster import accumulate as _accumulate
 from rasterkit.raster.ao import default_radius
 from rasterkit.raster.memory import ao_bytes, frame_bytes, maps_bytes
@@ -57,11 +57,18 @@ class FramePlan:
     object_faces: list | None  # a scene's faces per object, when ids are asked for
     need: int  # bytes, for check_memory
     ao_radius: float | None = None  # ambient occlusion's radius (rasterkit.raster.ao), None: no AO
+    catcher: int | None = None  # ground="shadow": the ground's first face (rasterkit.raster.ground)
 
     @property
     def metric(self) -> bool:
-        """Whether the frame's metric depth is made (asked for, or read by the AO)."""
-        return self.options.camera_depth or self.ao_radius is not None
+        """Whether the frame's metric depth is made (asked for, or read by the AO or the
+        shadow catcher)."""
+        return self.options.camera_depth or self.ao_radius is not None or self.catcher is not None
+
+    @property
+    def with_ids(self) -> bool:
+        """Whether the frame draws face ids (asked for, or to find the shadow catcher)."""
+        return self.options.ids or self.options.normals or self.options.uv or self.catcher is not None
 
 
 def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=None,
@@ -83,7 +90,11 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
         from rasterkit.raster.ground import with_ground
 
         seen_by = camera if camera is not None else mesh.camera
-        mesh = with_ground(mesh if isinstance(mesh, Scene) else as_mesh(mesh), options.ground, seen_by.up)
+        catches_only = options.ground == SHADOW_GROUND
+        if catches_only and background is None:
+            background = "transparent"  # the shadow alone, for compositing (a scene's background aside)
+        mesh = with_ground(mesh if isinstance(mesh, Scene) else as_mesh(mesh),
+                           "white" if catches_only else options.ground, seen_by.up)
         ground = mesh.objects[-1].mesh  # the last object: it only receives shadows
     if isinstance(mesh, Scene):
         camera = camera if camera is not None else mesh.camera
@@ -106,14 +117,15 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     ao_radius = None
     if options.ao and row.faces:
         ao_radius = options.ao_radius or default_radius(mesh.vertices[:None if casters is None else casters[0]])
-    metric = options.camera_depth or ao_radius is not None
+    catcher = len(mesh.faces) - len(ground.faces) if ground is not None and options.ground == SHADOW_GROUND else None
+    metric = options.camera_depth or ao_radius is not None or catcher is not None
     style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
                   options.aa, light_direction(light, camera), textures=options.textures,
                   texture_filter=options.texture_filter,
                   lights=frame_lights(lights, camera, options.specular, options.shininess, options.shadows,
                                       options.shadow_map_size, options.shadow_softness, casters))
     one_sample = options.samples == 1 and options.vignette == 0.0
-    normals, wanted_ids = options.normals, options.ids or options.normals or options.uv
+    normals, wanted_ids = options.normals, options.ids or options.normals or options.uv or catcher is not None
     # the maps made by the band worker: a one-sample render of faces, nothing drawn after
     in_bands = (normals or options.uv or object_faces is not None or metric) and one_sample \
         and row.faces and points is None
@@ -129,7 +141,7 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
             + maps_bytes(mesh, width * height, normals, object_faces is not None, metric and in_bands, options.uv)
             + (0 if style.lights is None else style.lights.shadow_bytes())
             + (0 if ao_radius is None else ao_bytes(width * height, in_bands)))
-    return FramePlan(mesh, camera, style, background, options, one_sample, in_bands, object_faces, need, ao_radius)
+    return FramePlan(mesh, camera, style, background, options, one_sample, in_bands, object_faces, need, ao_radius, catcher)
 
 
 def _with_feature_edges(mesh: Mesh, camera: Camera, crease_angle: float) -> Mesh:

@@ -133,7 +133,7 @@ def _render_planned(plan: FramePlan) -> Framebuffer:
         style = replace(style, maps=maps_record(camera.height, camera.width, mesh, camera, camera.world_to_raster(),
                                                 options.shading if options.normals else None, plan.object_faces,
                                                 plan.metric, options.uv))
-    with_ids = options.ids or options.normals or options.uv
+    with_ids = plan.with_ids
     if plan.one_sample:
         fb = new_frame(mesh, camera, style, plan.background, with_ids)
     else:
@@ -156,13 +156,19 @@ def _finish(fb: Framebuffer, plan: FramePlan, style) -> Framebuffer:
 
         fill_maps(fb, plan.mesh, plan.camera, plan.camera.world_to_raster(),
                   options.shading if options.normals else None, object_faces, options.uv)
-    if (options.normals or options.uv or object_faces is not None) and not options.ids:
-        fb.ids = None
     if plan.ao_radius is not None:
-        from rasterkit.raster.ao import ambient_occlusion, apply_ao
+        from rasterkit.raster.ao import ambient_occlusion
 
-        fb.ao = ambient_occlusion(fb.camera_depth(), plan.camera, plan.ao_radius, options.ao_samples)
-        apply_ao(fb.color, fb.ao)
+        fb.ao = ambient_occlusion(fb.camera_depth(), plan.camera, plan.ao_radius, options.ao_samples, fb.color)
+    if plan.catcher is not None:
+        from rasterkit.raster.ground import catch_shadows
+        from rasterkit.raster.shading import per_pixel
+
+        seen = fb.ids >= plan.catcher if fb.object_ids is None else fb.object_ids == len(fb.object_first) - 1
+        catch_shadows(fb, seen, plan.camera, style.lights if per_pixel(style) else None,
+                      plan.mesh.face_normals[plan.catcher])
+    if (options.normals or options.uv or object_faces is not None or plan.catcher is not None) and not options.ids:
+        fb.ids = None
     return fb
 
 

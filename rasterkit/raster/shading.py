@@ -100,7 +100,7 @@ def _lit(mesh: Mesh, options, two_sided):
         normals = mesh.face_normals
         base = (mesh.face_colors * np.float32(255) if mesh.face_colors is not None
                 else _base_colors(mesh, options, per_face=True))
-        return _lit_rows(points, normals, base, surface_terms(mesh, options.lights, 1), options.lights, two_sided), None, None
+        return lit_rows(points, normals, base, surface_terms(mesh, options.lights, 1), options.lights, two_sided), None, None
     normals, corners, split = mesh.smooth_corners
     rows = normals[corners] if split else _vertex_normals(mesh)[mesh.faces]
     if mesh.face_colors is not None:
@@ -108,7 +108,7 @@ def _lit(mesh: Mesh, options, two_sided):
     else:
         base = _base_colors(mesh, options, per_face=False)
         base = base if len(base) == 1 else base[mesh.faces.ravel()]
-    colours = _lit_rows(mesh.vertices[mesh.faces.ravel()], rows.reshape(-1, 3), base, surface_terms(mesh, options.lights, 3),
+    colours = lit_rows(mesh.vertices[mesh.faces.ravel()], rows.reshape(-1, 3), base, surface_terms(mesh, options.lights, 3),
                         options.lights, np.repeat(two_sided, 3) if isinstance(two_sided, np.ndarray) else two_sided)
     return None, colours, np.arange(3 * m, dtype=np.int64).reshape(-1, 3)
 
@@ -132,7 +132,10 @@ def surface_terms(mesh: Mesh, lights, repeat: int):
             np.ascontiguousarray(chosen[:, 4:7]))
 
 
-def _lit_rows(points, normals, base, surfaces, lights, two_sided):
+def lit_rows(points, normals, base, surfaces, lights, two_sided):
+    """(K, 3) float32 sRGB 0..255: the points (K, 3) with their normals (K, 3) and colours
+    ``base`` (K or 1, 3) 0..255, of materials ``surfaces`` (:func:`surface_terms`), lit by
+    ``lights`` (:class:`rasterkit.raster.lights.FrameLights`) without shadows."""
     normals = np.nan_to_num(np.ascontiguousarray(normals, np.float64), nan=0.0, posinf=0.0, neginf=0.0)
     base = np.ascontiguousarray(base, np.float32)
     with np.errstate(all="ignore"):  # faces with a non-finite corner are not drawn

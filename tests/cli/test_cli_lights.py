@@ -65,3 +65,33 @@ def test_a_bad_light_is_refused_in_one_line(tmp_path, flag, words):
     lines = result.stderr.strip().splitlines()
     assert words in lines[-1] and "Traceback" not in result.stderr
     assert not (tmp_path / "x.png").exists()
+
+
+def test_ambient_occlusion_and_a_shadow_catcher_from_the_command_line(tmp_path):
+    options = _options("--ao", "--ao-radius", "0.3", "--ao-samples", "8", "--ground", "shadow")
+    assert (options.ao, options.ao_radius, options.ao_samples, options.ground) == (True, 0.3, 8, "shadow")
+    assert _options("--ground").ground == "#d8d8d8" and _options().ao is False
+    out = tmp_path / "caught.png"
+    flags = ["--mode", "solid", "--shading", "phong", "--size", "120x90", "--light", "directional:-0.4,-1,-0.3",
+             "--shadows", "--ao", "--ground", "shadow", "--background", "transparent"]
+    result = run_cli("render", "--demo", "-o", str(out), *flags)
+    assert result.code == 0, result.stderr
+    task = task_from_args(_parser().parse_args(["render", "--demo", "-o", str(out), *flags]))
+    mesh = rk.shapes.demo()
+    expected = rk.render(mesh, task.view.camera_for(mesh), options=task.options).color
+    got = np.asarray(Image.open(out))
+    np.testing.assert_array_equal(got, expected)
+    assert got.shape[2] == 4 and ((got[..., 3] > 0) & (got[..., 3] < 255)).sum() > 100  # a translucent shadow
+
+
+@pytest.mark.parametrize("flags, words", [
+    (["--ao-radius", "0"], "--ao-radius: must be positive"),
+    (["--ao-radius", "nan"], "--ao-radius"),
+    (["--ao-samples", "257"], "--ao-samples"),
+    (["--ground", "shadows"], "ground"),
+])
+def test_bad_ao_and_ground_flags_are_refused_in_one_line(tmp_path, flags, words):
+    result = run_cli("render", "--demo", "--mode", "solid", "-o", str(tmp_path / "x.png"), *flags)
+    assert result.code == 2, result.stderr
+    assert words in result.stderr.strip().splitlines()[-1] and "Traceback" not in result.stderr
+    assert not (tmp_path / "x.png").exists()

@@ -30,7 +30,7 @@ TEXTURE = dict(textures=False, texture_filter="nearest")
 #: The fields of lit frames, each away from its default.
 LIGHTING = dict(lights=(rasterkit.Light.point((1.5, 2.0, 1.0), color="#f5deb3", intensity=6.0),
                         rasterkit.Light.ambient("white", 0.08)), specular=0.7, shininess=6.0, shadows=True,
-                shadow_map_size=64, shadow_softness=2.0, ground="#d2b48c", ao=True, ao_radius=0.6, ao_samples=8)
+                shadow_map_size=64, shadow_softness=2.0, ground="#d2b48c", ao=True, ao_radius=0.6, ao_samples=5)
 CLOUD = np.array([[0.8, 0.9, 0.9], [1.2, 0.3, 0.8], [0.4, 1.3, 0.5]])  # outside the ball, facing the camera
 
 

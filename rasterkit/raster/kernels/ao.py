@@ -88,24 +88,23 @@ def _march(grid, stride, h0, h1, h3, r0, r1, r3, depth, rise, shift, slack, radi
     """Whether the ray whose point at ``t`` projects to the homogeneous raster point
     ``h + t r`` with axial depth ``depth + t rise`` is blocked within ``radius``: at one of
     its ``STEPS`` steps the point lies behind the drawn surface (``grid``: the depth of every
-    ``stride``-th pixel) by more than ``slack`` and less than ``radius``. A ray that leaves the
-    image, or the near side of the camera, is not."""
+    ``stride``-th pixel) by more than ``slack`` and less than ``radius``. Steps outside the
+    image or on the near side of the camera do not count (a straight ray that leaves either
+    does not come back). Every step is worked out, without branches."""
+    hit = False
+    last_row, last_column = grid.shape[0] - 1, grid.shape[1] - 1
     for j in range(STEPS):
-        t = radius * (j + shift) / STEPS
+        t = radius * (j + shift) * (1.0 / STEPS)
         w = h3 + t * r3
-        if not w > 0.0:
-            return False
-        scale = 1.0 / (w * stride)
+        scale = 1.0 / (max(w, 1e-300) * stride)
         x = (h0 + t * r0) * scale
         y = (h1 + t * r1) * scale
-        if not (0.0 <= x < columns and 0.0 <= y < rows):
-            return False
-        seen = grid[int(y), int(x)]
-        if seen > 0.0:
-            behind = depth + t * rise - seen
-            if slack < behind < radius:
-                return True
-    return False
+        inside = (w > 0.0) & (x >= 0.0) & (x < columns) & (y >= 0.0) & (y < rows)
+        seen = grid[min(max(int(min(max(y, 0.0), rows)), 0), last_row),
+                    min(max(int(min(max(x, 0.0), columns)), 0), last_column)]
+        behind = depth + t * rise - seen
+        hit |= inside & (seen > 0.0) & (behind > slack) & (behind < radius)
+    return hit
 
 
 @kernel(inline="always")
@@ -214,16 +213,21 @@ def ao_blur(slot, counter, grid, raw, radius, out):
 
 
 @kernel(refcounts=False)
-def ao_map(slot, counter, metric, grid, shares, radius, lows, fractions, out):
+def ao_map(slot, counter, metric, grid, shares, radius, lows, fractions, color, decode, encode, out):
     """``out`` (H, W) float32: one minus the share of blocked rays at each pixel drawn in
     ``metric`` (NaN elsewhere), interpolated bilinearly from the grid ``shares`` (Hg, Wg)
     (:func:`ao_blur`) among the grid points whose depth (``grid``) lies within ``radius / 2``
-    of the pixel's (the nearest in depth when none does). ``lows`` (H + W,) int64 and
-    ``fractions`` (H + W,) float32: each row's, then each column's, grid point before it
-    and its weight of the one after."""
+    of the pixel's (the nearest in depth when none does); the RGB of ``color`` (H, W, C) uint8
+    sRGB multiplied by it in linear light (``decode`` (256,) float32 sRGB -> linear,
+    ``encode`` (S,) uint8 linear ``i / (S - 1)`` -> sRGB). ``lows`` (H + W,) int64 and
+    ``fractions`` (H + W,) float32: each row's, then each column's, grid point before it and
+    its weight of the one after."""
     height, width = metric.shape
     rows, columns = shares.shape
     nan = np.float32(np.nan)
+    half = np.float32(0.5 * radius)
+    one = np.float32(1.0)
+    top = np.float32(encode.shape[0] - 1)
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
@@ -239,42 +243,27 @@ def ao_map(slot, counter, metric, grid, shares, radius, lows, fractions, out):
                     continue
                 i0 = lows[height + x]
                 i1 = min(i0 + 1, columns - 1)
+                if max(max(shares[j0, i0], shares[j0, i1]), max(shares[j1, i0], shares[j1, i1])) <= 0.0:
+                    out[y, x] = one  # no ray blocked around (most of a frame): the colour stays
+                    continue
                 fx = fractions[height + x]
-                total, weight, nearest, gap = np.float32(0.0), np.float32(0.0), np.float32(0.0), np.float32(np.inf)
+                total, weight = np.float32(0.0), np.float32(0.0)
+                nearest, gap = np.float32(0.0), np.float32(np.inf)
                 for corner in range(4):
                     j = j1 if corner >= 2 else j0
                     i = i1 if corner & 1 else i0
                     share = shares[j, i]
-                    if share < 0.0:
-                        continue
                     off = abs(grid[j, i] - d)
-                    w = (fy if corner >= 2 else 1.0 - fy) * (fx if corner & 1 else 1.0 - fx)
-                    if off < 0.5 * radius:
-                        total += w * share
-                        weight += w
-                    if off < gap:
-                        nearest, gap = share, off
-                out[y, x] = 1.0 - (total / weight if weight > 1e-6 else nearest)
-    return 0
-
-
-@kernel(refcounts=False)
-def darken(slot, counter, color, ao, decode, encode):
-    """Multiply the RGB of ``color`` (H, W, C) uint8 sRGB by ``ao`` (H, W) float32 in linear
-    light where ``ao`` is not NaN: ``decode`` (256,) float32 sRGB -> linear, ``encode`` (S,)
-    uint8 linear ``i / (S - 1)`` -> sRGB. A worker like :func:`ao_raw`."""
-    height, width = ao.shape
-    top = encode.shape[0] - 1
-    while True:
-        ch = fetch_add(counter, 0, 1)
-        if ch >= N_CHUNKS:
-            break
-        for y in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
-            for x in range(width):
-                a = ao[y, x]
-                if not a >= 0.0:  # NaN: nothing drawn
-                    continue
-                a = min(a, np.float32(1.0)) * top
+                    w = (fy if corner >= 2 else one - fy) * (fx if corner & 1 else one - fx)
+                    use = (share >= 0.0) & (off < half)
+                    total += w * share if use else np.float32(0.0)
+                    weight += w if use else np.float32(0.0)
+                    closer = (share >= 0.0) & (off < gap)
+                    nearest = share if closer else nearest
+                    gap = off if closer else gap
+                light = one - (total / weight if weight > 1e-6 else nearest)
+                out[y, x] = light
+                scale = light * top
                 for c in range(3):
-                    color[y, x, c] = encode[int(decode[color[y, x, c]] * a + 0.5)]
+                    color[y, x, c] = encode[int(decode[color[y, x, c]] * scale + np.float32(0.5))]
     return 0
