@@ -13,7 +13,7 @@ __all__ = ["BatchSummary", "render_many", "task_for"]
 
 def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False, *,
                 progress: bool = False, contact_sheet=None, options=None, view=None, turntable: int | None = None,
-                **changes) -> BatchSummary:
+                turn_lights: bool = False, **changes) -> BatchSummary:
     """Render every model of ``paths`` into ``out_dir``, as ``rasterkit render DIR... -o
     OUTDIR`` does, and return a :class:`BatchSummary`.
 
@@ -47,6 +47,9 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
         How each model's camera is chosen (default: framed automatically, 800x600).
     turntable : int, optional
         Frames of an animated GIF around each model instead of a still image.
+    turn_lights : bool
+        The turntable's lights turn with the model (default: they stay where they are, and
+        the shadows move over the turning model).
     **changes
         Fields of :class:`RenderOptions` or :class:`View` that replace those of ``options``
         and ``view``, as the ``render`` command's options: ``size=(1280, 960)``,
@@ -79,7 +82,7 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
     from rasterkit.batch.report import UsageError
     from rasterkit.batch.engine import run
 
-    task = task_for(options, view, turntable, changes)
+    task = task_for(options, view, turntable, changes, turn_lights)
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 0:
@@ -105,7 +108,7 @@ def render_many(paths, out_dir, jobs: int = 1, client=None, resume: bool = False
                contact_sheet=None if contact_sheet is None else Path(contact_sheet), strict=True)
 
 
-def task_for(options=None, view=None, turntable=None, changes: dict | None = None) -> Task:
+def task_for(options=None, view=None, turntable=None, changes: dict | None = None, turn_lights: bool = False) -> Task:
     """The :class:`Task` of :func:`render_many`'s arguments: ``changes`` go to the
     :class:`RenderOptions` or the :class:`View` that has a field of their name. A still
     image's maps and an SVG's hidden lines are not a batch's: asking for them is a
@@ -125,6 +128,6 @@ def task_for(options=None, view=None, turntable=None, changes: dict | None = Non
     if unknown:
         raise TypeError(f"unknown render option {sorted(unknown)[0]!r}")
     task = Task(RenderOptions() if options is None else options, View() if view is None else view,
-                turntable=turntable)  # (checks the records' types)
+                turntable=turntable, turn_lights=turn_lights)  # (checks the records' types)
     return task.replace(options=task.options.replace(**{k: v for k, v in changes.items() if k in OPTION_FIELDS}),
                         view=task.view.replace(**{k: v for k, v in changes.items() if k in VIEW_FIELDS}))

@@ -31,6 +31,11 @@ class Task:
         How the camera is chosen for the model.
     turntable : int or None
         Frames of a turntable around the model (an animated GIF or APNG), or a still image.
+    turn_lights : bool
+        In a turntable, the lights (world-space ones: not headlights) turn with the model, so
+        that it keeps its lighting and shadows; False (the default): they stay where they
+        are, and the shadows move over the turning model (its shadow maps drawn anew for
+        each frame).
     hidden : {None, "dashed"}
         An SVG drawing's hidden lines.
     depth, normals, ids : str or None
@@ -40,6 +45,7 @@ class Task:
     options: RenderOptions = field(default_factory=RenderOptions)
     view: View = field(default_factory=View)
     turntable: int | None = None
+    turn_lights: bool = False
     hidden: str | None = None
     depth: str | None = None
     normals: str | None = None
@@ -51,6 +57,7 @@ class Task:
         if not isinstance(self.view, View):
             raise TypeError(f"view must be a rasterkit.View, got {type(self.view).__name__}")
         object.__setattr__(self, "turntable", values.optional(values.whole, "turntable", self.turntable, 1))
+        values.flag("turn_lights", self.turn_lights)
         values.choice("hidden", self.hidden, HIDDEN)
 
     def frame_options(self) -> RenderOptions:

@@ -157,6 +157,9 @@ def _parser() -> argparse.ArgumentParser:
                      help="threads for the kernels (default: all cores)")
     out.add_argument("--turntable", type=positive_int, metavar="N",
                      help="N frames around the model, as an animated GIF or APNG")
+    out.add_argument("--turn-lights", action="store_true",
+                     help="with --turntable: the lights turn with the model (default: they stay, "
+                          "and its shadows move over it)")
     out.add_argument("--depth", metavar="OUT.npy|OUT.png",
                      help="also save the depth along the optical axis, world units, 0 where nothing "
                           "was drawn: .npy float32, or .png 16-bit in thousandths (mm for metres)")

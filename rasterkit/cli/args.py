@@ -272,5 +272,6 @@ def task_from_args(args):
 
     maps = ("depth", "normals", "ids")  # file names here: the frame's maps follow from them (Task.frame_options)
     options = RenderOptions(**{name: getattr(args, name) for name in FIELDS if hasattr(args, name) and name not in maps})
-    return Task(options, view_from_args(args), turntable=args.turntable, hidden=args.hidden,
+    return Task(options, view_from_args(args), turntable=args.turntable, turn_lights=args.turn_lights,
+                hidden=args.hidden,
                 depth=args.depth, normals=args.normals, ids=args.ids)

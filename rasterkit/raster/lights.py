@@ -27,7 +27,7 @@ import numpy as np
 
 from rasterkit import values
 
-__all__ = ["KINDS", "NO_SHADOWS", "PHONG_LIGHTS", "TABLE_WIDTH", "FrameLights", "Light", "check_lights", "frame_lights",
+__all__ = ["KINDS", "NO_SHADOWS", "PHONG_LIGHTS", "TABLE_WIDTH", "FrameLights", "Light", "check_lights", "frame_lights", "moved",
            "light_table"]
 
 #: The kinds of :class:`Light`, in the order of their codes in :func:`light_table`.
@@ -203,6 +203,18 @@ def frame_lights(lights: tuple, camera, specular: float, shininess: float, shado
     return FrameLights(light_table(lights, -view), np.asarray(camera.eye, np.float64),
                        camera.kind == "perspective", view, camera, specular, shininess, lights, map_size, softness,
                        casters)
+
+
+def moved(light: Light, matrix) -> Light:
+    """``light`` carried by the affine world transform ``matrix`` (4, 4) (a turntable's turn):
+    its position transformed, its direction turned (and made unit again); ambient lights and
+    headlights (which follow the camera) as they are."""
+    if light.kind in ("ambient", "headlight"):
+        return light
+    m = np.asarray(matrix, np.float64)
+    position = None if light.position is None else tuple(float(v) for v in m[:3, :3] @ light.position + m[:3, 3])
+    direction = None if light.direction is None else tuple(float(v) for v in m[:3, :3] @ light.direction)
+    return replace(light, position=position, direction=direction)
 
 
 def check_lights(name: str, value) -> tuple:
