@@ -24,6 +24,10 @@ shared models) at ``settings.lighting_size``, every one against llvmpipe:
   ``shadow_factor`` does, with the depth of the face's plane at that texel (the face normal
   from ``dFdx``/``dFdy`` of the position) less half a texel and a slope leeway. Target:
   rasterkit <= 0.5x llvmpipe's time at 1920x1080.
+- ``lighting/ao/...``: ``rasterkit.render(mesh, camera, "solid", ao=True)`` (screen-space
+  ambient occlusion, its default radius and 8 rays) against the same frame without it, on
+  rasterkit's side only ("solid frame"): the issue's bar is that AO adds at most the time
+  of a plain solid frame, a ratio of at most 2.
 - ``lighting/solid/unlit/...``: the plain solid frame without lights (flat Lambert with a
   headlight, the default) against :meth:`benchmarks.peers.Llvmpipe.draw`'s ``"solid"``, the
   ``render`` family's pair: what the lit frames cost over the unlit one, in the same run.
@@ -58,7 +62,11 @@ DEMO = "demo"
 TARGETS = {
     "two-lights": Target("rasterkit <= 0.4x llvmpipe time (phong, two lights)", 0.4),
     "shadowed-directional": Target("rasterkit <= 0.5x llvmpipe time (phong, shadowed light, 2 passes)", 0.5),
+    "ao": Target("AO adds <= 1x a plain solid frame (solid+AO <= 2x solid)", 2.0),
 }
+
+SOLID = "solid frame"
+"""The other side of the ``ao`` row: rasterkit's own solid frame without ambient occlusion."""
 """The lighting issue's speed bars, at 1920x1080."""
 
 TOLERANCE = 2
@@ -138,9 +146,17 @@ def _map_size(width: int, height: int) -> int:
 def _row(results, settings, gl, model: str, mesh, camera, row: str) -> dict | None:
     """Time one row of ``model`` on both sides: {side: median seconds} or None."""
     width, height = camera.width, camera.height
-    name = f"lighting/{'solid/unlit' if row == 'unlit' else 'phong/' + row}/{model}/{width}x{height}"
+    kind = {"unlit": "solid/unlit", "ao": "ao"}.get(row, "phong/" + row)
+    name = f"lighting/{kind}/{model}/{width}x{height}"
     sizes = {"width": width, "height": height, "triangles": len(mesh.faces)}
     note = ""
+    if row == "ao":
+        target = TARGETS[row] if (width, height) == TARGET_SIZE else None
+        sides = {RASTERKIT: partial(rasterkit.render, mesh, camera, "solid", ao=True),
+                 SOLID: partial(rasterkit.render, mesh, camera, "solid")}
+        return compare(results, FAMILY, name, sides, repeat=settings.repeat, warmup=settings.warmup,
+                       sizes={**sizes, "ao": True}, work=len(mesh.faces), unit="tri/s",
+                       targets={SOLID: target} if target else {})
     if row == "unlit":
         render = partial(rasterkit.render, mesh, camera, "solid")
         peer = partial(gl.peer.draw, gl.peer.upload(mesh, camera), "solid") if gl else None
@@ -174,7 +190,7 @@ def _row(results, settings, gl, model: str, mesh, camera, row: str) -> dict | No
                    note=note.rstrip("; "))
 
 
-ROWS = ("two-lights", "shadowed-directional", "unlit")
+ROWS = ("two-lights", "shadowed-directional", "ao", "unlit")
 
 
 def _cost(model: str, medians: dict) -> None:
@@ -182,7 +198,7 @@ def _cost(model: str, medians: dict) -> None:
     unlit = medians.get("unlit")
     if not unlit:
         return
-    for row in ROWS[:-1]:
+    for row in ROWS[:2]:
         lit = medians.get(row)
         if not lit:
             continue
