@@ -3,12 +3,18 @@ of the triangle rasterizer, for the per-pixel lighting to look up
 (:func:`rasterkit.raster.kernels.lights.shadow_factor`).
 
 - A directional light (and a headlight) sees the scene through a parallel camera looking along
-  its direction, fitted to the mesh's bounding sphere.
+  its direction, fitted to the casters' box where the frame's camera can see it; then, when the
+  frame's visible surface (drawn small from its camera) has its shadowed points in a smaller
+  part of that window, fitted again to that part (and a margin): the texels go where shadows
+  are seen, not to a ground stretching to the horizon.
 - A spot light sees it through a perspective camera at its position along its direction, its
   field of view the cone's opening (and a margin).
 - A point light sees it through six perspective cameras (a cube map), one along each axis,
   each a little wider than 90 degrees so that the filter of a lookup near a face's edge stays
   within that face: no seams.
+- A perspective map's near plane is put just before the nearest caster it sees (found in a
+  small first drawing): its depth buffer's precision goes as ``near / distance²``, and a near
+  plane at the light's own position would leave its depths coarser than a texel.
 
 Each map holds the distance along its camera's optical axis (world units, +inf where nothing
 was drawn), square, ``size`` texels a side. Faces cast shadows from both sides.
@@ -17,7 +23,7 @@ was drawn), square, ``size`` texels a side. Faces cast shadows from both sides.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -88,10 +94,18 @@ def shadow_maps(mesh, lights: tuple, camera: Camera, size: int, softness: float,
     maps = np.empty((len(cameras), size, size), np.float32)
     matrices = np.empty((len(cameras), 4, 4))
     axes = np.empty((len(cameras), AXES_WIDTH))
-    for k, camera in enumerate(cameras):
-        matrices[k] = camera.world_to_raster()
-        maps[k] = _depth(mesh.vertices, faces, camera)
-        axes[k] = _axes(camera, size)
+    visible = None
+    for k, view in enumerate(cameras):
+        if view.kind == "perspective":
+            view = _nearer(mesh.vertices, faces, view)
+        if view.kind != "perspective":  # where in the window are shadows seen? (a map half as fine)
+            if visible is None:
+                visible = _visible(mesh, camera)
+            coarse = view.with_size(max(16, size // 2), max(16, size // 2))
+            view = _refit(coarse, _depth(mesh.vertices, faces, coarse), visible, corners, softness, size) or view
+        matrices[k] = view.world_to_raster()
+        maps[k] = _depth(mesh.vertices, faces, view)
+        axes[k] = _axes(view, size)
     return ShadowMaps(maps, matrices, axes, first)
 
 
@@ -117,29 +131,132 @@ def _seen(camera: Camera, centre: np.ndarray, radius: float) -> np.ndarray:
     return np.concatenate([origin + direction * near[:, None], origin + direction * far[:, None]])
 
 
+def _light_basis(direction: np.ndarray) -> np.ndarray:
+    """(3, 3): rows right, up, forward of a parallel camera looking along ``direction``."""
+    forward = direction / np.linalg.norm(direction)
+    right = np.cross(forward, _up(forward))
+    right /= np.linalg.norm(right)
+    return np.stack([right, np.cross(right, forward), forward])
+
+
 def _parallel(corners: np.ndarray, seen: np.ndarray, direction: np.ndarray, size: int) -> Camera:
     """A directional light's camera: looking along ``direction`` at the scene whose box has
     ``corners``, its square window the box's extent across the light, cut down to where the
     camera's view (``seen``, :func:`_seen`) spreads across it (only there can a shadow be
     seen), its depth the whole box's (every caster)."""
-    forward = direction / np.linalg.norm(direction)
-    right = np.cross(forward, _up(forward))
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    basis = np.stack([right, up, forward])
+    basis = _light_basis(direction)
     scene, view = corners @ basis.T, seen @ basis.T
     low = np.maximum(scene.min(axis=0)[:2], view.min(axis=0)[:2])
     high = np.minimum(scene.max(axis=0)[:2], view.max(axis=0)[:2])
     if not (high > low).all():  # the view misses the scene's box: the whole box
         low, high = scene.min(axis=0)[:2], scene.max(axis=0)[:2]
-    depth_low, depth_high = scene[:, 2].min(), scene[:, 2].max()
-    extent = max(float((high - low).max()), 1e-9 * max(1.0, float(np.abs(scene).max())))
+    return _window(basis, low, high, scene[:, 2].min(), scene[:, 2].max(), size)
+
+
+def _window(basis: np.ndarray, low: np.ndarray, high: np.ndarray, depth_low: float, depth_high: float,
+            size: int) -> Camera:
+    """The parallel camera of ``basis`` (:func:`_light_basis`) whose square window holds the
+    rectangle ``low`` to ``high`` (light space, across the light; a texel or two of margin for
+    the filter), seeing depths ``depth_low`` to ``depth_high`` along it (and a margin)."""
+    right, up, forward = basis
+    scale = max(1.0, float(np.abs(low).max()), float(np.abs(high).max()), abs(depth_low), abs(depth_high))
+    extent = max(float((high - low).max()), 1e-9 * scale)
     pad = 0.05 * max(depth_high - depth_low, extent)
     side = extent * (1.0 + 4.0 / size)  # a texel or two of margin for the filter
     mid = (low + high) / 2.0
     eye = mid[0] * right + mid[1] * up + (depth_low - pad) * forward
     return Camera.orthographic(tuple(eye), tuple(eye + forward), up=tuple(up), view_height=side, width=size,
                                height=size, near=pad * 0.5, far=depth_high - depth_low + pad * 1.5)
+
+
+#: The longer side of the small drawing of the frame's visible surface that a directional
+#: light's map is fitted to (:func:`_visible`).
+VISIBLE_SIDE = 384
+
+
+def _visible(mesh, camera: Camera) -> np.ndarray:
+    """(7, N): the points of ``mesh`` that ``camera`` sees, one per pixel of a drawing at most
+    :data:`VISIBLE_SIDE` pixels a side (faces drawn from both sides: the nearest surface):
+    rows x, y, z, the unit normal of its face turned towards the camera (3) and the radius
+    (world units) of the patch around it that its pixel stands for."""
+    from rasterkit.raster.triangles import rasterize_checked
+
+    scale = min(1.0, VISIBLE_SIDE / max(camera.width, camera.height))
+    small = camera.with_size(max(1, round(camera.width * scale)), max(1, round(camera.height * scale)))
+    depth = np.full((small.height, small.width), np.inf, np.float32)
+    ids = np.full((small.height, small.width), -1, np.int32)
+    matrix = small.world_to_raster()
+    clip = transform_points(np.ascontiguousarray(mesh.vertices, np.float64), np.ascontiguousarray(matrix))
+    rasterize_checked(None, depth, clip, mesh.faces, None, None, ids, "none", (), (0.0, 0.0), None, trusted=True)
+    j, i = np.nonzero(np.isfinite(depth) & (ids >= 0))
+    raster = (i + 0.5, j + 0.5, depth[j, i].astype(np.float64))
+    inverse = np.linalg.inv(matrix)
+    world = [inverse[r, 0] * raster[0] + inverse[r, 1] * raster[1] + inverse[r, 2] * raster[2] + inverse[r, 3]
+             for r in range(4)]
+    out = np.empty((7, len(i)))
+    out[0:3] = world[0:3]
+    out[0:3] /= world[3]
+    out[3:6] = mesh.face_normals[ids[j, i]].T
+    if small.kind == "perspective":  # a pixel's footprint: the window's height over the rows, where the point is
+        towards = np.asarray(small.eye)[:, None] - out[0:3]
+        out[6] = _dot(np.asarray(small.backward()), towards) * 2.0 * math.tan(math.radians(small.fov_y) / 2.0) \
+            / small.height
+    else:
+        towards = np.asarray(small.backward())[:, None]
+        out[6] = small.view_height / small.height
+    out[3:6] *= np.where((out[3:6] * towards).sum(axis=0) < 0.0, -1.0, 1.0)
+    return out[:, np.isfinite(out).all(axis=0)]
+
+
+def _dot(vector, rows) -> np.ndarray:
+    """The dot products of the 3-vector ``vector`` with the columns of ``rows`` (3, N)."""
+    return vector[0] * rows[0] + vector[1] * rows[1] + vector[2] * rows[2]
+
+
+def _refit(view: Camera, depth: np.ndarray, visible: np.ndarray, corners: np.ndarray, softness: float,
+           side: int) -> Camera | None:
+    """A directional light's camera, ``side`` texels a side, fitted to the part of ``view``'s
+    window (its map ``depth``) where the frame's ``visible`` points (:func:`_visible`) may be
+    in shadow: those facing the light with something nearer to it than their face's plane
+    (by two texels) in their texel or the next ones (those facing away are in their own
+    shadow without a map: :func:`rasterkit.raster.kernels.lights.shadow_factor`); with a
+    margin of each point's footprint, the filter's reach and a few texels. None when that
+    part is not much smaller than the window (or is empty: no shadow in view)."""
+    size = depth.shape[0]
+    basis = _light_basis(-np.asarray(view.backward()))
+    texel = view.view_height / size
+    matrix = view.world_to_raster()
+    x = _dot(matrix[0, :3], visible) + matrix[0, 3]
+    y = _dot(matrix[1, :3], visible) + matrix[1, 3]
+    facing = -_dot(basis[2], visible[3:6])
+    keep = np.nonzero((x >= 0) & (y >= 0) & (x < size) & (y < size) & (facing > 0.0))[0]
+    if len(keep) == 0:
+        return None
+    points, facing = visible[:, keep], facing[keep]
+    i, j = x[keep].astype(np.int64), y[keep].astype(np.int64)
+    along = _dot(basis[2], points) - float(basis[2] @ np.asarray(view.eye))
+    slope = np.minimum(np.sqrt(np.maximum(1.0 - facing * facing, 0.0)) / facing, 20.0)
+    flat, columns = depth.reshape(-1), [np.clip(i + d, 0, size - 1) for d in (-1, 0, 1)]
+    nearest = np.full(len(i), np.inf, np.float32)
+    for d in (-1, 0, 1):
+        row = np.clip(j + d, 0, size - 1) * size
+        for column in columns:
+            np.minimum(nearest, flat[row + column], out=nearest)
+    shadowed = nearest < along - texel * (2.0 + 1.5 * slope)
+    if not shadowed.any():
+        return None
+    points = points[:, shadowed]
+    margin = points[6] + (math.ceil(softness) + 4.0) * texel
+    across = [_dot(basis[0], points), _dot(basis[1], points)]
+    low = np.array([(a - margin).min() for a in across])
+    high = np.array([(a + margin).max() for a in across])
+    centre = basis[:2] @ np.asarray(view.eye)
+    half = view.view_height / 2.0
+    low, high = np.maximum(low, centre - half), np.minimum(high, centre + half)
+    if not (high > low).all() or float((high - low).max()) > 0.75 * view.view_height:
+        return None
+    scene = corners @ basis.T
+    return _window(basis, low, high, scene[:, 2].min(), scene[:, 2].max(), side)
 
 
 def _perspective(position, direction, fov, centre, radius, size) -> Camera:
@@ -149,6 +266,22 @@ def _perspective(position, direction, fov, centre, radius, size) -> Camera:
     near = max(distance - radius, far * 1e-4) * 0.99
     return Camera.look_at(tuple(position), tuple(position + direction), up=tuple(_up(direction)), fov_y=fov,
                           width=size, height=size, near=near, far=far)
+
+
+def _nearer(vertices, faces, view: Camera) -> Camera:
+    """``view`` (a perspective map's camera) with its near plane moved up to half the
+    distance of the nearest of ``faces`` it sees, found in a drawing a quarter of its size (or
+    as it is when that is not farther): the depth buffer's precision, about
+    ``near / distance²``, then serves the texels."""
+    small = view.with_size(max(16, view.width // 4), max(16, view.height // 4))
+    seen = _depth(vertices, faces, small)
+    finite = seen[np.isfinite(seen) & (seen > 0)]
+    if len(finite) == 0:
+        return view
+    near = 0.5 * float(finite.min())
+    if not near > 2.0 * view.near:
+        return view
+    return replace(view, near=near)
 
 
 def _axes(camera: Camera, size: int) -> np.ndarray:

@@ -32,12 +32,15 @@ def shadow_sets(mesh, light, camera=CAMERA, softness=1.0, size=1024):
     the render shadows (less than half the light: the shadowed frame over the unshadowed one,
     in linear light), those a ray cast says are shadowed, and the cast-lit pixels more than
     two pixels from a cast-shadowed one."""
-    options = dict(mode="solid", shading="phong", shadow_map_size=size, shadow_softness=softness, ids=True)
+    return shadow_sets_of(mesh, light, camera, (softness,), size)[0]
+
+
+def shadow_sets_of(mesh, light, camera, softnesses, size):
+    """:func:`shadow_sets` for each of ``softnesses`` (the ray cast made once)."""
+    options = dict(mode="solid", shading="phong", shadow_map_size=size, ids=True)
     plain = rk.render(mesh, camera, lights=[light], **options)
-    shadowed = rk.render(mesh, camera, lights=[replace(light, shadows=True)], **options)
     seen = plain.ids >= 0
     full = srgb_to_linear(plain.color[seen] / 255.0).sum(axis=1)
-    got = srgb_to_linear(shadowed.color[seen] / 255.0).sum(axis=1)
     reached = full > 0.03
     points, _ = surface_points(mesh, camera, plain.ids)
     normals = mesh.face_normals[plain.ids[seen]].astype(np.float64)
@@ -50,12 +53,18 @@ def shadow_sets(mesh, light, camera=CAMERA, softness=1.0, size=1024):
         towards = towards / lengths[:, None]
     normals = np.where(((normals * towards).sum(axis=1) < 0)[:, None], -normals, normals)
     cast = in_shadow(mesh, points, normals, towards, lengths)
-    rendered = got < 0.5 * full
     image = np.zeros(seen.shape, bool)
     image[seen] = cast & reached
     near = dilate(image, 2)[seen]
-    darkened = got < 0.9 * full
-    return rendered[reached], cast[reached], (~cast & ~near)[reached], darkened[reached]
+    sets = []
+    for softness in softnesses:
+        shadowed = rk.render(mesh, camera, lights=[replace(light, shadows=True)], shadow_softness=softness,
+                             **options)
+        got = srgb_to_linear(shadowed.color[seen] / 255.0).sum(axis=1)
+        rendered = got < 0.5 * full
+        darkened = got < 0.9 * full
+        sets.append((rendered[reached], cast[reached], (~cast & ~near)[reached], darkened[reached]))
+    return sets
 
 
 def dilate(image, steps):
@@ -81,21 +90,39 @@ LIGHTS = {
 }
 
 
-#: The agreement reached (IoU of the shadowed pixels with the ray cast's): the issue asks
-#: 0.97 of every kind; directional maps are short of it yet (0.94-0.96), spot lights on
-#: spot.obj too (0.965; 0.975-0.987 on the demo).
-AGREEMENT = {"directional": 0.94, "spot": 0.96, "point": 0.97}
+#: The agreement asked (IoU of the shadowed pixels with the ray cast's): 0.97 of every kind.
+#: Measured at 2048 texels, softness 0 and 1: directional 0.990-0.998 (demo, spot, suzanne,
+#: cow, teapot, stanford-bunny), spot 0.983-0.996, point 0.996-0.999.
+AGREEMENT = {"directional": 0.97, "spot": 0.97, "point": 0.97}
+
+#: Acne: the share of lit pixels (by the ray cast, two pixels or more from its shadows) that a
+#: render darkens below 0.9 of their unshadowed light, hard shadows or filtered (measured:
+#: at most 0.02 % hard, 0.075 % with softness 1, suzanne under the spot light).
+ACNE = 0.001
 
 
 @pytest.mark.parametrize("kind", list(LIGHTS))
-@pytest.mark.parametrize("softness, acne", [(0.0, 0.001), (1.0, 0.006)])
-def test_shadows_of_the_demo_model_on_the_ground_agree_with_a_ray_cast(kind, softness, acne):
+@pytest.mark.parametrize("softness", [0.0, 1.0])
+def test_shadows_of_the_demo_model_on_the_ground_agree_with_a_ray_cast(kind, softness):
     mesh = on_ground(rk.shapes.demo())
     rendered, cast, lit, darkened = shadow_sets(mesh, LIGHTS[kind], softness=softness, size=2048)
     assert cast.sum() > 1500, "the scene must have shadows to compare"
     assert iou(rendered, cast) >= AGREEMENT[kind], iou(rendered, cast)
-    # hard shadows: no acne; filtered ones darken a few lit pixels where curved faces meet
-    assert (darkened & lit).sum() <= acne * lit.sum(), (darkened & lit).sum()
+    assert (darkened & lit).sum() <= ACNE * lit.sum(), (darkened & lit).sum()
+
+
+@pytest.mark.parametrize("softness", [0.0, 1.0])
+def test_a_face_turned_from_the_light_is_in_its_own_shadow_though_its_shading_normal_is_not(softness):
+    # a coarse sphere's smooth normals reach past its faces: along the terminator, faces whose
+    # plane has the light behind it are lit by their shading normals but shadowed by
+    # themselves (the ray cast's answer); no face that turns to the light is shadowed
+    mesh = rk.shapes.icosphere(1)
+    camera = rk.Camera.look_at((0, 0, 3), (0, 0, 0), width=200, height=200, fov_y=45)
+    rendered, cast, lit, darkened = shadow_sets(mesh, rk.Light.directional((-1, -0.5, 0.2)), camera,
+                                                softness=softness, size=1024)
+    assert cast.sum() > 300
+    assert np.array_equal(rendered, cast)
+    assert not (darkened & lit).any()
 
 
 @pytest.mark.parametrize("name", ["spot.obj", "suzanne.obj"])
@@ -105,9 +132,11 @@ def test_shadows_of_public_models_agree_with_a_ray_cast(name):
         pytest.skip(f"{path} is not here (the shared models folder is not part of a clone)")
     mesh = on_ground(rk.load(path))
     for kind in ("directional", "spot"):
-        rendered, cast, lit, darkened = shadow_sets(mesh, LIGHTS[kind], softness=0.0, size=2048)
-        assert iou(rendered, cast) >= AGREEMENT[kind], (kind, iou(rendered, cast))
-        assert (darkened & lit).sum() <= 0.001 * lit.sum(), (kind, (darkened & lit).sum())
+        for softness, (rendered, cast, lit, darkened) in zip((0.0, 1.0), shadow_sets_of(
+                mesh, LIGHTS[kind], CAMERA, (0.0, 1.0), 2048)):
+            assert cast.sum() > 1500, (kind, "the scene must have shadows to compare")
+            assert iou(rendered, cast) >= AGREEMENT[kind], (kind, softness, iou(rendered, cast))
+            assert (darkened & lit).sum() <= ACNE * lit.sum(), (kind, softness, (darkened & lit).sum())
 
 
 def test_the_ground_lies_under_the_model_facing_up_and_catches_its_shadow():

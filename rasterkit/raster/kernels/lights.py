@@ -67,8 +67,10 @@ def _cube_face(k, table, first, px, py, pz):
 @kernel(inline="always")
 def _plane_depth(axes, mu, i, j, size, px, py, pz, nx, ny, nz, depth, texel):
     """The depth (along the map's axis) at which the ray of texel (i, j) of map ``mu`` meets
-    the plane through the point (px, py, pz) with normal (nx, ny, nz); the point's own
-    ``depth`` when the ray runs along the plane (within 10 texels of it)."""
+    the plane through the point (px, py, pz) with normal (nx, ny, nz), but not more than 100
+    texels beyond the point's own ``depth`` (a plane seen almost edge-on runs far from the
+    surface: what the texel sees short of that still shadows the point); ``depth`` when the
+    ray runs along the plane."""
     a = (i + 0.5 - 0.5 * size) * axes[mu, 6]
     b = (j + 0.5 - 0.5 * size) * axes[mu, 6]
     ex, ey, ez = px - axes[mu, 0], py - axes[mu, 1], pz - axes[mu, 2]  # from the eye
@@ -83,24 +85,40 @@ def _plane_depth(axes, mu, i, j, size, px, py, pz, nx, ny, nz, depth, texel):
         num = nx * (ex - rx) + ny * (ey - ry) + nz * (ez - rz)
     if not abs(den) > 1e-6:
         return depth
-    found = num / den
-    return found if abs(found - depth) < 10.0 * texel else depth
+    return min(num / den, depth + 100.0 * texel)
 
 
 @kernel(inline="always")
-def shadow_factor(k, table, px, py, pz, nx, ny, nz, shadows):
+def shadow_factor(k, table, px, py, pz, nx, ny, nz, sx, sy, sz, shadows):
     """The fraction (0 to 1) of light ``k`` of ``table`` that reaches the point (px, py, pz)
-    with unit normal (nx, ny, nz): 1 for a light without a shadow map (column 13 of its row
-    -1), else the share of the map's texels around the point's (a square of ``2 r + 1`` a
-    side, ``r = ceil(softness)``: percentage-closer filtering) that see nothing nearer the
-    light than the point's surface there: the depth of each texel is compared with the
-    depth at which its ray meets the plane of the point's face (normal (nx, ny, nz): a
-    receiver-plane bias, so that a lit face does not shadow itself at any slope), less half
-    a texel. ``shadows``:
-    ``(maps, matrices, axes, softness)`` of :class:`rasterkit.raster.shadows.ShadowMaps`."""
+    of a face with unit normal (nx, ny, nz), lit on the side of its shading normal (sx, sy,
+    sz): 1 for a light without a shadow map (column 13 of its row -1); 0 when the light is
+    behind the face's plane as seen from that side (an opaque face shadows its own back: a
+    shading normal bent towards the light near a curved surface's terminator does not let
+    light through the face); else the share of the map's texels around the point's (a square
+    of ``2 r + 1`` a side, ``r = ceil(softness)``: percentage-closer filtering) that see
+    nothing nearer the light than the point's surface there. The depth of each texel is
+    compared with the depth at which its ray meets the plane of the point's face (a
+    receiver-plane bias, so that a lit face does not shadow itself at any slope), less a
+    leeway of a texel plus the depth the plane slopes over a quarter texel and over the
+    filter's reach (its slope ``tan`` of the angle between the face's normal and the light,
+    at most 20): a curved surface leaves its face's plane across the filter, by more the more
+    it slopes away from the light. ``shadows``: ``(maps, matrices, axes, softness)`` of
+    :class:`rasterkit.raster.shadows.ShadowMaps`."""
     first = np.int64(table[k, 13])
     if first < 0:
         return 1.0
+    kind = np.int64(table[k, 0])
+    if kind == _DIRECTIONAL or kind == _HEADLIGHT:
+        lx, ly, lz = -table[k, 4], -table[k, 5], -table[k, 6]
+    else:
+        lx, ly, lz = table[k, 1] - px, table[k, 2] - py, table[k, 3] - pz
+    if nx * sx + ny * sy + nz * sz < 0.0:  # the face's normal on the side that is lit
+        nx, ny, nz = -nx, -ny, -nz
+    towards = nx * lx + ny * ly + nz * lz
+    if not towards > 0.0:
+        return 0.0  # the light is behind the face
+    facing = min(towards / np.sqrt(lx * lx + ly * ly + lz * lz), 1.0)
     maps, matrices, axes, softness = shadows
     m = first if table[k, 14] < 2.0 else _cube_face(k, table, first, px, py, pz)
     mu = np.uint64(m)
@@ -115,11 +133,8 @@ def shadow_factor(k, table, px, py, pz, nx, ny, nz, shadows):
     depth = (px - axes[mu, 0]) * axes[mu, 3] + (py - axes[mu, 1]) * axes[mu, 4] + (pz - axes[mu, 2]) * axes[mu, 5]
     texel = axes[mu, 6] * (depth if axes[mu, 7] > 0.0 else 1.0)
     reach = np.int64(np.ceil(softness))
-    # curved surfaces leave their face's plane across the filter: more leeway the more the
-    # face slopes away from the light
-    facing = abs(nx * axes[mu, 3] + ny * axes[mu, 4] + nz * axes[mu, 5])
-    slope = min(np.sqrt(max(1.0 - facing * facing, 0.0)) / max(facing, 1e-3), 4.0)
-    leeway = texel * (0.5 + 0.25 * reach * slope)
+    slope = min(np.sqrt(max(1.0 - facing * facing, 0.0)) / facing, 20.0)
+    leeway = texel * (1.0 + slope * (0.25 + reach))
     i0, j0 = np.int64(x), np.int64(y)
     seen = 0
     for dj in range(-reach, reach + 1):
@@ -179,7 +194,7 @@ def light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, base, specular, shininess, tab
         ndl = nx * lx + ny * ly + nz * lz
         if not ndl > 0.0 or a == 0.0:
             continue
-        a *= shadow_factor(k, table, px, py, pz, plane[0], plane[1], plane[2], shadows)
+        a *= shadow_factor(k, table, px, py, pz, plane[0], plane[1], plane[2], nx, ny, nz, shadows)
         if a == 0.0:
             continue
         hx, hy, hz = lx + vx, ly + vy, lz + vz
