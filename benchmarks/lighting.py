@@ -22,8 +22,10 @@ shared models) at ``settings.lighting_size``, every one against llvmpipe:
   pass looking the map up with a ``sampler2DShadow`` (nearest, so each lookup is one
   compare) at the 3x3 texels around the point, each compared, as rasterkit's
   ``shadow_factor`` does, with the depth of the face's plane at that texel (the face normal
-  from ``dFdx``/``dFdy`` of the position) less half a texel and a slope leeway. Target:
-  rasterkit <= 0.5x llvmpipe's time at 1920x1080.
+  from ``dFdx``/``dFdy`` of the position) less its slope-scaled leeway, none where the light
+  is behind the face. (rasterkit fits its map anew in each frame, from a half-size map and
+  the visible surface: work the peer is spared.) Target: rasterkit <= 0.5x llvmpipe's time at
+  1920x1080.
 - ``lighting/ao/...``: ``rasterkit.render(mesh, camera, "solid", ao=True)`` (screen-space
   ambient occlusion, its default radius and 8 rays) against the same frame without it, on
   rasterkit's side only ("solid frame"): the issue's bar is that AO adds at most the time

@@ -59,28 +59,32 @@ uniform vec3 map_u;                     // a texel's step along u (right), world
 uniform vec3 map_v;                     // a texel's step along v (up), world space
 uniform float depth_scale;              // world distance along the axis -> map depth units
 // The share of the 3x3 texels around p's that see nothing nearer the light than p's face
-// (percentage-closer filtering), as rasterkit's shadow_factor: each texel's depth is compared
-// with the depth at which the face's plane (n_face, from the screen-space derivatives) passes
-// the texel's centre, less a leeway of half a texel plus a quarter texel per unit of slope.
-float lit_share(vec3 p, vec3 n_face) {
+// (percentage-closer filtering), as rasterkit's shadow_factor: none when the light l is behind
+// the face (its normal n_face, from the screen-space derivatives, on the side of the shading
+// normal n); else each texel's depth is compared with the depth at which the face's plane
+// passes the texel's centre (at most 100 texels beyond p's), less a leeway of a texel plus
+// the depth the plane slopes over a quarter texel and the filter's reach (1 texel).
+float lit_share(vec3 p, vec3 n_face, vec3 n, vec3 l) {
     vec4 s = to_map * vec4(p, 1.0);
     vec3 c = s.xyz / s.w;
     if (c.x < 0.0 || c.y < 0.0 || c.x >= 1.0 || c.y >= 1.0) return 1.0;
+    if (dot(n_face, n) < 0.0) n_face = -n_face;
+    float towards = dot(n_face, l);
+    if (towards <= 0.0) return 0.0;
+    float lit = min(towards / length(l), 1.0);
     float facing = dot(n_face, axis);
     vec2 gradient = abs(facing) > 1e-6 ? -vec2(dot(n_face, map_u), dot(n_face, map_v)) / facing * depth_scale
                                        : vec2(0.0);
-    facing = abs(facing);
-    float slope = min(sqrt(max(1.0 - facing * facing, 0.0)) / max(facing, 1e-3), 4.0);
+    float slope = min(sqrt(max(1.0 - lit * lit, 0.0)) / lit, 20.0);
     float texel_depth = length(map_u) * depth_scale;
-    float leeway = texel_depth * (0.5 + 0.25 * slope);
+    float leeway = texel_depth * (1.0 + slope * 1.25);
     vec2 t = c.xy * size;
     vec2 centre = floor(t) + 0.5;
     float seen = 0.0;
     for (int j = -1; j <= 1; ++j)
         for (int i = -1; i <= 1; ++i) {
             vec2 at = centre + vec2(i, j);
-            float expected = c.z + dot(gradient, at - t);
-            if (abs(expected - c.z) >= 10.0 * texel_depth) expected = c.z;  // the plane runs along the ray
+            float expected = min(c.z + dot(gradient, at - t), c.z + 100.0 * texel_depth);
             seen += texture(shadow_map, vec3(at / size, expected - leeway));
         }
     return seen / 9.0;
@@ -112,7 +116,7 @@ void main() {
         float ndl = dot(n, l);
         if (ndl <= 0.0) continue;
 #if SHADOWS
-        if (k == shadowed) a *= lit_share(world, normalize(cross(dFdx(world), dFdy(world))));
+        if (k == shadowed) a *= lit_share(world, normalize(cross(dFdx(world), dFdy(world))), n, l);
 #endif
         vec3 h = normalize(l + v);
         sum += a * colors[k] * (base * ndl + specular * pow(max(dot(n, h), 0.0), shininess));
