@@ -11,7 +11,7 @@ from rasterkit.cli import _parser
 from rasterkit.options import FIELDS as OPTION_FIELDS
 
 #: What render_many takes besides RenderOptions' and View's fields.
-TASK_FIELDS = {"turntable", "hidden"}
+TASK_FIELDS = {"turntable", "turn_lights", "hidden"}
 
 
 def _model(tmp_path):
