@@ -27,30 +27,36 @@ def surface_points(mesh, camera, ids):
 
 
 @numba.njit(cache=False)
+def ray_hits(ox, oy, oz, dx, dy, dz, f, a, e1, e2):
+    """The distance along the ray (o, d) at which it meets triangle ``f`` (corner ``a[f]``,
+    edges ``e1[f]``, ``e2[f]``; Moller-Trumbore), or -1 where it does not."""
+    px = dy * e2[f, 2] - dz * e2[f, 1]
+    py = dz * e2[f, 0] - dx * e2[f, 2]
+    pz = dx * e2[f, 1] - dy * e2[f, 0]
+    det = e1[f, 0] * px + e1[f, 1] * py + e1[f, 2] * pz
+    if abs(det) < 1e-14:
+        return -1.0
+    inv = 1.0 / det
+    sx, sy, sz = ox - a[f, 0], oy - a[f, 1], oz - a[f, 2]
+    u = (sx * px + sy * py + sz * pz) * inv
+    if u < 0.0 or u > 1.0:
+        return -1.0
+    qx = sy * e1[f, 2] - sz * e1[f, 1]
+    qy = sz * e1[f, 0] - sx * e1[f, 2]
+    qz = sx * e1[f, 1] - sy * e1[f, 0]
+    v = (dx * qx + dy * qy + dz * qz) * inv
+    if v < 0.0 or u + v > 1.0:
+        return -1.0
+    return (e2[f, 0] * qx + e2[f, 1] * qy + e2[f, 2] * qz) * inv
+
+
+@numba.njit(cache=False)
 def _blocked(origins, directions, lengths, a, e1, e2):
     out = np.zeros(len(origins), np.bool_)
     for r in range(len(origins)):
-        ox, oy, oz = origins[r, 0], origins[r, 1], origins[r, 2]
-        dx, dy, dz = directions[r, 0], directions[r, 1], directions[r, 2]
         for f in range(len(a)):
-            px = dy * e2[f, 2] - dz * e2[f, 1]
-            py = dz * e2[f, 0] - dx * e2[f, 2]
-            pz = dx * e2[f, 1] - dy * e2[f, 0]
-            det = e1[f, 0] * px + e1[f, 1] * py + e1[f, 2] * pz
-            if abs(det) < 1e-14:
-                continue
-            inv = 1.0 / det
-            sx, sy, sz = ox - a[f, 0], oy - a[f, 1], oz - a[f, 2]
-            u = (sx * px + sy * py + sz * pz) * inv
-            if u < 0.0 or u > 1.0:
-                continue
-            qx = sy * e1[f, 2] - sz * e1[f, 1]
-            qy = sz * e1[f, 0] - sx * e1[f, 2]
-            qz = sx * e1[f, 1] - sy * e1[f, 0]
-            v = (dx * qx + dy * qy + dz * qz) * inv
-            if v < 0.0 or u + v > 1.0:
-                continue
-            t = (e2[f, 0] * qx + e2[f, 1] * qy + e2[f, 2] * qz) * inv
+            t = ray_hits(origins[r, 0], origins[r, 1], origins[r, 2], directions[r, 0], directions[r, 1],
+                         directions[r, 2], f, a, e1, e2)
             if t > 0.0 and t < lengths[r]:
                 out[r] = True
                 break

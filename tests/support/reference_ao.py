@@ -12,7 +12,7 @@ import math
 import numba
 import numpy as np
 
-from support.raycast import surface_points
+from support.raycast import ray_hits, surface_points
 
 
 def hemisphere(count: int, seed: int = 7) -> np.ndarray:
@@ -68,25 +68,7 @@ def _occlusion(points, normals, rays, radius, a, e1, e2, origin, shape, start, o
                     for ck in range(max(c[2] - 1, 0), min(c[2] + 2, shape[2])):
                         cell = (ci * shape[1] + cj) * shape[2] + ck
                         for q in range(start[cell], start[cell + 1]):
-                            f = owners[q]
-                            px = d[1] * e2[f, 2] - d[2] * e2[f, 1]
-                            py = d[2] * e2[f, 0] - d[0] * e2[f, 2]
-                            pz = d[0] * e2[f, 1] - d[1] * e2[f, 0]
-                            det = e1[f, 0] * px + e1[f, 1] * py + e1[f, 2] * pz
-                            if abs(det) < 1e-14:
-                                continue
-                            inv = 1.0 / det
-                            sx, sy, sz = o[0] - a[f, 0], o[1] - a[f, 1], o[2] - a[f, 2]
-                            u = (sx * px + sy * py + sz * pz) * inv
-                            if u < 0.0 or u > 1.0:
-                                continue
-                            qx = sy * e1[f, 2] - sz * e1[f, 1]
-                            qy = sz * e1[f, 0] - sx * e1[f, 2]
-                            qz = sx * e1[f, 1] - sy * e1[f, 0]
-                            v = (d[0] * qx + d[1] * qy + d[2] * qz) * inv
-                            if v < 0.0 or u + v > 1.0:
-                                continue
-                            s = (e2[f, 0] * qx + e2[f, 1] * qy + e2[f, 2] * qz) * inv
+                            s = ray_hits(o[0], o[1], o[2], d[0], d[1], d[2], owners[q], a, e1, e2)
                             if 0.0 < s < radius:
                                 hit = True
                                 break
