@@ -17,7 +17,7 @@ and the pixel is ``(fx·x_d + cx, fy·y_d + cy)``. A render with a distorted cam
    as the distortion stretches the image anywhere (up to :data:`MAX_OVERSAMPLING`). Each
    distorted pixel takes the colour at its ideal point interpolated **bilinearly** between
    the four ideal pixel centres around it (edges keep their sub-pixel position; with
-   ``samples > 1`` they are also anti-aliased), and the depth, ids, object ids and normals
+   ``samples > 1`` they are also anti-aliased), and the depth, ids, object ids, normals and ambient occlusion
    of the **nearest** ideal pixel (never a mixture of two surfaces). An edge pixel's colour
    can therefore mix two faces while its id names one of them.
 
@@ -191,6 +191,8 @@ def render_distorted(camera, render_ideal) -> Framebuffer:
         fb.normals = gather(src.normals, np.nan)
     if src.uv is not None:
         fb.uv = gather(src.uv, np.nan)
+    if src.ao is not None:
+        fb.ao = gather(src.ao, np.nan)
     fb.camera = camera
     return fb
 

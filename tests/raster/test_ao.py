@@ -172,3 +172,14 @@ def test_the_default_radius_is_a_tenth_of_the_models_diagonal_and_directions_are
 def test_bad_ao_options_are_refused(field, value, error):
     with pytest.raises(error, match=field):
         rk.RenderOptions(**{field: value})
+
+
+def test_a_distorted_camera_resamples_the_ao_map_with_the_frame():
+    mesh = rk.shapes.demo()
+    ideal = framed(mesh, size=(160, 120))
+    K, R, t = ideal.to_opencv()
+    camera = rk.Camera.from_opencv(K, R, t, 160, 120, near=ideal.near, far=ideal.far, dist=(-0.2, 0.05, 0, 0, 0))
+    fb = rk.render(mesh, camera, "solid", ao=True, ground="white")
+    assert fb.ao is not None and fb.ao.shape == (120, 160)
+    drawn = np.isfinite(fb.depth)
+    assert (np.isnan(fb.ao) == ~drawn).all() and (fb.ao[drawn] < 1).any()
