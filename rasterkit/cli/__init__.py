@@ -107,8 +107,9 @@ def _parser() -> argparse.ArgumentParser:
     look = r.add_argument_group("appearance")
     look.add_argument("--color", default="lightgray", help="surface colour (name or #rrggbb)")
     look.add_argument("--line-color", default="black", help="line colour (name or #rrggbb)")
-    look.add_argument("--background", default="white",
-                      help="background colour; 'transparent' writes RGBA")
+    look.add_argument("--background", default=None,
+                      help="background colour; 'transparent' writes RGBA (default white; with "
+                           "--ground shadow, transparent)")
     look.add_argument("--cull", choices=CULL, default="back")
     look.add_argument("--shading", choices=SHADING, default="flat",
                       help="per face (default), per vertex (smooth) or per pixel (phong, Blinn-Phong)")

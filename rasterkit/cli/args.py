@@ -271,7 +271,10 @@ def task_from_args(args):
     from rasterkit.options import FIELDS, RenderOptions
 
     maps = ("depth", "normals", "ids")  # file names here: the frame's maps follow from them (Task.frame_options)
-    options = RenderOptions(**{name: getattr(args, name) for name in FIELDS if hasattr(args, name) and name not in maps})
+    values = {name: getattr(args, name) for name in FIELDS if hasattr(args, name) and name not in maps}
+    if values.get("background", "white") is None:  # not given: white, or clear under a shadow catcher
+        values["background"] = "transparent" if values.get("ground") == "shadow" else "white"
+    options = RenderOptions(**values)
     return Task(options, view_from_args(args), turntable=args.turntable, turn_lights=args.turn_lights,
                 hidden=args.hidden,
                 depth=args.depth, normals=args.normals, ids=args.ids)

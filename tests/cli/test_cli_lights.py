@@ -70,6 +70,9 @@ def test_a_bad_light_is_refused_in_one_line(tmp_path, flag, words):
 def test_ambient_occlusion_and_a_shadow_catcher_from_the_command_line(tmp_path):
     options = _options("--ao", "--ao-radius", "0.3", "--ao-samples", "8", "--ground", "shadow")
     assert (options.ao, options.ao_radius, options.ao_samples, options.ground) == (True, 0.3, 8, "shadow")
+    assert options.background == "transparent"  # a shadow catcher's default: only the shadow is drawn
+    assert _options("--ground", "shadow", "--background", "navy").background == "navy"
+    assert _options().background == "white" and _options("--ground").background == "white"
     assert _options("--ground").ground == "#d8d8d8" and _options().ao is False
     out = tmp_path / "caught.png"
     flags = ["--mode", "solid", "--shading", "phong", "--size", "120x90", "--light", "directional:-0.4,-1,-0.3",
