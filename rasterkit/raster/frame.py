@@ -79,7 +79,8 @@ def shared_setup(mesh: Mesh, camera: Camera, style: Style):
     setup = SharedTriangles(clip, mesh.faces, width=camera.width, height=camera.height, color=row.shaded,
                             face_colors=face_colors, vertex_colors=vertex_colors, cull=sides.cull,
                             depth_offset=row.polygon_offset, neighbours=mesh.side_neighbours if whole else None,
-                            textures=_textures(mesh, style, sides) if row.shaded else None, corners=corners)
+                            textures=_textures(mesh, style, sides, shared=True) if row.shaded else None,
+                            corners=corners)
     return setup, whole
 
 
@@ -113,15 +114,23 @@ def _draw_triangles(fb: Framebuffer, mesh: Mesh, clip: np.ndarray | None, style:
                       corners=corners)
 
 
-def _textures(mesh: Mesh, style: Style, sides: Sides):
+def _textures(mesh: Mesh, style: Style, sides: Sides, shared: bool = False):
     """The frame's :class:`rasterkit.raster.texturing.FrameTextures`, or None (textures off,
-    or no face of ``mesh`` textured, and not shaded ``"phong"``: its faces are lit per pixel,
-    through the textured resolve); ``sides``: :func:`face_sides` of the mesh."""
+    or no face of ``mesh`` textured, and not lit per pixel); ``sides``: :func:`face_sides` of
+    the mesh. An untextured frame lit per pixel has a resolve of its own
+    (:mod:`rasterkit.raster.pixel_lights`), but not in the samples of a ``shared`` setup:
+    their resolves light it through the textured one."""
     textured = style.textures and bool(mesh.materials) and mesh.textured is not None
     phong = per_pixel(style)
     if not textured and not phong:  # no import for a plain mesh
         return None
-    from rasterkit.raster.texturing import frame_textures
+    from rasterkit.raster.texturing import FrameTextures, frame_textures
+
+    if not textured and not shared:
+        from rasterkit.raster.pixel_lights import pixel_lights
+
+        return FrameTextures(None, None, None, pixel_lights(mesh, style.lights, sides.two_sided,
+                                                            style.shading != "flat"))
 
     return frame_textures(mesh, style.light, AMBIENT, sides.two_sided, style.shading != "flat", style.texture_filter,
                           lit=style.lights, phong=phong, textured=textured)

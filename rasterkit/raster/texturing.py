@@ -19,7 +19,7 @@ import numpy as np
 
 from rasterkit.material import Material, Texture
 from rasterkit.material.sampling import TextureArgs, texture_args, with_filter
-from rasterkit.raster.kernels.records import Textured
+from rasterkit.raster.kernels.records import PixelLights, Textured
 from rasterkit.raster.kernels.surface import encode_table
 from rasterkit.raster.normals import unit
 from rasterkit.raster.lights import NO_SHADOWS, TABLE_WIDTH
@@ -67,11 +67,13 @@ class MeshTextures:
 class FrameTextures(NamedTuple):
     """A frame's :class:`~rasterkit.raster.kernels.records.Textured` (``textures``), and the
     same record as ``cutouts`` and ``mapped`` when some face is cut out or has a normal map
-    (else None: the band worker then compiles none of that code)."""
+    (else None: the band worker then compiles none of that code); or, for an untextured
+    frame lit per pixel, only ``lights`` (:func:`rasterkit.raster.pixel_lights.pixel_lights`)."""
 
-    textures: Textured
+    textures: Textured | None
     cutouts: Textured | None
     mapped: Textured | None
+    lights: PixelLights | None = None
 
 
 def mesh_textures(mesh) -> MeshTextures | None:

@@ -365,12 +365,13 @@ def draw_prepared(prepared: Prepared, color, depth, ids, background, *, threads,
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
     return int(sum(run_workers(draw_bands, prepared.band_start, prepared.items, records, prepared.shading,
                                target, clear, sample, ws.visibility(threads, width), spans, maps,
-                               *texture_arguments(prepared.textures), threads=threads)))
+                               *texture_arguments(prepared.textures),
+                               None if prepared.textures is None else prepared.textures.lights, threads=threads)))
 
 
 def texture_arguments(textures):
     """The band workers' ``textures, cutouts, mapped`` of a frame's FrameTextures (or None)."""
-    return (None, None, None) if textures is None else tuple(textures)
+    return (None, None, None) if textures is None else tuple(textures)[:3]
 
 
 def draw_triangles(color, depth, clip, faces, face_colors, vertex_colors, ids, cull, background, offset, *,

@@ -294,3 +294,30 @@ def test_phong_frames_are_the_same_at_any_thread_count_and_average_their_samples
     # inside the ball the samples see the same smooth surface: their average is near the centre's
     assert np.abs(single[inside].astype(int) - averaged[inside]).mean() < 2.0
     assert not np.array_equal(single, averaged)
+
+
+@pytest.mark.parametrize("shading", ["flat", "phong"])
+def test_the_untextured_resolve_agrees_with_the_textured_one_on_a_white_texture(shading):
+    # an untextured frame lit per pixel has a resolve of its own (rasterkit.raster.kernels.phong_rows,
+    # rows lit in chunks of 64 pixels across faces); a face textured white is lit by the textured
+    # resolve (lit_shade): the same surface, point, normal and colour, so the same pixels
+    from rasterkit.raster.kernels.phong_rows import CHUNK
+
+    ball = rk.shapes.icosphere(3)
+    m = len(ball.faces)
+    diffuse = (0.8, 0.4, 0.2)  # 8-bit codes exactly: the face colour and the texture's tint agree
+    white = rk.Material(name="w", diffuse=diffuse, diffuse_map=rk.Texture(np.full((1, 1, 3), 255, np.uint8)))
+    textured = rk.Mesh(ball.vertices, ball.faces, uv=np.zeros((len(ball.vertices), 2)), uv_index=ball.faces,
+                       materials=(white,), material_names=("w",), face_materials=np.zeros(m, np.int32))
+    plain = rk.Mesh(ball.vertices, ball.faces, face_colors=np.tile(diffuse, (m, 1)),
+                    materials=(rk.Material(name="w", diffuse=diffuse),), material_names=("w",),
+                    face_materials=np.zeros(m, np.int32))
+    camera = rk.Camera.look_at((0.5, 0.8, 3.2), (0, 0, 0), width=320, height=200, fov_y=40)
+    # a light that casts shadows: flat frames are lit per pixel too
+    lights = LIGHTS[:2] + [rk.Light.directional((1, -1, -1), shadows=True)] + LIGHTS[2:]
+    got = rk.render(plain, camera, "solid", shading=shading, lights=lights, ids=True)
+    want = rk.render(textured, camera, "solid", shading=shading, lights=lights)
+    rows = got.ids >= 0
+    assert rows.sum(axis=1).max() > 2 * CHUNK  # rows of the ball longer than the chunk
+    diff = np.abs(got.color.astype(int) - want.color)
+    assert diff.max() <= 1 and (diff > 0).mean() < 0.001, (diff.max(), (diff > 0).mean())

@@ -105,3 +105,18 @@ Textured = namedtuple("Textured", "texels levels samplers transforms decode face
                                   "face_normal_map face_bump face_normal_space tangents corner_normals "
                                   "lights eye perspective toward_viewer positions faces specular shininess emission phong "
                                   "shadow_maps shadow_matrices shadow_axes softness")
+
+#: An untextured frame lit per pixel (:mod:`rasterkit.raster.kernels.phong_rows`): ``lights``
+#: (L, 15) float64 (:func:`rasterkit.raster.lights.light_table`, with the shadow maps' columns),
+#: the viewer at ``eye`` (3,) float64 when ``perspective``, else along ``toward_viewer`` (3,) float64;
+#: the surface point from ``positions`` (N, 3) float64 and ``faces`` (M, 3) int64; the
+#: highlight and glow from ``specular`` (S, 3), ``shininess`` (S,) and ``emission`` (S, 3)
+#: float64 (S = 1 or M, linear); the normal interpolated from ``corner_normals`` (K, 3) float64
+#: through ``normal_corners`` (M, 3) int64 when ``smooth``, else each face's ``face_normals``
+#: (M, 3) float32; ``two_sided`` (bool, or (M,) bool per face) faces lit on their back too;
+#: ``encode`` the sRGB table of :func:`rasterkit.raster.kernels.surface.encode_table` and
+#: ``decode`` (256,) float64 the linear light of each 8-bit sRGB code; the lights' shadow maps
+#: ``shadow_maps shadow_matrices shadow_axes softness`` (:class:`rasterkit.raster.shadows.ShadowMaps`).
+PixelLights = namedtuple("PixelLights", "lights eye perspective toward_viewer positions faces specular shininess emission "
+                                        "smooth corner_normals normal_corners face_normals two_sided encode decode "
+                                        "shadow_maps shadow_matrices shadow_axes softness")

@@ -1,0 +1,315 @@
+"""The resolve of a frame lit per pixel whose faces have no textures
+(:class:`rasterkit.raster.kernels.records.PixelLights`): every visible pixel's colour by
+Blinn-Phong under the frame's lights (the formulas: :mod:`rasterkit.raster.kernels.lights`).
+
+A row's visible pixels are lit :data:`CHUNK` at a time, across faces, in passes over scratch
+on the stack, one value per pixel in each of its columns (:data:`FIELDS`):
+
+1. gather (one pixel at a time: what it reads depends on its face): the face's
+   perspective-correct barycentrics at the pixel's sample point, the surface point and the
+   normal (the corners' smooth normals or the face's) interpolated, the linear base colour
+   (the face's own, or its corners' interpolated and decoded), the face's specular colour,
+   shininess and emission, and for shadow lookups the normal of the face's plane;
+2. the unit normal and the direction towards the viewer (the normal turned towards the
+   viewer on a two-sided face seen from behind);
+3. per light, its share added to every pixel's sum: a loop without branches (selects), so
+   LLVM turns it into vector instructions; the highlight's power by
+   :func:`rasterkit.raster.kernels.powers.power` (no library call). A light with a shadow
+   map first looks up each pixel that faces it (:func:`~rasterkit.raster.kernels.lights.shadow_factor`);
+4. the sums encoded to sRGB by table and written.
+
+The same arithmetic as :func:`rasterkit.raster.kernels.lit_shade.lit_rgba` (which lights the
+textured faces and the multi-sample resolves); the results agree to the rounding.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rasterkit.raster.kernels.cull import per_face
+from rasterkit.raster.kernels.powers import power
+from rasterkit.raster.kernels.shade import SHADE_SMOOTH, put_rgba, to_u8
+from rasterkit.raster.kernels.lights import shadow_factor
+from rasterkit.raster.kernels.surface import encode
+from rasterkit.runtime.intrinsics import stack_floats
+from rasterkit.runtime.jit import kernel
+
+#: Pixels lit at a time.
+CHUNK = 64
+
+# the scratch's columns, CHUNK values each
+_X, _Y, _Z, _NX, _NY, _NZ, _VX, _VY, _VZ = 0, 1, 2, 3, 4, 5, 6, 7, 8
+_BR, _BG, _BB, _SR, _SG, _SB, _SHINE, _AR, _AG, _AB = 9, 10, 11, 12, 13, 14, 15, 16, 17, 18
+_PX, _PY, _PZ, _COLUMN, _TWO, _SHADE = 19, 20, 21, 22, 23, 24
+#: Columns of the scratch.
+FIELDS = 25
+_SCRATCH = FIELDS * CHUNK  # a literal for stack_floats
+
+# the kind codes of rasterkit.raster.lights.KINDS
+_AMBIENT, _DIRECTIONAL, _POINT, _SPOT, _HEADLIGHT = 0, 1, 2, 3, 4
+
+
+@kernel(inline="always")
+def _at(column, q):
+    """Index of pixel ``q``'s value in scratch column ``column``."""
+    return np.uint64(column * CHUNK) + np.uint64(q)
+
+
+@kernel(inline="always")
+def _decoded(decode, c):
+    """Linear light of the sRGB value ``c`` (0..255, fractional), interpolated between the
+    8-bit codes of ``decode`` (256,)."""
+    c = min(max(c, 0.0), 255.0)
+    k = min(np.int64(c), 254)
+    low = decode[np.uint64(k)]
+    return low + (decode[np.uint64(k + 1)] - low) * (c - k)
+
+
+@kernel(inline="always")
+def _affine(table, ra, rb, rc, a0, a1, a2, d0, d1, d2, column):
+    """``(slope, intercept, mean)``: column ``column`` of ``table``'s rows ``ra, rb, rc``
+    weighted along the row by ``b_k = a_k px + d_k``, and their plain mean."""
+    qa, qb, qc = table[ra, column], table[rb, column], table[rc, column]
+    return a0 * qa + a1 * qb + a2 * qc, d0 * qa + d1 * qb + d2 * qc, (qa + qb + qc) / 3.0
+
+
+@kernel(inline="always")
+def _constant(value, t1, t0):
+    """``value`` as an :func:`_affine` line: the same everywhere once divided by ``t1 px + t0``."""
+    return value * t1, value * t0, value
+
+
+@kernel(inline="always")
+def _value(line, px, inv, inside):
+    """The ``line`` at ``px`` divided by the barycentrics' sum (``inv``: its inverse), or its
+    mean where the sum is 0 (not ``inside``)."""
+    return (line[0] * px + line[1]) * inv if inside else line[2]
+
+
+@kernel(inline="always")
+def _gather(s, q0, count, f, column0, px0, py, mode, packed, vertex_colors, corners, bary, lit):
+    """Step 1 for ``count`` pixels of face ``f`` from scratch slot ``q0`` on: image columns
+    ``column0 ...``, sample points ``(px0, py), (px0 + 1, py) ...``. The face's barycentrics
+    are affine along the row, ``b_k = a_k px + d_k``; so are their sums weighted by the
+    corners' values: each interpolated value is one such line divided by ``sum_k b_k``
+    (:func:`_affine`; a value of the face's own is a line too, :func:`_constant`). The lines
+    are made once per run, then one loop without branches fills every column."""
+    positions, faces, smooth, corner_normals, normal_corners, face_normals = lit[4], lit[5], lit[9], lit[10], \
+        lit[11], lit[12]
+    a0, a1, a2 = bary[f, 0], bary[f, 3], bary[f, 6]
+    d0, d1, d2 = bary[f, 1] * py + bary[f, 2], bary[f, 4] * py + bary[f, 5], bary[f, 7] * py + bary[f, 8]
+    t1, t0 = a0 + a1 + a2, d0 + d1 + d2
+    a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+    x = _affine(positions, a, b, c, a0, a1, a2, d0, d1, d2, 0)
+    y = _affine(positions, a, b, c, a0, a1, a2, d0, d1, d2, 1)
+    z = _affine(positions, a, b, c, a0, a1, a2, d0, d1, d2, 2)
+    if smooth:
+        na, nb, nc = normal_corners[f, 0], normal_corners[f, 1], normal_corners[f, 2]
+        nx = _affine(corner_normals, na, nb, nc, a0, a1, a2, d0, d1, d2, 0)
+        ny = _affine(corner_normals, na, nb, nc, a0, a1, a2, d0, d1, d2, 1)
+        nz = _affine(corner_normals, na, nb, nc, a0, a1, a2, d0, d1, d2, 2)
+    else:
+        nx = _constant(np.float64(face_normals[f, 0]), t1, t0)
+        ny = _constant(np.float64(face_normals[f, 1]), t1, t0)
+        nz = _constant(np.float64(face_normals[f, 2]), t1, t0)
+    decode = lit[15]
+    if mode == SHADE_SMOOTH:  # sRGB interpolated here, decoded below
+        ca, cb, cc = corners[f, 0], corners[f, 1], corners[f, 2]
+        br = _affine(vertex_colors, ca, cb, cc, a0, a1, a2, d0, d1, d2, 0)
+        bg = _affine(vertex_colors, ca, cb, cc, a0, a1, a2, d0, d1, d2, 1)
+        bb = _affine(vertex_colors, ca, cb, cc, a0, a1, a2, d0, d1, d2, 2)
+    else:
+        rgba = packed[f]
+        br = _constant(decode[np.uint64(rgba & 0xFF)], t1, t0)
+        bg = _constant(decode[np.uint64((rgba >> 8) & 0xFF)], t1, t0)
+        bb = _constant(decode[np.uint64((rgba >> 16) & 0xFF)], t1, t0)
+    specular, shininess, emission = lit[6], lit[7], lit[8]
+    m = 0 if shininess.shape[0] == 1 else f
+    sr, sg, sb, shine = specular[m, 0], specular[m, 1], specular[m, 2], shininess[m]
+    er, eg, eb = emission[m, 0], emission[m, 1], emission[m, 2]
+    two = 1.0 if per_face(lit[13], f) else 0.0
+    ux, uy, uz = positions[b, 0] - positions[a, 0], positions[b, 1] - positions[a, 1], \
+        positions[b, 2] - positions[a, 2]
+    wx, wy, wz = positions[c, 0] - positions[a, 0], positions[c, 1] - positions[a, 1], \
+        positions[c, 2] - positions[a, 2]
+    plane_x, plane_y, plane_z = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx  # for shadow lookups
+    for q in range(count):
+        px = px0 + q
+        total = t1 * px + t0
+        inside = total != 0.0
+        inv = 1.0 / total if inside else 0.0  # noqa: FURB136
+        u = q0 + q
+        s[_at(_X, u)], s[_at(_Y, u)], s[_at(_Z, u)] = _value(x, px, inv, inside), _value(y, px, inv, inside), \
+            _value(z, px, inv, inside)
+        s[_at(_NX, u)], s[_at(_NY, u)], s[_at(_NZ, u)] = _value(nx, px, inv, inside), _value(ny, px, inv, inside), \
+            _value(nz, px, inv, inside)
+        s[_at(_BR, u)], s[_at(_BG, u)], s[_at(_BB, u)] = _value(br, px, inv, inside), _value(bg, px, inv, inside), \
+            _value(bb, px, inv, inside)
+        s[_at(_SR, u)], s[_at(_SG, u)], s[_at(_SB, u)], s[_at(_SHINE, u)] = sr, sg, sb, shine
+        s[_at(_AR, u)], s[_at(_AG, u)], s[_at(_AB, u)] = er, eg, eb
+        s[_at(_PX, u)], s[_at(_PY, u)], s[_at(_PZ, u)] = plane_x, plane_y, plane_z
+        s[_at(_COLUMN, u)], s[_at(_TWO, u)] = column0 + q, two
+    if mode == SHADE_SMOOTH:
+        for q in range(q0, q0 + count):
+            for channel in range(3):
+                s[_at(_BR + channel, q)] = _decoded(decode, s[_at(_BR + channel, q)])
+
+
+@kernel(inline="always")
+def _unit(x, y, z):
+    """(x, y, z) made unit length; zero when it has none (or is not finite)."""
+    length = np.sqrt(x * x + y * y + z * z)
+    scale = 1.0 / length if length > 0.0 else 0.0  # noqa: FURB136 - a select
+    scale = scale if np.isfinite(scale) else 0.0  # noqa: FURB136
+    return x * scale, y * scale, z * scale
+
+
+@kernel(inline="always")
+def _orient(s, n, eye, perspective, view):
+    """Step 2 over the chunk's ``n`` pixels."""
+    ex, ey, ez = eye[0], eye[1], eye[2]  # locals: the loop stores to the scratch
+    wx, wy, wz = view[0], view[1], view[2]
+    for q in range(n):
+        vx, vy, vz = _unit(ex - s[_at(_X, q)], ey - s[_at(_Y, q)], ez - s[_at(_Z, q)])
+        vx, vy, vz = (vx, vy, vz) if perspective else (wx, wy, wz)
+        nx, ny, nz = _unit(s[_at(_NX, q)], s[_at(_NY, q)], s[_at(_NZ, q)])
+        flip = -1.0 if s[_at(_TWO, q)] > 0.0 and nx * vx + ny * vy + nz * vz < 0.0 else 1.0
+        s[_at(_NX, q)], s[_at(_NY, q)], s[_at(_NZ, q)] = nx * flip, ny * flip, nz * flip
+        s[_at(_VX, q)], s[_at(_VY, q)], s[_at(_VZ, q)] = vx, vy, vz
+
+
+@kernel(inline="always")
+def _shadows(s, n, k, table, shadows):
+    """Light ``k``'s shadow factor of each pixel that faces it (0 for the others), into the
+    scratch."""
+    directional = table[k, 0] == _DIRECTIONAL or table[k, 0] == _HEADLIGHT
+    for q in range(n):
+        x, y, z = s[_at(_X, q)], s[_at(_Y, q)], s[_at(_Z, q)]
+        nx, ny, nz = s[_at(_NX, q)], s[_at(_NY, q)], s[_at(_NZ, q)]
+        if directional:
+            lx, ly, lz = -table[k, 4], -table[k, 5], -table[k, 6]
+        else:
+            lx, ly, lz = table[k, 1] - x, table[k, 2] - y, table[k, 3] - z
+        factor = 0.0
+        if nx * lx + ny * ly + nz * lz > 0.0:
+            fx, fy, fz = _unit(s[_at(_PX, q)], s[_at(_PY, q)], s[_at(_PZ, q)])
+            if fx == 0.0 and fy == 0.0 and fz == 0.0:
+                fx, fy, fz = nx, ny, nz
+            factor = shadow_factor(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
+        s[_at(_SHADE, q)] = factor
+
+
+@kernel(inline="always")
+def _add_light(s, n, k, table):
+    """Step 3 for light ``k`` (not ambient) over the chunk's ``n`` pixels."""
+    kind = table[k, 0]
+    directional = kind == _DIRECTIONAL or kind == _HEADLIGHT
+    spot = kind == _SPOT
+    cr, cg, cb = table[k, 7], table[k, 8], table[k, 9]
+    ox, oy, oz = table[k, 1], table[k, 2], table[k, 3]
+    dx, dy, dz = table[k, 4], table[k, 5], table[k, 6]
+    reach = table[k, 10]
+    inv_reach4 = 1.0 / (reach * reach * reach * reach) if reach > 0.0 else 0.0
+    scale, offset = table[k, 11], table[k, 12]
+    for q in range(n):
+        x, y, z = s[_at(_X, q)], s[_at(_Y, q)], s[_at(_Z, q)]
+        nx, ny, nz = s[_at(_NX, q)], s[_at(_NY, q)], s[_at(_NZ, q)]
+        if directional:
+            lx, ly, lz, a = -dx, -dy, -dz, 1.0
+        else:
+            lx, ly, lz = ox - x, oy - y, oz - z
+            d2 = lx * lx + ly * ly + lz * lz
+            inv = 1.0 / np.sqrt(d2)
+            lx, ly, lz = lx * inv, ly * inv, lz * inv
+            window = min(max(1.0 - d2 * d2 * inv_reach4, 0.0), 1.0)
+            cone = min(max(-(lx * dx + ly * dy + lz * dz) * scale + offset, 0.0), 1.0)
+            cone = cone * cone if spot else 1.0  # noqa: FURB136
+            a = window * cone / d2 if d2 > 0.0 else 0.0  # noqa: FURB136
+        a *= s[_at(_SHADE, q)]
+        ndl = nx * lx + ny * ly + nz * lz
+        hx, hy, hz = lx + s[_at(_VX, q)], ly + s[_at(_VY, q)], lz + s[_at(_VZ, q)]
+        hl = np.sqrt(hx * hx + hy * hy + hz * hz)
+        ndh = (nx * hx + ny * hy + nz * hz) / hl if hl > 0.0 else 0.0  # noqa: FURB136
+        highlight = power(max(ndh, 0.0), s[_at(_SHINE, q)])
+        lit = ndl > 0.0 and a > 0.0  # else nothing (a NaN from a point at the light included)
+        red = a * cr * (s[_at(_BR, q)] * ndl + s[_at(_SR, q)] * highlight)
+        green = a * cg * (s[_at(_BG, q)] * ndl + s[_at(_SG, q)] * highlight)
+        blue = a * cb * (s[_at(_BB, q)] * ndl + s[_at(_SB, q)] * highlight)
+        s[_at(_AR, q)] += red if lit else 0.0  # noqa: FURB136
+        s[_at(_AG, q)] += green if lit else 0.0  # noqa: FURB136
+        s[_at(_AB, q)] += blue if lit else 0.0  # noqa: FURB136
+
+
+@kernel(refcounts=False)
+def _shade_chunk(s, n, color, j, lit):
+    """Steps 2-4 for the chunk's ``n`` pixels of image row ``j``."""
+    table, eye, perspective, view, encode_table = lit[0], lit[1], lit[2], lit[3], lit[14]
+    shadows = (lit[16], lit[17], lit[18], lit[19])
+    _orient(s, n, eye, perspective, view)
+    for k in range(table.shape[0]):
+        if table[k, 0] == _AMBIENT:
+            cr, cg, cb = table[k, 7], table[k, 8], table[k, 9]
+            for q in range(n):
+                s[_at(_AR, q)] += s[_at(_BR, q)] * cr
+                s[_at(_AG, q)] += s[_at(_BG, q)] * cg
+                s[_at(_AB, q)] += s[_at(_BB, q)] * cb
+            continue
+        if table[k, 13] >= 0.0:
+            _shadows(s, n, k, table, shadows)
+        else:
+            for q in range(n):
+                s[_at(_SHADE, q)] = 1.0
+        _add_light(s, n, k, table)
+    ju = np.uint64(j)
+    for q in range(n):
+        rgba = 255 << 24
+        rgba |= to_u8(encode(encode_table, s[_at(_AR, q)]) * 255.0)
+        rgba |= to_u8(encode(encode_table, s[_at(_AG, q)]) * 255.0) << 8
+        rgba |= to_u8(encode(encode_table, s[_at(_AB, q)]) * 255.0) << 16
+        put_rgba(color, ju, np.uint64(np.int64(s[_at(_COLUMN, q)])), np.uint32(rgba))
+
+
+@kernel(inline="always")
+def lit_fields(lit):
+    """The record's fields as a tuple, unpacked once per row."""
+    return (lit.lights, lit.eye, lit.perspective, lit.toward_viewer, lit.positions, lit.faces, lit.specular, lit.shininess,
+            lit.emission, lit.smooth, lit.corner_normals, lit.normal_corners, lit.face_normals, lit.two_sided,
+            lit.encode, lit.decode, lit.shadow_maps, lit.shadow_matrices, lit.shadow_axes, lit.softness)
+
+
+@kernel(refcounts=False)
+def resolve_lit_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, corners, bary, color,
+                    write_ids, ids, lighting):
+    """:func:`rasterkit.raster.kernels.shade.resolve_row` of a frame lit per pixel
+    (``mode`` SHADE_FLAT: each face's own colour ``packed``, or SHADE_SMOOTH: ``vertex_colors``
+    through ``corners``), ``lighting`` its :class:`~rasterkit.raster.kernels.records.PixelLights`."""
+    lit = lit_fields(lighting)
+    s = stack_floats(_SCRATCH)
+    ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
+    px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
+    width = hi - lo + 1
+    n = 0
+    k = 0
+    while k < width:  # each run of one face's pixels
+        f = lid[ru, base + np.uint64(k)]
+        if f < 0:
+            k += 1
+            continue
+        end = k + 1
+        while end < width and lid[ru, base + np.uint64(end)] == f:
+            end += 1
+        for q in range(k, end):
+            i = base + np.uint64(q)
+            lid[ru, i] = -1
+            if write_ids:
+                ids[ju, i] = f
+        while k < end:  # in pieces that fill the chunk
+            count = min(end - k, CHUNK - n)
+            _gather(s, n, count, f, lo + k, px + k, py, mode, packed, vertex_colors, corners, bary, lit)
+            n += count
+            k += count
+            if n == CHUNK:
+                _shade_chunk(s, n, color, j, lit)
+                n = 0
+    if n:
+        _shade_chunk(s, n, color, j, lit)
