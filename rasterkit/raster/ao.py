@@ -27,6 +27,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from rasterkit.material.colorspace import DECODE, SRGB_ROW, encode_srgb8
 from rasterkit.runtime import scratch as _memory
 from rasterkit.runtime.threads import run_workers
 
@@ -157,14 +158,7 @@ def stride(width: int, height: int) -> int:
     return max(1, min(8, round(min(width, height) / 180)))
 
 
-def _tables() -> tuple[np.ndarray, np.ndarray]:
-    c = np.arange(256) / 255.0
-    decode = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-    x = np.arange(_ENCODE_SIZE) / (_ENCODE_SIZE - 1)
-    encode = 255.0 * np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
-    return decode.astype(np.float32), np.rint(encode).astype(np.uint8)
-
-
 #: Entries of the linear -> sRGB table (linear steps of 1/4095: within one level of 255).
 _ENCODE_SIZE = 4096
-_DECODE, _ENCODE = _tables()
+_DECODE = DECODE[SRGB_ROW].astype(np.float32)
+_ENCODE = encode_srgb8(np.arange(_ENCODE_SIZE) / (_ENCODE_SIZE - 1))

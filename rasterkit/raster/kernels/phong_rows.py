@@ -37,22 +37,22 @@ from rasterkit.runtime.jit import kernel
 #: Pixels lit at a time.
 CHUNK = 64
 
-# the scratch's columns, CHUNK values each
-_X, _Y, _Z, _NX, _NY, _NZ, _VX, _VY, _VZ = 0, 1, 2, 3, 4, 5, 6, 7, 8
-_BR, _BG, _BB, _SR, _SG, _SB, _SHINE, _AR, _AG, _AB = 9, 10, 11, 12, 13, 14, 15, 16, 17, 18
-_PX, _PY, _PZ, _COLUMN, _TWO, _SHADE = 19, 20, 21, 22, 23, 24
-#: Columns of the scratch.
+#: Columns of the scratch, CHUNK values each: first the values interpolated across a face
+#: (position, normal, base colour), then those a face has one of (specular colour,
+#: shininess, emission, its plane's normal, two-sided or not), then the pixel's own.
 FIELDS = 25
+_INTERPOLATED = 9
+_CONSTANT = 11
 _SCRATCH = FIELDS * CHUNK  # a literal for stack_floats
+#: What a run's gather keeps: a line (3 values) per interpolated value, and the constants.
+_LINES = 3 * _INTERPOLATED + _CONSTANT
+
+# where each column starts in the scratch (unsigned: no negative-index arithmetic)
+(_X, _Y, _Z, _NX, _NY, _NZ, _BR, _BG, _BB, _SR, _SG, _SB, _SHINE, _AR, _AG, _AB, _PX, _PY, _PZ, _TWO,
+ _COLUMN, _VX, _VY, _VZ, _SHADE) = (np.uint64(k * CHUNK) for k in range(FIELDS))
 
 # the kind codes of rasterkit.raster.lights.KINDS
 _AMBIENT, _DIRECTIONAL, _POINT, _SPOT, _HEADLIGHT = 0, 1, 2, 3, 4
-
-
-@kernel(inline="always")
-def _at(column, q):
-    """Index of pixel ``q``'s value in scratch column ``column``."""
-    return np.uint64(column * CHUNK) + np.uint64(q)
 
 
 @kernel(inline="always")
@@ -66,93 +66,79 @@ def _decoded(decode, c):
 
 
 @kernel(inline="always")
-def _affine(table, ra, rb, rc, a0, a1, a2, d0, d1, d2, column):
-    """``(slope, intercept, mean)``: column ``column`` of ``table``'s rows ``ra, rb, rc``
-    weighted along the row by ``b_k = a_k px + d_k``, and their plain mean."""
+def _line(lines, row, table, ra, rb, rc, a0, a1, a2, d0, d1, d2, column):
+    """Row ``row`` of ``lines``: ``(slope, intercept, mean)`` of column ``column`` of
+    ``table``'s rows ``ra, rb, rc`` weighted along the pixel row by ``b_k = a_k px + d_k``
+    (divided by their sum at each pixel), and their plain mean (where the sum is 0)."""
     qa, qb, qc = table[ra, column], table[rb, column], table[rc, column]
-    return a0 * qa + a1 * qb + a2 * qc, d0 * qa + d1 * qb + d2 * qc, (qa + qb + qc) / 3.0
+    at = np.uint64(3 * row)
+    lines[at] = a0 * qa + a1 * qb + a2 * qc
+    lines[at + np.uint64(1)] = d0 * qa + d1 * qb + d2 * qc
+    lines[at + np.uint64(2)] = (qa + qb + qc) / 3.0
 
 
 @kernel(inline="always")
-def _constant(value, t1, t0):
-    """``value`` as an :func:`_affine` line: the same everywhere once divided by ``t1 px + t0``."""
-    return value * t1, value * t0, value
-
-
-@kernel(inline="always")
-def _value(line, px, inv, inside):
-    """The ``line`` at ``px`` divided by the barycentrics' sum (``inv``: its inverse), or its
-    mean where the sum is 0 (not ``inside``)."""
-    return (line[0] * px + line[1]) * inv if inside else line[2]
-
-
-@kernel(inline="always")
-def _gather(s, q0, count, f, column0, px0, py, mode, packed, vertex_colors, corners, bary, lit):
+def _gather(s, lines, q0, count, f, column0, px0, py, mode, packed, vertex_colors, corners, bary, lit):
     """Step 1 for ``count`` pixels of face ``f`` from scratch slot ``q0`` on: image columns
     ``column0 ...``, sample points ``(px0, py), (px0 + 1, py) ...``. The face's barycentrics
     are affine along the row, ``b_k = a_k px + d_k``; so are their sums weighted by the
     corners' values: each interpolated value is one such line divided by ``sum_k b_k``
-    (:func:`_affine`; a value of the face's own is a line too, :func:`_constant`). The lines
-    are made once per run, then one loop without branches fills every column."""
+    (:func:`_line`; a value of the face's own is a line too: ``v t1``, ``v t0``). The lines
+    and constants go into ``lines`` once per run, then one loop without branches fills every
+    column."""
     positions, faces, smooth, corner_normals, normal_corners, face_normals = lit[4], lit[5], lit[9], lit[10], \
         lit[11], lit[12]
     a0, a1, a2 = bary[f, 0], bary[f, 3], bary[f, 6]
     d0, d1, d2 = bary[f, 1] * py + bary[f, 2], bary[f, 4] * py + bary[f, 5], bary[f, 7] * py + bary[f, 8]
     t1, t0 = a0 + a1 + a2, d0 + d1 + d2
     a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
-    x = _affine(positions, a, b, c, a0, a1, a2, d0, d1, d2, 0)
-    y = _affine(positions, a, b, c, a0, a1, a2, d0, d1, d2, 1)
-    z = _affine(positions, a, b, c, a0, a1, a2, d0, d1, d2, 2)
+    for axis in range(3):
+        _line(lines, axis, positions, a, b, c, a0, a1, a2, d0, d1, d2, axis)
     if smooth:
         na, nb, nc = normal_corners[f, 0], normal_corners[f, 1], normal_corners[f, 2]
-        nx = _affine(corner_normals, na, nb, nc, a0, a1, a2, d0, d1, d2, 0)
-        ny = _affine(corner_normals, na, nb, nc, a0, a1, a2, d0, d1, d2, 1)
-        nz = _affine(corner_normals, na, nb, nc, a0, a1, a2, d0, d1, d2, 2)
-    else:
-        nx = _constant(np.float64(face_normals[f, 0]), t1, t0)
-        ny = _constant(np.float64(face_normals[f, 1]), t1, t0)
-        nz = _constant(np.float64(face_normals[f, 2]), t1, t0)
-    decode = lit[15]
+        for axis in range(3):
+            _line(lines, 3 + axis, corner_normals, na, nb, nc, a0, a1, a2, d0, d1, d2, axis)
     if mode == SHADE_SMOOTH:  # sRGB interpolated here, decoded below
         ca, cb, cc = corners[f, 0], corners[f, 1], corners[f, 2]
-        br = _affine(vertex_colors, ca, cb, cc, a0, a1, a2, d0, d1, d2, 0)
-        bg = _affine(vertex_colors, ca, cb, cc, a0, a1, a2, d0, d1, d2, 1)
-        bb = _affine(vertex_colors, ca, cb, cc, a0, a1, a2, d0, d1, d2, 2)
-    else:
-        rgba = packed[f]
-        br = _constant(decode[np.uint64(rgba & 0xFF)], t1, t0)
-        bg = _constant(decode[np.uint64((rgba >> 8) & 0xFF)], t1, t0)
-        bb = _constant(decode[np.uint64((rgba >> 16) & 0xFF)], t1, t0)
-    specular, shininess, emission = lit[6], lit[7], lit[8]
+        for channel in range(3):
+            _line(lines, 6 + channel, vertex_colors, ca, cb, cc, a0, a1, a2, d0, d1, d2, channel)
+    decode, specular, shininess, emission = lit[15], lit[6], lit[7], lit[8]
     m = 0 if shininess.shape[0] == 1 else f
-    sr, sg, sb, shine = specular[m, 0], specular[m, 1], specular[m, 2], shininess[m]
-    er, eg, eb = emission[m, 0], emission[m, 1], emission[m, 2]
-    two = 1.0 if per_face(lit[13], f) else 0.0
+    rgba = packed[f] if mode != SHADE_SMOOTH else 0
     ux, uy, uz = positions[b, 0] - positions[a, 0], positions[b, 1] - positions[a, 1], \
         positions[b, 2] - positions[a, 2]
     wx, wy, wz = positions[c, 0] - positions[a, 0], positions[c, 1] - positions[a, 1], \
         positions[c, 2] - positions[a, 2]
-    plane_x, plane_y, plane_z = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx  # for shadow lookups
+    constants = (specular[m, 0], specular[m, 1], specular[m, 2], shininess[m], emission[m, 0], emission[m, 1],
+                 emission[m, 2], uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx,
+                 1.0 if per_face(lit[13], f) else 0.0)
+    for k in range(3):  # the face's own normal and colour
+        own_normal = np.float64(face_normals[f, k])
+        own_colour = decode[np.uint64((rgba >> (8 * k)) & 0xFF)]
+        for row, value, own in ((3 + k, own_normal, not smooth), (6 + k, own_colour, mode != SHADE_SMOOTH)):
+            if own:
+                at = np.uint64(3 * row)
+                lines[at], lines[at + np.uint64(1)], lines[at + np.uint64(2)] = value * t1, value * t0, value
+    for k in range(_CONSTANT):
+        lines[np.uint64(3 * _INTERPOLATED + k)] = constants[k]
     for q in range(count):
         px = px0 + q
         total = t1 * px + t0
         inside = total != 0.0
-        inv = 1.0 / total if inside else 0.0  # noqa: FURB136
-        u = q0 + q
-        s[_at(_X, u)], s[_at(_Y, u)], s[_at(_Z, u)] = _value(x, px, inv, inside), _value(y, px, inv, inside), \
-            _value(z, px, inv, inside)
-        s[_at(_NX, u)], s[_at(_NY, u)], s[_at(_NZ, u)] = _value(nx, px, inv, inside), _value(ny, px, inv, inside), \
-            _value(nz, px, inv, inside)
-        s[_at(_BR, u)], s[_at(_BG, u)], s[_at(_BB, u)] = _value(br, px, inv, inside), _value(bg, px, inv, inside), \
-            _value(bb, px, inv, inside)
-        s[_at(_SR, u)], s[_at(_SG, u)], s[_at(_SB, u)], s[_at(_SHINE, u)] = sr, sg, sb, shine
-        s[_at(_AR, u)], s[_at(_AG, u)], s[_at(_AB, u)] = er, eg, eb
-        s[_at(_PX, u)], s[_at(_PY, u)], s[_at(_PZ, u)] = plane_x, plane_y, plane_z
-        s[_at(_COLUMN, u)], s[_at(_TWO, u)] = column0 + q, two
+        inv = 1.0 / total if inside else 0.0  # noqa: FURB136 - a select
+        u = np.uint64(q0 + q)
+        for k in range(_INTERPOLATED):
+            at = np.uint64(3 * k)
+            value = (lines[at] * px + lines[at + np.uint64(1)]) * inv
+            s[np.uint64(k * CHUNK) + u] = value if inside else lines[at + np.uint64(2)]  # noqa: FURB136
+        for k in range(_CONSTANT):
+            s[np.uint64((_INTERPOLATED + k) * CHUNK) + u] = lines[np.uint64(3 * _INTERPOLATED + k)]
+        s[_COLUMN + u] = column0 + q
     if mode == SHADE_SMOOTH:
         for q in range(q0, q0 + count):
             for channel in range(3):
-                s[_at(_BR + channel, q)] = _decoded(decode, s[_at(_BR + channel, q)])
+                at = _BR + np.uint64(channel * CHUNK + q)
+                s[at] = _decoded(decode, s[at])
 
 
 @kernel(inline="always")
@@ -170,12 +156,19 @@ def _orient(s, n, eye, perspective, view):
     ex, ey, ez = eye[0], eye[1], eye[2]  # locals: the loop stores to the scratch
     wx, wy, wz = view[0], view[1], view[2]
     for q in range(n):
-        vx, vy, vz = _unit(ex - s[_at(_X, q)], ey - s[_at(_Y, q)], ez - s[_at(_Z, q)])
+        vx, vy, vz = _unit(ex - s[_X + np.uint64(q)], ey - s[_Y + np.uint64(q)], ez - s[_Z + np.uint64(q)])
         vx, vy, vz = (vx, vy, vz) if perspective else (wx, wy, wz)
-        nx, ny, nz = _unit(s[_at(_NX, q)], s[_at(_NY, q)], s[_at(_NZ, q)])
-        flip = -1.0 if s[_at(_TWO, q)] > 0.0 and nx * vx + ny * vy + nz * vz < 0.0 else 1.0
-        s[_at(_NX, q)], s[_at(_NY, q)], s[_at(_NZ, q)] = nx * flip, ny * flip, nz * flip
-        s[_at(_VX, q)], s[_at(_VY, q)], s[_at(_VZ, q)] = vx, vy, vz
+        nx, ny, nz = _unit(s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)])
+        flip = -1.0 if s[_TWO + np.uint64(q)] > 0.0 and nx * vx + ny * vy + nz * vz < 0.0 else 1.0
+        s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)] = nx * flip, ny * flip, nz * flip
+        s[_VX + np.uint64(q)], s[_VY + np.uint64(q)], s[_VZ + np.uint64(q)] = vx, vy, vz
+
+
+@kernel(refcounts=False)
+def _shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows):
+    """:func:`~rasterkit.raster.kernels.lights.shadow_factor`, compiled once on its own (not
+    into each loop that looks shadows up)."""
+    return shadow_factor(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
 
 
 @kernel(inline="always")
@@ -184,19 +177,19 @@ def _shadows(s, n, k, table, shadows):
     scratch."""
     directional = table[k, 0] == _DIRECTIONAL or table[k, 0] == _HEADLIGHT
     for q in range(n):
-        x, y, z = s[_at(_X, q)], s[_at(_Y, q)], s[_at(_Z, q)]
-        nx, ny, nz = s[_at(_NX, q)], s[_at(_NY, q)], s[_at(_NZ, q)]
+        x, y, z = s[_X + np.uint64(q)], s[_Y + np.uint64(q)], s[_Z + np.uint64(q)]
+        nx, ny, nz = s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)]
         if directional:
             lx, ly, lz = -table[k, 4], -table[k, 5], -table[k, 6]
         else:
             lx, ly, lz = table[k, 1] - x, table[k, 2] - y, table[k, 3] - z
         factor = 0.0
         if nx * lx + ny * ly + nz * lz > 0.0:
-            fx, fy, fz = _unit(s[_at(_PX, q)], s[_at(_PY, q)], s[_at(_PZ, q)])
+            fx, fy, fz = _unit(s[_PX + np.uint64(q)], s[_PY + np.uint64(q)], s[_PZ + np.uint64(q)])
             if fx == 0.0 and fy == 0.0 and fz == 0.0:
                 fx, fy, fz = nx, ny, nz
-            factor = shadow_factor(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
-        s[_at(_SHADE, q)] = factor
+            factor = _shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
+        s[_SHADE + np.uint64(q)] = factor
 
 
 @kernel(inline="always")
@@ -212,8 +205,8 @@ def _add_light(s, n, k, table):
     inv_reach4 = 1.0 / (reach * reach * reach * reach) if reach > 0.0 else 0.0
     scale, offset = table[k, 11], table[k, 12]
     for q in range(n):
-        x, y, z = s[_at(_X, q)], s[_at(_Y, q)], s[_at(_Z, q)]
-        nx, ny, nz = s[_at(_NX, q)], s[_at(_NY, q)], s[_at(_NZ, q)]
+        x, y, z = s[_X + np.uint64(q)], s[_Y + np.uint64(q)], s[_Z + np.uint64(q)]
+        nx, ny, nz = s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)]
         if directional:
             lx, ly, lz, a = -dx, -dy, -dz, 1.0
         else:
@@ -225,19 +218,19 @@ def _add_light(s, n, k, table):
             cone = min(max(-(lx * dx + ly * dy + lz * dz) * scale + offset, 0.0), 1.0)
             cone = cone * cone if spot else 1.0  # noqa: FURB136
             a = window * cone / d2 if d2 > 0.0 else 0.0  # noqa: FURB136
-        a *= s[_at(_SHADE, q)]
+        a *= s[_SHADE + np.uint64(q)]
         ndl = nx * lx + ny * ly + nz * lz
-        hx, hy, hz = lx + s[_at(_VX, q)], ly + s[_at(_VY, q)], lz + s[_at(_VZ, q)]
+        hx, hy, hz = lx + s[_VX + np.uint64(q)], ly + s[_VY + np.uint64(q)], lz + s[_VZ + np.uint64(q)]
         hl = np.sqrt(hx * hx + hy * hy + hz * hz)
         ndh = (nx * hx + ny * hy + nz * hz) / hl if hl > 0.0 else 0.0  # noqa: FURB136
-        highlight = power(max(ndh, 0.0), s[_at(_SHINE, q)])
+        highlight = power(max(ndh, 0.0), s[_SHINE + np.uint64(q)])
         lit = ndl > 0.0 and a > 0.0  # else nothing (a NaN from a point at the light included)
-        red = a * cr * (s[_at(_BR, q)] * ndl + s[_at(_SR, q)] * highlight)
-        green = a * cg * (s[_at(_BG, q)] * ndl + s[_at(_SG, q)] * highlight)
-        blue = a * cb * (s[_at(_BB, q)] * ndl + s[_at(_SB, q)] * highlight)
-        s[_at(_AR, q)] += red if lit else 0.0  # noqa: FURB136
-        s[_at(_AG, q)] += green if lit else 0.0  # noqa: FURB136
-        s[_at(_AB, q)] += blue if lit else 0.0  # noqa: FURB136
+        red = a * cr * (s[_BR + np.uint64(q)] * ndl + s[_SR + np.uint64(q)] * highlight)
+        green = a * cg * (s[_BG + np.uint64(q)] * ndl + s[_SG + np.uint64(q)] * highlight)
+        blue = a * cb * (s[_BB + np.uint64(q)] * ndl + s[_SB + np.uint64(q)] * highlight)
+        s[_AR + np.uint64(q)] += red if lit else 0.0  # noqa: FURB136
+        s[_AG + np.uint64(q)] += green if lit else 0.0  # noqa: FURB136
+        s[_AB + np.uint64(q)] += blue if lit else 0.0  # noqa: FURB136
 
 
 @kernel(refcounts=False)
@@ -250,23 +243,22 @@ def _shade_chunk(s, n, color, j, lit):
         if table[k, 0] == _AMBIENT:
             cr, cg, cb = table[k, 7], table[k, 8], table[k, 9]
             for q in range(n):
-                s[_at(_AR, q)] += s[_at(_BR, q)] * cr
-                s[_at(_AG, q)] += s[_at(_BG, q)] * cg
-                s[_at(_AB, q)] += s[_at(_BB, q)] * cb
+                s[_AR + np.uint64(q)] += s[_BR + np.uint64(q)] * cr
+                s[_AG + np.uint64(q)] += s[_BG + np.uint64(q)] * cg
+                s[_AB + np.uint64(q)] += s[_BB + np.uint64(q)] * cb
             continue
         if table[k, 13] >= 0.0:
             _shadows(s, n, k, table, shadows)
         else:
             for q in range(n):
-                s[_at(_SHADE, q)] = 1.0
+                s[_SHADE + np.uint64(q)] = 1.0
         _add_light(s, n, k, table)
     ju = np.uint64(j)
     for q in range(n):
         rgba = 255 << 24
-        rgba |= to_u8(encode(encode_table, s[_at(_AR, q)]) * 255.0)
-        rgba |= to_u8(encode(encode_table, s[_at(_AG, q)]) * 255.0) << 8
-        rgba |= to_u8(encode(encode_table, s[_at(_AB, q)]) * 255.0) << 16
-        put_rgba(color, ju, np.uint64(np.int64(s[_at(_COLUMN, q)])), np.uint32(rgba))
+        for channel in range(3):  # one copy of the encoding to compile, not three
+            rgba |= to_u8(encode(encode_table, s[_AR + np.uint64(channel * CHUNK + q)]) * 255.0) << (8 * channel)
+        put_rgba(color, ju, np.uint64(np.int64(s[_COLUMN + np.uint64(q)])), np.uint32(rgba))
 
 
 @kernel(inline="always")
@@ -285,6 +277,7 @@ def resolve_lit_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_
     through ``corners``), ``lighting`` its :class:`~rasterkit.raster.kernels.records.PixelLights`."""
     lit = lit_fields(lighting)
     s = stack_floats(_SCRATCH)
+    lines = stack_floats(_LINES)
     ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
     px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
     width = hi - lo + 1
@@ -305,7 +298,7 @@ def resolve_lit_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_
                 ids[ju, i] = f
         while k < end:  # in pieces that fill the chunk
             count = min(end - k, CHUNK - n)
-            _gather(s, n, count, f, lo + k, px + k, py, mode, packed, vertex_colors, corners, bary, lit)
+            _gather(s, lines, n, count, f, lo + k, px + k, py, mode, packed, vertex_colors, corners, bary, lit)
             n += count
             k += count
             if n == CHUNK:
