@@ -23,8 +23,8 @@ shared models) at ``settings.lighting_size``, every one against llvmpipe:
   compare) at the 3x3 texels around the point, each compared, as rasterkit's
   ``shadow_factor`` does, with the depth of the face's plane at that texel (the face normal
   from ``dFdx``/``dFdy`` of the position) less its slope-scaled leeway, none where the light
-  is behind the face. (rasterkit fits its map anew in each frame, from a half-size map and
-  the visible surface: work the peer is spared.) Target: rasterkit <= 0.5x llvmpipe's time at
+  is behind the face. (rasterkit fits its map anew in each frame, from a quarter-size map
+  and the visible surface: work the peer is spared.) Target: rasterkit <= 0.5x llvmpipe's time at
   1920x1080.
 - ``lighting/ao/...``: ``rasterkit.render(mesh, camera, "solid", ao=True)`` (screen-space
   ambient occlusion, its default radius and 8 rays) against the same frame without it, on

@@ -16,8 +16,11 @@ of the triangle rasterizer, for the per-pixel lighting to look up
   small first drawing): its depth buffer's precision goes as ``near / distance²``, and a near
   plane at the light's own position would leave its depths coarser than a texel.
 
-Each map holds the distance along its camera's optical axis (world units, +inf where nothing
-was drawn), square, ``size`` texels a side. Faces cast shadows from both sides.
+Each map is the depth buffer its camera's drawing left (:mod:`rasterkit.raster.vision`: a
+parallel camera's ``(d - n) / (f - n)``, a perspective one's ``f (d - n) / (d (f - n))`` of the
+distance ``d`` along its optical axis; +inf where nothing was drawn), square, ``size`` texels a
+side: the lookup turns the point's distance into those units rather than each texel into a
+distance. Faces cast shadows from both sides.
 """
 
 from __future__ import annotations
@@ -47,7 +50,7 @@ CUBE = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0,
 class ShadowMaps:
     """The shadow maps of a frame's lights."""
 
-    maps: np.ndarray  # (K, S, S) float32 distance along each camera's axis, +inf: nothing
+    maps: np.ndarray  # (K, S, S) float32 each camera's depth buffer (see the module docstring), +inf: nothing
     matrices: np.ndarray  # (K, 4, 4) float64 world -> raster of each map's camera
     axes: np.ndarray  # (K, AXES_WIDTH) float64, see AXES_WIDTH
     first: np.ndarray  # (L,) int64 each light's first map (-1: none); a point light's are six
@@ -98,13 +101,13 @@ def shadow_maps(mesh, lights: tuple, camera: Camera, size: int, softness: float,
     for k, view in enumerate(cameras):
         if view.kind == "perspective":
             view = _nearer(mesh.vertices, faces, view)
-        if view.kind != "perspective":  # where in the window are shadows seen? (a map half as fine)
+        if view.kind != "perspective":  # where in the window are shadows seen? (a map a quarter as fine)
             if visible is None:
                 visible = _visible(mesh, camera)
-            coarse = view.with_size(max(16, size // 2), max(16, size // 2))
+            coarse = view.with_size(max(16, size // COARSE), max(16, size // COARSE))
             view = _refit(coarse, _depth(mesh.vertices, faces, coarse), visible, corners, softness, size) or view
         matrices[k] = view.world_to_raster()
-        maps[k] = _depth(mesh.vertices, faces, view)
+        _depth(mesh.vertices, faces, view, maps[k])
         axes[k] = _axes(view, size)
     return ShadowMaps(maps, matrices, axes, first)
 
@@ -169,6 +172,10 @@ def _window(basis: np.ndarray, low: np.ndarray, high: np.ndarray, depth_low: flo
                                height=size, near=pad * 0.5, far=depth_high - depth_low + pad * 1.5)
 
 
+#: How many times coarser than the final map is the first drawing a directional light's map is
+#: fitted from (:func:`_refit`).
+COARSE = 4
+
 #: The longer side of the small drawing of the frame's visible surface that a directional
 #: light's map is fitted to (:func:`_visible`).
 VISIBLE_SIDE = 384
@@ -224,6 +231,7 @@ def _refit(view: Camera, depth: np.ndarray, visible: np.ndarray, corners: np.nda
     part is not much smaller than the window (or is empty: no shadow in view)."""
     size = depth.shape[0]
     basis = _light_basis(-np.asarray(view.backward()))
+    span = view.far - view.near  # the depth buffer's units (a parallel camera's): (d - near) / span
     texel = view.view_height / size
     matrix = view.world_to_raster()
     x = _dot(matrix[0, :3], visible) + matrix[0, 3]
@@ -242,7 +250,7 @@ def _refit(view: Camera, depth: np.ndarray, visible: np.ndarray, corners: np.nda
         row = np.clip(j + d, 0, size - 1) * size
         for column in columns:
             np.minimum(nearest, flat[row + column], out=nearest)
-    shadowed = nearest < along - texel * (2.0 + 1.5 * slope)
+    shadowed = nearest < (along - texel * (2.0 + 1.5 * slope) - view.near) / span
     if not shadowed.any():
         return None
     points = points[:, shadowed]
@@ -275,10 +283,11 @@ def _nearer(vertices, faces, view: Camera) -> Camera:
     ``near / distance²``, then serves the texels."""
     small = view.with_size(max(16, view.width // 4), max(16, view.height // 4))
     seen = _depth(vertices, faces, small)
-    finite = seen[np.isfinite(seen) & (seen > 0)]
+    finite = seen[np.isfinite(seen)]
     if len(finite) == 0:
         return view
-    near = 0.5 * float(finite.min())
+    nearest = float(finite.min())  # the depth buffer's f (d - n) / (d (f - n)) of the nearest: its d
+    near = 0.5 * view.far * view.near / (view.far - nearest * (view.far - view.near))
     if not near > 2.0 * view.near:
         return view
     return replace(view, near=near)
@@ -299,15 +308,13 @@ def _axes(camera: Camera, size: int) -> np.ndarray:
     return row
 
 
-def _depth(vertices, faces, camera: Camera) -> np.ndarray:
-    """(S, S) float32: the distance along ``camera``'s axis of the nearest of ``faces`` (of a
-    Mesh's ``vertices``) at each texel (+inf where none), faces drawn from both sides."""
+def _depth(vertices, faces, camera: Camera, out: np.ndarray | None = None) -> np.ndarray:
+    """(S, S) float32 ``out`` (None: a new array): ``camera``'s depth buffer of ``faces`` (of a
+    Mesh's ``vertices``; +inf where none), faces drawn from both sides. The draw clears each
+    band of it before drawing there (the empty clear colour of a draw without colours)."""
     from rasterkit.raster.triangles import rasterize_checked
-    from rasterkit.raster.vision import camera_depth
 
-    depth = np.full((camera.height, camera.width), np.inf, np.float32)
+    depth = np.empty((camera.height, camera.width), np.float32) if out is None else out
     clip = transform_points(np.ascontiguousarray(vertices, np.float64), np.ascontiguousarray(camera.world_to_raster()))
     rasterize_checked(None, depth, clip, faces, None, None, None, "none", (), (0.0, 0.0), None, trusted=True)
-    metric = camera_depth(depth, camera)
-    metric[~np.isfinite(depth)] = np.inf
-    return metric
+    return depth

@@ -65,27 +65,31 @@ def _cube_face(k, table, first, px, py, pz):
 
 
 @kernel(inline="always")
-def _plane_depth(axes, mu, i, j, size, px, py, pz, nx, ny, nz, depth, texel):
-    """The depth (along the map's axis) at which the ray of texel (i, j) of map ``mu`` meets
-    the plane through the point (px, py, pz) with normal (nx, ny, nz), but not more than 100
-    texels beyond the point's own ``depth`` (a plane seen almost edge-on runs far from the
-    surface: what the texel sees short of that still shadows the point); ``depth`` when the
-    ray runs along the plane."""
-    a = (i + 0.5 - 0.5 * size) * axes[mu, 6]
-    b = (j + 0.5 - 0.5 * size) * axes[mu, 6]
-    ex, ey, ez = px - axes[mu, 0], py - axes[mu, 1], pz - axes[mu, 2]  # from the eye
-    fx, fy, fz = axes[mu, 3], axes[mu, 4], axes[mu, 5]
-    rx, ry, rz = axes[mu, 10] * a + axes[mu, 13] * b, axes[mu, 11] * a + axes[mu, 14] * b, \
-        axes[mu, 12] * a + axes[mu, 15] * b  # across the axis to the texel's ray
-    if axes[mu, 7] > 0.0:  # perspective: the ray from the eye along f + r
-        den = nx * (fx + rx) + ny * (fy + ry) + nz * (fz + rz)
-        num = nx * ex + ny * ey + nz * ez
-    else:  # parallel: the ray along f from the eye's plane, r across
-        den = nx * fx + ny * fy + nz * fz
-        num = nx * (ex - rx) + ny * (ey - ry) + nz * (ez - rz)
-    if not abs(den) > 1e-6:
-        return depth
-    return min(num / den, depth + 100.0 * texel)
+def _plane_gradient(axes, mu, nx, ny, nz, ex, ey, ez, depth):
+    """How the map depth (the depth buffer's, :mod:`rasterkit.raster.shadows`) at which the
+    texels' rays meet the plane through the point ``e`` (from map ``mu``'s eye) with normal
+    (nx, ny, nz) changes per texel along the map's x and y: ``(gi, gj, scale)``, ``scale`` the
+    map depth per unit of distance along the axis at the point's ``depth``. Affine in the
+    texel for both kinds of camera: a parallel map stores ``(d - n) / (f - n)``, and the
+    plane's ``d`` is affine across its texels; a perspective map stores
+    ``f / (f - n) - (f n / (f - n)) / d``, and the plane's ``1 / d`` is affine across them.
+    (0, 0) when the texels' rays run along the plane."""
+    near, far, step = axes[mu, 8], axes[mu, 9], axes[mu, 6]
+    nr = nx * axes[mu, 10] + ny * axes[mu, 11] + nz * axes[mu, 12]  # the normal along the map's x, y
+    nu = nx * axes[mu, 13] + ny * axes[mu, 14] + nz * axes[mu, 15]
+    if axes[mu, 7] > 0.0:  # perspective: 1/d(i, j) = 1/depth + s (di n.r + dj n.u) / n.e
+        k = far * near / (far - near)
+        ne = nx * ex + ny * ey + nz * ez
+        if not abs(ne) > 1e-12 * depth:
+            return 0.0, 0.0, k / (depth * depth)
+        g = -k * step / ne
+        return g * nr, g * nu, k / (depth * depth)
+    scale = 1.0 / (far - near)  # parallel: d(i, j) = depth - s (di n.r + dj n.u) / n.f
+    nf = nx * axes[mu, 3] + ny * axes[mu, 4] + nz * axes[mu, 5]
+    if not abs(nf) > 1e-6:
+        return 0.0, 0.0, scale
+    g = -step * scale / nf
+    return g * nr, g * nu, scale
 
 
 @kernel(inline="always")
@@ -99,11 +103,15 @@ def shadow_factor(k, table, px, py, pz, nx, ny, nz, sx, sy, sz, shadows):
     of ``2 r + 1`` a side, ``r = ceil(softness)``: percentage-closer filtering) that see
     nothing nearer the light than the point's surface there. The depth of each texel is
     compared with the depth at which its ray meets the plane of the point's face (a
-    receiver-plane bias, so that a lit face does not shadow itself at any slope), less a
-    leeway of a texel plus the depth the plane slopes over a quarter texel and over the
-    filter's reach (its slope ``tan`` of the angle between the face's normal and the light,
-    at most 20): a curved surface leaves its face's plane across the filter, by more the more
-    it slopes away from the light. ``shadows``: ``(maps, matrices, axes, softness)`` of
+    receiver-plane bias, so that a lit face does not shadow itself at any slope; at most 100
+    texels beyond the point: a plane seen almost edge-on runs far from the surface, and what
+    the texel sees short of that still shadows the point), less a leeway of a texel plus the
+    depth the plane slopes over a quarter texel and over the filter's reach (its slope
+    ``tan`` of the angle between the face's normal and the light, at most 20): a curved
+    surface leaves its face's plane across the filter, by more the more it slopes away from
+    the light. The comparisons are in the map's own depth units, where the plane's depth is
+    affine across the texels (:func:`_plane_gradient`): a few divisions per point, none per
+    texel. ``shadows``: ``(maps, matrices, axes, softness)`` of
     :class:`rasterkit.raster.shadows.ShadowMaps`."""
     first = np.int64(table[k, 13])
     if first < 0:
@@ -118,30 +126,57 @@ def shadow_factor(k, table, px, py, pz, nx, ny, nz, sx, sy, sz, shadows):
     towards = nx * lx + ny * ly + nz * lz
     if not towards > 0.0:
         return 0.0  # the light is behind the face
-    facing = min(towards / np.sqrt(lx * lx + ly * ly + lz * lz), 1.0)
+    across = max(lx * lx + ly * ly + lz * lz - towards * towards, 0.0)  # (|l| sin θ)², θ from the normal
     maps, matrices, axes, softness = shadows
     m = first if table[k, 14] < 2.0 else _cube_face(k, table, first, px, py, pz)
     mu = np.uint64(m)
     w = matrices[mu, 3, 0] * px + matrices[mu, 3, 1] * py + matrices[mu, 3, 2] * pz + matrices[mu, 3, 3]
     if not w > 0.0:
         return 1.0
-    x = (matrices[mu, 0, 0] * px + matrices[mu, 0, 1] * py + matrices[mu, 0, 2] * pz + matrices[mu, 0, 3]) / w
-    y = (matrices[mu, 1, 0] * px + matrices[mu, 1, 1] * py + matrices[mu, 1, 2] * pz + matrices[mu, 1, 3]) / w
+    inverse = 1.0 / w if axes[mu, 7] > 0.0 else 1.0  # a parallel map's w is 1
+    x = (matrices[mu, 0, 0] * px + matrices[mu, 0, 1] * py + matrices[mu, 0, 2] * pz + matrices[mu, 0, 3]) * inverse
+    y = (matrices[mu, 1, 0] * px + matrices[mu, 1, 1] * py + matrices[mu, 1, 2] * pz + matrices[mu, 1, 3]) * inverse
     size = maps.shape[1]
     if not (x >= 0.0 and y >= 0.0 and x < size and y < size):
         return 1.0  # outside the map: nothing there casts a shadow
-    depth = (px - axes[mu, 0]) * axes[mu, 3] + (py - axes[mu, 1]) * axes[mu, 4] + (pz - axes[mu, 2]) * axes[mu, 5]
+    z = (matrices[mu, 2, 0] * px + matrices[mu, 2, 1] * py + matrices[mu, 2, 2] * pz + matrices[mu, 2, 3]) * inverse
+    ex, ey, ez = px - axes[mu, 0], py - axes[mu, 1], pz - axes[mu, 2]
+    depth = ex * axes[mu, 3] + ey * axes[mu, 4] + ez * axes[mu, 5]
+    gi, gj, scale = _plane_gradient(axes, mu, nx, ny, nz, ex, ey, ez, depth)
     texel = axes[mu, 6] * (depth if axes[mu, 7] > 0.0 else 1.0)
     reach = np.int64(np.ceil(softness))
-    slope = min(np.sqrt(max(1.0 - facing * facing, 0.0)) / facing, 20.0)
-    leeway = texel * (1.0 + slope * (0.25 + reach))
+    slope = min(np.sqrt(across) / towards, 20.0)
+    leeway = texel * (1.0 + slope * (0.25 + reach)) * scale
+    cap = z + 100.0 * texel * scale
+    return _filtered(maps, m, x, y, z, gi, gj, cap, leeway, reach)
+
+
+@kernel(inline="always")
+def _filtered(maps, m, x, y, z, gi, gj, cap, leeway, reach):
+    """The share of the ``2 reach + 1`` texels square of map ``m`` around the point's (x, y)
+    (raster, its depth ``z``) whose depth is at least the plane's there (``z`` stepped by
+    ``gi``, ``gj`` per texel; at most ``cap``) less ``leeway``, all in the map's units. The
+    sums have no branch (a texel's outcome is hard to predict near a shadow's edge), and a
+    square within the map needs no clamping."""
+    size = maps.shape[1]
     i0, j0 = np.int64(x), np.int64(y)
+    row = z + gi * (i0 - reach + 0.5 - x) + gj * (j0 - reach + 0.5 - y)  # the plane at the square's first texel
     seen = 0
-    for dj in range(-reach, reach + 1):
-        for di in range(-reach, reach + 1):
-            expected = _plane_depth(axes, mu, i0 + di, j0 + dj, size, px, py, pz, nx, ny, nz, depth, texel)
-            if _map_texel(maps, m, i0 + di, j0 + dj) >= expected - leeway:
-                seen += 1
+    if i0 >= reach and j0 >= reach and i0 + reach < size and j0 + reach < size:
+        mu = np.uint64(m)
+        for dj in range(-reach, reach + 1):
+            expected, ju = row, np.uint64(j0 + dj)
+            for di in range(-reach, reach + 1):
+                seen += maps[mu, ju, np.uint64(i0 + di)] >= min(expected, cap) - leeway
+                expected += gi
+            row += gj
+    else:
+        for dj in range(-reach, reach + 1):
+            expected = row
+            for di in range(-reach, reach + 1):
+                seen += _map_texel(maps, m, i0 + di, j0 + dj) >= min(expected, cap) - leeway
+                expected += gi
+            row += gj
     side = 2 * reach + 1
     return seen / (side * side)
 
