@@ -5,7 +5,7 @@ compiles to vector instructions; the ``pow`` of the C library is one scalar call
 Both agree with the library to about 1e-12 relative: ``log2`` from ``x = m 2^e`` with ``m``
 in [sqrt(1/2), sqrt(2)), ``ln m = 2 atanh t`` (``t = (m - 1) / (m + 1)``, ``|t| < 0.172``)
 summed to ``t^15``; ``exp2`` from ``y = n + f`` with ``n`` the nearest integer,
-``2^f = e^(f ln 2)`` summed to the 10th power (``|f ln 2| <= 0.35``), times ``2^n`` made from
+``2^f = e^(f ln 2)`` summed to the 10th power (both by Estrin's scheme) (``|f ln 2| <= 0.35``), times ``2^n`` made from
 its bits. Integers go through int32 on the way to and from floats: AVX2 converts those four
 at a time, not int64.
 """
@@ -37,9 +37,11 @@ def log2(x):
     e = e + 1.0 if big else e  # noqa: FURB136
     t = (m - 1.0) / (m + 1.0)
     t2 = t * t
-    series = 1.0 / 15.0
-    for k in range(13, 0, -2):  # Horner over 1/k, k odd: unrolled by LLVM
-        series = 1.0 / k + t2 * series
+    t4 = t2 * t2
+    # sum of t2^j / (2j + 1), j = 0..7, by Estrin's scheme: short chains of dependent
+    # operations, so that a loop of them is not held up by their latency
+    series = (1.0 + t2 / 3.0) + t4 * (1.0 / 5.0 + t2 / 7.0) + t4 * t4 * ((1.0 / 9.0 + t2 / 11.0)
+                                                                       + t4 * (1.0 / 13.0 + t2 / 15.0))
     return e + 2.0 * t * series * _INV_LN2
 
 
@@ -50,9 +52,11 @@ def exp2(y):
     y = y if y < _EXP_LIMIT else _EXP_LIMIT  # noqa: FURB136
     n = np.floor(y + 0.5)
     z = (y - n) * _LN2  # |z| <= 0.35
-    term = 1.0
-    for k in range(10, 0, -1):  # Horner of the Taylor series: 1 + z (1 + z/2 (1 + z/3 (...)))
-        term = 1.0 + z / k * term
+    z2 = z * z
+    z4 = z2 * z2
+    # sum of z^k / k!, k = 0..10, by Estrin's scheme (see log2)
+    term = ((1.0 + z) + z2 * (1.0 / 2.0 + z / 6.0)) + z4 * ((1.0 / 24.0 + z / 120.0) + z2 * (1.0 / 720.0 + z / 5040.0)) \
+        + z4 * z4 * ((1.0 / 40320.0 + z / 362880.0) + z2 / 3628800.0)
     scale = bits_float(np.int64(np.int32(n) + 1023) << 52)
     return term * scale
 
