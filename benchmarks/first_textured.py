@@ -11,10 +11,9 @@ alternate which goes first; medians are reported. The issue's bar: the textured 
 from __future__ import annotations
 
 import statistics
-import tempfile
 from pathlib import Path
 
-from .launch import child_environment, launch, rasterkit_command
+from .launch import cold_runs, rasterkit_command
 from .report import Record, Target
 from .settings import MODELS_DIR
 
@@ -66,15 +65,12 @@ def run(settings, results, scratch: Path) -> None:
     if not path.is_file():
         results.skip(FAMILY, what, f"model file {path} not found")
         return
-    runs: dict[bool, list[dict]] = {True: [], False: []}
-    for round_ in range(settings.textured_cold_runs):
-        for textured in (True, False) if round_ % 2 == 0 else (False, True):
-            env = child_environment(NUMBA_CACHE_DIR=tempfile.mkdtemp(dir=scratch, prefix="numba-cache-"))
-            try:
-                runs[textured].append(launch(_argv(path, scratch, textured), env, scratch))
-            except RuntimeError as error:
-                results.skip(FAMILY, what, f"failed ({'textured' if textured else UNTEXTURED}): {error}")
-                return
+    try:
+        runs = cold_runs({True: _argv(path, scratch, True), False: _argv(path, scratch, False)},
+                         settings.textured_cold_runs, scratch)
+    except RuntimeError as error:
+        results.skip(FAMILY, what, f"failed: {error}")
+        return
     records = _records(name, runs)
     for record in records:
         results.add(record)

@@ -10,7 +10,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-__all__ = ["ROOT", "child_environment", "launch", "rasterkit_command"]
+__all__ = ["ROOT", "child_environment", "cold_runs", "launch", "rasterkit_command"]
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -63,3 +63,21 @@ def launch(argv: list[str], env: dict, scratch: Path) -> dict:
         raise RuntimeError(lines[-1])
     err.unlink()
     return result
+
+
+def cold_runs(commands: dict, rounds: int, scratch: Path) -> dict:
+    """Each of ``commands`` (label -> argv) run ``rounds`` times, each run alone in a new,
+    empty ``NUMBA_CACHE_DIR`` (every kernel it needs compiles), the order rotated by one each
+    round: label -> the :func:`launch` results. Raises RuntimeError naming the label of a
+    command that fails."""
+    labels = list(commands)
+    runs: dict = {label: [] for label in labels}
+    for round_ in range(rounds):
+        shift = round_ % len(labels)
+        for label in labels[shift:] + labels[:shift]:
+            env = child_environment(NUMBA_CACHE_DIR=tempfile.mkdtemp(dir=scratch, prefix="numba-cache-"))
+            try:
+                runs[label].append(launch(commands[label], env, scratch))
+            except RuntimeError as error:
+                raise RuntimeError(f"{label}: {error}") from None
+    return runs

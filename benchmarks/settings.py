@@ -104,6 +104,10 @@ class Settings:
         Repetitions of the ``startup`` family's first textured render against the first
         untextured one (fuze, each in an empty cache; :mod:`benchmarks.first_textured`); 0
         leaves them out.
+    lit_cold_runs : int
+        Rounds of the ``startup`` family's first lit renders (phong, shadows, AO) against the
+        first plain one (stanford-bunny, each in an empty cache; :mod:`benchmarks.first_lit`);
+        0 leaves them out.
     lighting_models : tuple of str
         Models of the ``lighting`` family (phong with two lights, phong with a shadowed
         directional light, the unlit solid frame, against llvmpipe): ``"demo"`` is the built-in
@@ -149,6 +153,7 @@ class Settings:
     texture_models: tuple = ("spot", "beast")
     texture_size: tuple = TARGET_SIZE
     textured_cold_runs: int = 1
+    lit_cold_runs: int = 1
     lighting_models: tuple = ("demo", "stanford-bunny")
     lighting_size: tuple = TARGET_SIZE
 
@@ -164,7 +169,7 @@ FULL = Settings(
     sweep_sizes=((320, 240), (640, 480), (1280, 720), (1920, 1080), (2560, 1440), (3840, 2160)),
     sweep_model="stanford-bunny", memory=("render", "fill", "lines2d", "loading"), process_repeat=5,
     startup_cold_runs=3, first_model_runs=3, contention_seconds=5.0,
-    texture_models=("spot", "african_head", "fuze", "beast", "lost_empire"), textured_cold_runs=3,
+    texture_models=("spot", "african_head", "fuze", "beast", "lost_empire"), textured_cold_runs=3, lit_cold_runs=3,
     lighting_models=("demo", "stanford-bunny", "ogre"),
 )
 
@@ -209,7 +214,7 @@ TINY = Settings(
     startup_sequence=False, first_model_runs=0, contention_processes=(1, 2), contention_seconds=0.3,
     aa_model="suzanne", aa_size=(64, 48), cv_model="suzanne", cv_size=(64, 48),
     svg_models=("suzanne",), svg_size=(64, 48), batch_size=(64, 48), batch_models=("suzanne",),
-    texture_models=("spot", "fuze"), texture_size=(64, 48), textured_cold_runs=0,
+    texture_models=("spot", "fuze"), texture_size=(64, 48), textured_cold_runs=0, lit_cold_runs=0,
     lighting_models=("demo",), lighting_size=(64, 48),
 )
 

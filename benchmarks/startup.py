@@ -29,6 +29,11 @@ first textured
     ``--no-textures``, each in a new, empty ``NUMBA_CACHE_DIR``: what texturing adds to a first
     render (:mod:`benchmarks.first_textured`).
 
+first lit
+    ``rasterkit render stanford-bunny.obj -o x.png --mode solid`` against the same with phong
+    and two lights, with a shadowed light, and with ``--ao``, each in a new, empty
+    ``NUMBA_CACHE_DIR``: what lighting adds to a first render (:mod:`benchmarks.first_lit`).
+
 Peak memory is ``ru_maxrss`` of the process, from ``os.wait4``. The process is started by a
 small launcher process (a bare Python, about 10 MiB), never by the suite itself: Linux carries
 the resident peak of the address space a process had *before* its ``exec`` into its
@@ -48,7 +53,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from . import cli, first_models, first_textured
+from . import cli, first_lit, first_models, first_textured
 from .launch import ROOT, child_environment, launch, rasterkit_command
 from .compare import RASTERKIT, compare, start
 from .report import Record
@@ -276,4 +281,5 @@ def run(settings, results, peers) -> None:
         _cold(settings, results, scratch, model_ok)
         first_models.run(settings, results, scratch)
         first_textured.run(settings, results, scratch)
+        first_lit.run(settings, results, scratch)
 

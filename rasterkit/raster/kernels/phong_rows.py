@@ -264,9 +264,9 @@ def _shade_chunk(s, n, color, j, lit):
 @kernel(inline="always")
 def lit_fields(lit):
     """The record's fields as a tuple, unpacked once per row."""
-    return (lit.lights, lit.eye, lit.perspective, lit.toward_viewer, lit.positions, lit.faces, lit.specular, lit.shininess,
-            lit.emission, lit.smooth, lit.corner_normals, lit.normal_corners, lit.face_normals, lit.two_sided,
-            lit.encode, lit.decode, lit.shadow_maps, lit.shadow_matrices, lit.shadow_axes, lit.softness)
+    return (lit.lights, lit.eye, lit.perspective, lit.toward_viewer, lit.positions, lit.faces, lit.specular,
+            lit.shininess, lit.emission, lit.smooth, lit.corner_normals, lit.normal_corners, lit.face_normals,
+            lit.two_sided, lit.encode, lit.decode, lit.shadow_maps, lit.shadow_matrices, lit.shadow_axes, lit.softness)
 
 
 @kernel(refcounts=False)
