@@ -142,7 +142,7 @@ def _light_basis(direction: np.ndarray) -> np.ndarray:
     return np.stack([right, np.cross(right, forward), forward])
 
 
-def _parallel(corners: np.ndarray, seen: np.ndarray, direction: np.ndarray, size: int) -> Camera:
+def _parallel(corners: np.ndarray, seen: np.ndarray, direction: np.ndarray, size: int) -> ParallelView:
     """A directional light's camera: looking along ``direction`` at the scene whose box has
     ``corners``, its square window the box's extent across the light, cut down to where the
     camera's view (``seen``, :func:`_seen`) spreads across it (only there can a shadow be
@@ -156,8 +156,49 @@ def _parallel(corners: np.ndarray, seen: np.ndarray, direction: np.ndarray, size
     return _window(basis, low, high, scene[:, 2].min(), scene[:, 2].max(), size)
 
 
+@dataclass(frozen=True)
+class ParallelView:
+    """A directional light's camera: what the map's drawing and lookup need of the
+    orthographic :class:`rasterkit.Camera` looking from ``eye`` along ``frame[2]`` (its rows
+    right, up, forward: :func:`_light_basis`) through a square window ``view_height`` a side,
+    ``width`` (= ``height``) texels, seeing ``near`` to ``far`` along its axis (the same
+    matrices, made directly: building and checking a Camera costs more than a millisecond
+    per map, and a map is fitted anew in each frame)."""
+
+    frame: np.ndarray
+    eye: np.ndarray
+    view_height: float
+    width: int
+    height: int
+    near: float
+    far: float
+    kind: str = "parallel"
+
+    def backward(self) -> np.ndarray:
+        return -self.frame[2]
+
+    def basis(self) -> tuple:
+        """(right, up, backward), as :meth:`rasterkit.Camera.basis`."""
+        return self.frame[0], self.frame[1], -self.frame[2]
+
+    def with_size(self, width: int, height: int) -> ParallelView:
+        return replace(self, width=width, height=height)
+
+    def world_to_raster(self) -> np.ndarray:
+        """(4, 4): world -> raster (x right, y down, pixel centres at half-integers; z the depth
+        buffer's ``(d - near) / (far - near)``), the orthographic camera's."""
+        texels = self.width / self.view_height
+        matrix = np.zeros((4, 4))
+        matrix[0, :3], matrix[1, :3] = self.frame[0] * texels, -self.frame[1] * texels
+        matrix[2, :3] = self.frame[2] / (self.far - self.near)
+        matrix[:3, 3] = -matrix[:3, :3] @ self.eye + (self.width / 2.0, self.height / 2.0, 0.0)
+        matrix[2, 3] -= self.near / (self.far - self.near)
+        matrix[3, 3] = 1.0
+        return matrix
+
+
 def _window(basis: np.ndarray, low: np.ndarray, high: np.ndarray, depth_low: float, depth_high: float,
-            size: int) -> Camera:
+            size: int) -> ParallelView:
     """The parallel camera of ``basis`` (:func:`_light_basis`) whose square window holds the
     rectangle ``low`` to ``high`` (light space, across the light; a texel or two of margin for
     the filter), seeing depths ``depth_low`` to ``depth_high`` along it (and a margin)."""
@@ -168,8 +209,7 @@ def _window(basis: np.ndarray, low: np.ndarray, high: np.ndarray, depth_low: flo
     side = extent * (1.0 + 4.0 / size)  # a texel or two of margin for the filter
     mid = (low + high) / 2.0
     eye = mid[0] * right + mid[1] * up + (depth_low - pad) * forward
-    return Camera.orthographic(tuple(eye), tuple(eye + forward), up=tuple(up), view_height=side, width=size,
-                               height=size, near=pad * 0.5, far=depth_high - depth_low + pad * 1.5)
+    return ParallelView(basis, eye, side, size, size, pad * 0.5, depth_high - depth_low + pad * 1.5)
 
 
 #: How many times coarser than the final map is the first drawing a directional light's map is
@@ -220,8 +260,8 @@ def _dot(vector, rows) -> np.ndarray:
     return vector[0] * rows[0] + vector[1] * rows[1] + vector[2] * rows[2]
 
 
-def _refit(view: Camera, depth: np.ndarray, visible: np.ndarray, corners: np.ndarray, softness: float,
-           side: int) -> Camera | None:
+def _refit(view: ParallelView, depth: np.ndarray, visible: np.ndarray, corners: np.ndarray, softness: float,
+           side: int) -> ParallelView | None:
     """A directional light's camera, ``side`` texels a side, fitted to the part of ``view``'s
     window (its map ``depth``) where the frame's ``visible`` points (:func:`_visible`) may be
     in shadow: those facing the light with something nearer to it than their face's plane
@@ -230,7 +270,7 @@ def _refit(view: Camera, depth: np.ndarray, visible: np.ndarray, corners: np.nda
     margin of each point's footprint, the filter's reach and a few texels. None when that
     part is not much smaller than the window (or is empty: no shadow in view)."""
     size = depth.shape[0]
-    basis = _light_basis(-np.asarray(view.backward()))
+    basis = view.frame
     span = view.far - view.near  # the depth buffer's units (a parallel camera's): (d - near) / span
     texel = view.view_height / size
     matrix = view.world_to_raster()
@@ -293,7 +333,8 @@ def _nearer(vertices, faces, view: Camera) -> Camera:
     return replace(view, near=near)
 
 
-def _axes(camera: Camera, size: int) -> np.ndarray:
+def _axes(camera, size: int) -> np.ndarray:
+    """The row of :data:`AXES_WIDTH` of a map's ``camera`` (a Camera or a ParallelView)."""
     row = np.zeros(AXES_WIDTH)
     row[0:3] = camera.eye
     row[3:6] = -np.asarray(camera.backward())
@@ -308,8 +349,8 @@ def _axes(camera: Camera, size: int) -> np.ndarray:
     return row
 
 
-def _depth(vertices, faces, camera: Camera, out: np.ndarray | None = None) -> np.ndarray:
-    """(S, S) float32 ``out`` (None: a new array): ``camera``'s depth buffer of ``faces`` (of a
+def _depth(vertices, faces, camera, out: np.ndarray | None = None) -> np.ndarray:
+    """(S, S) float32 ``out`` (None: a new array): ``camera``'s (a Camera or a ParallelView) depth buffer of ``faces`` (of a
     Mesh's ``vertices``; +inf where none), faces drawn from both sides. The draw clears each
     band of it before drawing there (the empty clear colour of a draw without colours)."""
     from rasterkit.raster.triangles import rasterize_checked
