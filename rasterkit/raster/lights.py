@@ -156,9 +156,14 @@ class FrameLights:
 
     def shadow_bytes(self) -> int:
         """Memory the shadow maps take while they are made and used: per map (six for a point
-        light) its float32 texels, the depth buffer drawn and the distances made of it."""
+        light) its float32 texels (the depth buffer as drawn), and one drawing at a time a
+        quarter of its side (the fit of a directional light's map, the near plane of a
+        perspective one)."""
         maps = sum(6 if light.kind == "point" else 1 for light in self.lights if light.shadows)
-        return maps * self.map_size * self.map_size * 4 * 3
+        if not maps:
+            return 0
+        quarter = max(16, self.map_size // 4)
+        return maps * self.map_size * self.map_size * 4 + quarter * quarter * 4
 
     def shadow_terms(self, mesh) -> tuple:
         """``(table, shadows)`` for the kernels: the light table with each light's first
