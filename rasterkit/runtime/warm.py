@@ -51,8 +51,23 @@ _parser_helper: subprocess.Popen | None = None
 
 
 #: The options that decide which variant of each helped kernel a render compiles (the others,
-#: colours, samples, edges..., change no kernel's argument types); a helper renders with these.
-HELPED_OPTIONS = ("mode", "cull", "shading", "background", "aa", "ids", "normals", "camera_depth")
+#: colours, samples, edges..., change no kernel's argument types); a helper renders with these,
+#: and with one directional light when the render has lights (:func:`helper_style`). Not
+#: ``shadows``: the maps' depth passes would be compiled before the lit band worker in the
+#: helper, while this process, which has less to compile, can do them.
+HELPED_OPTIONS = ("mode", "cull", "shading", "background", "aa", "ids", "normals", "camera_depth", "ao")
+
+#: The light a helper's frame has when the render has any: which lights (and how many) a frame
+#: has changes no kernel's argument types, only whether it has some.
+_HELPER_LIGHT = (-1.0, -2.0, -1.0)  # a directional light's direction
+
+
+def helper_style(options) -> dict:
+    """What a helper renders with for a render with ``options`` (JSON: :data:`HELPED_OPTIONS`,
+    and ``lights``: whether it has any)."""
+    style = {name: getattr(options, name) for name in HELPED_OPTIONS}
+    style["lights"] = bool(options.lights)
+    return style
 
 _cached = _jit.cached  # (a name of this module: tests replace it)
 
@@ -97,7 +112,7 @@ def start(options, depth: bool, loading: bool) -> None:
         return
     from rasterkit.raster.modes import mode
 
-    style = {name: getattr(options, name) for name in HELPED_OPTIONS}
+    style = helper_style(options)
     lists = [] if not mode(options.mode).faces and not loading and not _forks() else [
         names for names in ([w.py_func.__name__ for w in workers if not _cached(w)]
                             for workers in helped_workers(options)) if names]
@@ -331,7 +346,7 @@ def _run(order: dict) -> None:
         _lower_priority()
         _read_sample_obj()
         return
-    from rasterkit import RenderOptions, render, shapes
+    from rasterkit import Light, RenderOptions, render, shapes
     from rasterkit.camera import Camera
 
     _threads.intercept(_compile_only(order["workers"]))
@@ -342,7 +357,9 @@ def _run(order: dict) -> None:
         normals = np.cross(b - a, c - a)
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         mesh.__dict__["face_normals"] = _readonly(normals.astype(np.float32))
-    fb = render(mesh, camera, options=RenderOptions(**order["options"]))
+    settings = dict(order["options"])
+    lights = (Light.directional(_HELPER_LIGHT),) if settings.pop("lights", False) else ()
+    fb = render(mesh, camera, options=RenderOptions(**settings, lights=lights))
     if order["depth"]:
         fb.depth  # noqa: B018 - reading it runs the depth pass
 

@@ -262,7 +262,7 @@ def test_a_wire_demo_gets_a_band_worker_helper_only_where_helpers_are_forked(mon
     monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 2)
     wire = RenderOptions(mode="wire", background="white")
     _warm.start(wire, depth=False, loading=False)
-    style = {name: getattr(wire, name) for name in _warm.HELPED_OPTIONS}
+    style = _warm.helper_style(wire)
     band = {"options": style, "depth": False, "workers": ["draw_wire_bands"], "normals": True}
     assert orders == ([band] if forks else []) + [{"obj": True}]
 
@@ -345,3 +345,24 @@ def test_a_plain_python_worker_waits_for_no_helper():
     finally:
         warm._helpers.clear()
         warm._helpers.update(saved)
+
+
+def test_a_lit_renders_helper_draws_with_a_light_the_same_variant_of_every_kernel(monkeypatch):
+    """Which lights a frame has changes no kernel's argument types, only whether it has some
+    (and has ambient occlusion): the helper's order says so in JSON, and the helper lights its
+    frame with one directional light (without shadows: their maps' depth passes are left to
+    the render's own process)."""
+    lit = RenderOptions(mode="solid", shading="phong", ao=True, shadows=True,
+                        lights=[rasterkit.Light.point((1, 2, 3)), rasterkit.Light.ambient()])
+    style = _warm.helper_style(lit)
+    assert json.loads(json.dumps(style)) == style
+    assert style["lights"] is True and style["ao"] is True and "shadows" not in style
+    assert _warm.helper_style(RenderOptions(mode="solid"))["lights"] is False
+    seen = []
+    monkeypatch.setattr(rasterkit, "render", lambda mesh, camera, options: seen.append(options) or
+                        rasterkit.Framebuffer(4, 4))
+    monkeypatch.setattr(_warm._threads, "intercept", lambda hook: None)
+    _warm._run({"options": style, "depth": False, "workers": ["draw_bands"]})
+    (options,) = seen
+    assert [light.kind for light in options.lights] == ["directional"]
+    assert (options.shading, options.ao, options.shadows) == ("phong", True, False)
