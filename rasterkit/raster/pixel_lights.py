@@ -41,6 +41,8 @@ def pixel_lights(mesh, lit, two_sided, smooth: bool) -> PixelLights:
     fields = (table, lit.eye, bool(lit.perspective), lit.view, np.ascontiguousarray(mesh.vertices, np.float64),
               np.ascontiguousarray(mesh.faces, np.int64), specular, shininess, emission, bool(smooth),
               np.ascontiguousarray(corner_normals, np.float64), np.ascontiguousarray(normal_corners, np.int64),
-              mesh.face_normals, two_sided, _ENCODE, _DECODE, *shadows)
-    # every array read-only: one record type (and one compiled band worker) whatever the frame
-    return PixelLights(*(readonly(v) if isinstance(v, np.ndarray) else v for v in fields))
+              mesh.face_normals, two_sided, _ENCODE, _DECODE)
+    # every array read-only: one record type (and one compiled band worker) for frames with
+    # shadow maps, one for frames without
+    shadows = tuple(readonly(v) if isinstance(v, np.ndarray) else v for v in shadows) if lit.shadowed else None
+    return PixelLights(*(readonly(v) if isinstance(v, np.ndarray) else v for v in fields), shadows)

@@ -52,9 +52,9 @@ _parser_helper: subprocess.Popen | None = None
 
 #: The options that decide which variant of each helped kernel a render compiles (the others,
 #: colours, samples, edges..., change no kernel's argument types); a helper renders with these,
-#: and with one directional light when the render has lights (:func:`helper_style`). Not
-#: ``shadows``: the maps' depth passes would be compiled before the lit band worker in the
-#: helper, while this process, which has less to compile, can do them.
+#: and with one directional light when the render has lights, casting shadows when one of
+#: the render's does (:func:`helper_style`): a frame with shadow maps has a band worker of its
+#: own (its lit resolve with the lookups), one without them compiles none of that.
 HELPED_OPTIONS = ("mode", "cull", "shading", "background", "aa", "ids", "normals", "camera_depth", "ao")
 
 #: The light a helper's frame has when the render has any: which lights (and how many) a frame
@@ -64,9 +64,10 @@ _HELPER_LIGHT = (-1.0, -2.0, -1.0)  # a directional light's direction
 
 def helper_style(options) -> dict:
     """What a helper renders with for a render with ``options`` (JSON: :data:`HELPED_OPTIONS`,
-    and ``lights``: whether it has any)."""
+    ``lights``: whether it has any, and ``shadows``: whether one of them casts shadows)."""
     style = {name: getattr(options, name) for name in HELPED_OPTIONS}
     style["lights"] = bool(options.lights)
+    style["shadows"] = any(light.kind != "ambient" and (options.shadows or light.shadows) for light in options.lights)
     return style
 
 _cached = _jit.cached  # (a name of this module: tests replace it)
@@ -358,7 +359,8 @@ def _run(order: dict) -> None:
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         mesh.__dict__["face_normals"] = _readonly(normals.astype(np.float32))
     settings = dict(order["options"])
-    lights = (Light.directional(_HELPER_LIGHT),) if settings.pop("lights", False) else ()
+    shadows = settings.pop("shadows", False)
+    lights = (Light.directional(_HELPER_LIGHT, shadows=shadows),) if settings.pop("lights", False) else ()
     fb = render(mesh, camera, options=RenderOptions(**settings, lights=lights))
     if order["depth"]:
         fb.depth  # noqa: B018 - reading it runs the depth pass

@@ -349,15 +349,20 @@ def test_a_plain_python_worker_waits_for_no_helper():
 
 def test_a_lit_renders_helper_draws_with_a_light_the_same_variant_of_every_kernel(monkeypatch):
     """Which lights a frame has changes no kernel's argument types, only whether it has some
-    (and has ambient occlusion): the helper's order says so in JSON, and the helper lights its
-    frame with one directional light (without shadows: their maps' depth passes are left to
-    the render's own process)."""
+    (and has ambient occlusion, and whether some light casts shadows): the helper's order says
+    so in JSON, and the helper lights its frame with one directional light, shadowed when one
+    of the render's lights is."""
     lit = RenderOptions(mode="solid", shading="phong", ao=True, shadows=True,
                         lights=[rasterkit.Light.point((1, 2, 3)), rasterkit.Light.ambient()])
     style = _warm.helper_style(lit)
     assert json.loads(json.dumps(style)) == style
-    assert style["lights"] is True and style["ao"] is True and "shadows" not in style
+    assert style["lights"] is True and style["ao"] is True and style["shadows"] is True
     assert _warm.helper_style(RenderOptions(mode="solid"))["lights"] is False
+    unshadowed = RenderOptions(shading="phong", lights=[rasterkit.Light.point((1, 2, 3))])
+    assert _warm.helper_style(unshadowed)["shadows"] is False
+    one = RenderOptions(shading="phong", lights=[rasterkit.Light.ambient(), rasterkit.Light.spot(
+        (0, 2, 0), (0, -1, 0), 30, 0.2, shadows=True)])
+    assert _warm.helper_style(one)["shadows"] is True
     seen = []
     monkeypatch.setattr(rasterkit, "render", lambda mesh, camera, options: seen.append(options) or
                         rasterkit.Framebuffer(4, 4))
@@ -365,4 +370,4 @@ def test_a_lit_renders_helper_draws_with_a_light_the_same_variant_of_every_kerne
     _warm._run({"options": style, "depth": False, "workers": ["draw_bands"]})
     (options,) = seen
     assert [light.kind for light in options.lights] == ["directional"]
-    assert (options.shading, options.ao, options.shadows) == ("phong", True, False)
+    assert (options.shading, options.ao) == ("phong", True) and options.lights[0].shadows

@@ -152,6 +152,62 @@ def shadow_factor(k, table, px, py, pz, nx, ny, nz, sx, sy, sz, shadows):
 
 
 @kernel(inline="always")
+def parallel_map(k, table, shadows):
+    """Whether light ``k`` (with a shadow map) is directional and its map parallel: then
+    :func:`shadow_factor` splits into terms of the face (:func:`parallel_terms`) and of the
+    point (:func:`parallel_shadow`)."""
+    kind = np.int64(table[k, 0])
+    if not (kind == _DIRECTIONAL or kind == _HEADLIGHT) or table[k, 14] >= 2.0:
+        return False
+    return shadows[2][np.uint64(np.int64(table[k, 13])), 7] <= 0.0
+
+
+@kernel(inline="always")
+def parallel_terms(k, table, nx, ny, nz, shadows):
+    """What :func:`shadow_factor` of light ``k`` under a parallel map (:func:`parallel_map`)
+    works out from a face's unit normal (nx, ny, nz) alone: ``(towards, gi, gj, leeway,
+    above)``, the light's cosine on that side of the face, the plane's depth gradient across
+    the map, the leeway, and how far above the point's depth the plane is cut off. The same
+    on the face's other side but for the sign of ``towards`` (the normal turned: its products
+    with the light and the map's axes change sign in pairs)."""
+    lx, ly, lz = -table[k, 4], -table[k, 5], -table[k, 6]
+    towards = nx * lx + ny * ly + nz * lz
+    lit = abs(towards)
+    across = max(lx * lx + ly * ly + lz * lz - lit * lit, 0.0)
+    maps, matrices, axes, softness = shadows
+    mu = np.uint64(np.int64(table[k, 13]))
+    gi, gj, scale = _plane_gradient(axes, mu, nx, ny, nz, 0.0, 0.0, 0.0, 1.0)  # parallel: no e, depth
+    texel = axes[mu, 6] * 1.0
+    reach = np.int64(np.ceil(softness))
+    slope = min(np.sqrt(across) / lit, 20.0) if lit > 0.0 else 0.0  # noqa: FURB136
+    leeway = texel * (1.0 + slope * (0.25 + reach)) * scale
+    return towards, gi, gj, leeway, 100.0 * texel * scale
+
+
+@kernel(inline="always")
+def parallel_shadow(k, table, px, py, pz, towards, terms, shadows):
+    """:func:`shadow_factor` of light ``k`` under a parallel map at the point (px, py, pz) of
+    a face whose :func:`parallel_terms` are ``terms``, ``towards`` their first with the sign of
+    the face's side that is lit."""
+    if not towards > 0.0:
+        return 0.0  # the light is behind the face
+    _, gi, gj, leeway, above = terms
+    maps, matrices, _, softness = shadows
+    m = np.int64(table[k, 13])
+    mu = np.uint64(m)
+    w = matrices[mu, 3, 0] * px + matrices[mu, 3, 1] * py + matrices[mu, 3, 2] * pz + matrices[mu, 3, 3]
+    if not w > 0.0:
+        return 1.0
+    x = (matrices[mu, 0, 0] * px + matrices[mu, 0, 1] * py + matrices[mu, 0, 2] * pz + matrices[mu, 0, 3]) * 1.0
+    y = (matrices[mu, 1, 0] * px + matrices[mu, 1, 1] * py + matrices[mu, 1, 2] * pz + matrices[mu, 1, 3]) * 1.0
+    size = maps.shape[1]
+    if not (x >= 0.0 and y >= 0.0 and x < size and y < size):
+        return 1.0  # outside the map: nothing there casts a shadow
+    z = (matrices[mu, 2, 0] * px + matrices[mu, 2, 1] * py + matrices[mu, 2, 2] * pz + matrices[mu, 2, 3]) * 1.0
+    return _filtered(maps, m, x, y, z, gi, gj, z + above, leeway, np.int64(np.ceil(softness)))
+
+
+@kernel(inline="always")
 def _filtered(maps, m, x, y, z, gi, gj, cap, leeway, reach):
     """The share of the ``2 reach + 1`` texels square of map ``m`` around the point's (x, y)
     (raster, its depth ``z``) whose depth is at least the plane's there (``z`` stepped by

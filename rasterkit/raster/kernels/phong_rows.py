@@ -29,7 +29,7 @@ import numpy as np
 from rasterkit.raster.kernels.cull import per_face
 from rasterkit.raster.kernels.powers import power
 from rasterkit.raster.kernels.shade import SHADE_SMOOTH, put_rgba, to_u8
-from rasterkit.raster.kernels.lights import shadow_factor
+from rasterkit.raster.kernels.lights import parallel_map, parallel_shadow, parallel_terms, shadow_factor
 from rasterkit.raster.kernels.surface import encode
 from rasterkit.runtime.intrinsics import stack_floats
 from rasterkit.runtime.jit import kernel
@@ -171,10 +171,41 @@ def _shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows):
     return shadow_factor(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
 
 
+@kernel(refcounts=False)
+def _parallel_shadows(s, n, k, table, shadows):
+    """:func:`_shadows` of a directional light with a parallel map: the terms of a face
+    (:func:`~rasterkit.raster.kernels.lights.parallel_terms`) made once for each run of
+    pixels with the same plane (the chunk's pixels come run by run), only the point's own
+    lookup per pixel; a degenerate face's pixels through :func:`_shadow_at`."""
+    lx, ly, lz = -table[k, 4], -table[k, 5], -table[k, 6]
+    last_x, last_y, last_z = np.nan, np.nan, np.nan
+    fx, fy, fz = 0.0, 0.0, 0.0
+    terms = (0.0, 0.0, 0.0, 0.0, 0.0)
+    for q in range(n):
+        nx, ny, nz = s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)]
+        factor = 0.0
+        if nx * lx + ny * ly + nz * lz > 0.0:
+            x, y, z = s[_X + np.uint64(q)], s[_Y + np.uint64(q)], s[_Z + np.uint64(q)]
+            ax, ay, az = s[_PX + np.uint64(q)], s[_PY + np.uint64(q)], s[_PZ + np.uint64(q)]
+            if not (ax == last_x and ay == last_y and az == last_z):
+                last_x, last_y, last_z = ax, ay, az
+                fx, fy, fz = _unit(ax, ay, az)
+                terms = parallel_terms(k, table, fx, fy, fz, shadows)
+            if fx == 0.0 and fy == 0.0 and fz == 0.0:
+                factor = _shadow_at(k, table, x, y, z, nx, ny, nz, nx, ny, nz, shadows)
+            else:
+                towards = -terms[0] if fx * nx + fy * ny + fz * nz < 0.0 else terms[0]  # noqa: FURB136
+                factor = parallel_shadow(k, table, x, y, z, towards, terms, shadows)
+        s[_SHADE + np.uint64(q)] = factor
+
+
 @kernel(inline="always")
 def _shadows(s, n, k, table, shadows):
     """Light ``k``'s shadow factor of each pixel that faces it (0 for the others), into the
     scratch."""
+    if parallel_map(k, table, shadows):
+        _parallel_shadows(s, n, k, table, shadows)
+        return
     directional = table[k, 0] == _DIRECTIONAL or table[k, 0] == _HEADLIGHT
     for q in range(n):
         x, y, z = s[_X + np.uint64(q)], s[_Y + np.uint64(q)], s[_Z + np.uint64(q)]
@@ -190,6 +221,13 @@ def _shadows(s, n, k, table, shadows):
                 fx, fy, fz = nx, ny, nz
             factor = _shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
         s[_SHADE + np.uint64(q)] = factor
+
+
+@kernel(inline="always")
+def _unshadowed(s, n):
+    """A light without a shadow map reaches every pixel."""
+    for q in range(n):
+        s[_SHADE + np.uint64(q)] = 1.0
 
 
 @kernel(inline="always")
@@ -234,10 +272,10 @@ def _add_light(s, n, k, table):
 
 
 @kernel(refcounts=False)
-def _shade_chunk(s, n, color, j, lit):
-    """Steps 2-4 for the chunk's ``n`` pixels of image row ``j``."""
+def _shade_chunk(s, n, color, j, lit, shadows):
+    """Steps 2-4 for the chunk's ``n`` pixels of image row ``j``; ``shadows`` the record's
+    (None: no light has a shadow map, and none of the lookups is compiled)."""
     table, eye, perspective, view, encode_table = lit[0], lit[1], lit[2], lit[3], lit[14]
-    shadows = (lit[16], lit[17], lit[18], lit[19])
     _orient(s, n, eye, perspective, view)
     for k in range(table.shape[0]):
         if table[k, 0] == _AMBIENT:
@@ -247,11 +285,12 @@ def _shade_chunk(s, n, color, j, lit):
                 s[_AG + np.uint64(q)] += s[_BG + np.uint64(q)] * cg
                 s[_AB + np.uint64(q)] += s[_BB + np.uint64(q)] * cb
             continue
-        if table[k, 13] >= 0.0:
+        if shadows is None:
+            _unshadowed(s, n)
+        elif table[k, 13] >= 0.0:
             _shadows(s, n, k, table, shadows)
         else:
-            for q in range(n):
-                s[_SHADE + np.uint64(q)] = 1.0
+            _unshadowed(s, n)
         _add_light(s, n, k, table)
     ju = np.uint64(j)
     for q in range(n):
@@ -266,7 +305,7 @@ def lit_fields(lit):
     """The record's fields as a tuple, unpacked once per row."""
     return (lit.lights, lit.eye, lit.perspective, lit.toward_viewer, lit.positions, lit.faces, lit.specular,
             lit.shininess, lit.emission, lit.smooth, lit.corner_normals, lit.normal_corners, lit.face_normals,
-            lit.two_sided, lit.encode, lit.decode, lit.shadow_maps, lit.shadow_matrices, lit.shadow_axes, lit.softness)
+            lit.two_sided, lit.encode, lit.decode, lit.shadows)
 
 
 @kernel(refcounts=False)
@@ -302,7 +341,7 @@ def resolve_lit_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_
             n += count
             k += count
             if n == CHUNK:
-                _shade_chunk(s, n, color, j, lit)
+                _shade_chunk(s, n, color, j, lit, lit[16])
                 n = 0
     if n:
-        _shade_chunk(s, n, color, j, lit)
+        _shade_chunk(s, n, color, j, lit, lit[16])

@@ -115,8 +115,9 @@ Textured = namedtuple("Textured", "texels levels samplers transforms decode face
 #: through ``normal_corners`` (M, 3) int64 when ``smooth``, else each face's ``face_normals``
 #: (M, 3) float32; ``two_sided`` (bool, or (M,) bool per face) faces lit on their back too;
 #: ``encode`` the sRGB table of :func:`rasterkit.raster.kernels.surface.encode_table` and
-#: ``decode`` (256,) float64 the linear light of each 8-bit sRGB code; the lights' shadow maps
-#: ``shadow_maps shadow_matrices shadow_axes softness`` (:class:`rasterkit.raster.shadows.ShadowMaps`).
+#: ``decode`` (256,) float64 the linear light of each 8-bit sRGB code; ``shadows`` the lights'
+#: shadow maps ``(maps, matrices, axes, softness)`` (:class:`rasterkit.raster.shadows.ShadowMaps`),
+#: or None when no light has one (then the resolve compiles without the shadow lookups).
 PixelLights = namedtuple("PixelLights", "lights eye perspective toward_viewer positions faces specular shininess emission "
                                         "smooth corner_normals normal_corners face_normals two_sided encode decode "
-                                        "shadow_maps shadow_matrices shadow_axes softness")
+                                        "shadows")
