@@ -29,7 +29,7 @@ import numpy as np
 
 from rasterkit.material.colorspace import DECODE, SRGB_ROW, encode_srgb8
 from rasterkit.runtime import scratch as _memory
-from rasterkit.runtime.threads import run_workers
+from rasterkit.runtime.threads import MAX_THREADS, run_workers
 
 __all__ = ["DEFAULT_RADIUS", "ambient_occlusion", "default_radius", "directions"]
 
@@ -101,23 +101,62 @@ def ambient_occlusion(metric: np.ndarray, camera, radius: float, samples: int, c
     distances, 0 where nothing was drawn, as :meth:`rasterkit.Framebuffer.camera_depth`) is
     ``metric`` and camera ``camera``; NaN where nothing was drawn. The RGB of ``color``
     (H, W, 3|4) uint8 sRGB is multiplied by it in linear light, in place."""
-    from rasterkit.raster.kernels.ao import ao_blur, ao_map, ao_raw
+    from rasterkit.raster.kernels.ao import STEPS, ao_blur, ao_map, ao_raw
 
     metric = np.ascontiguousarray(metric, np.float32)
     height, width = metric.shape
     rays, matrix, axis = camera_geometry(camera)
     s = stride(width, height)
     ys, xs = _grid_pixels(height, s), _grid_pixels(width, s)
-    grid = np.ascontiguousarray(metric[ys[:, None], xs[None, :]])
+    rows, columns = len(ys), len(xs)
+    flat = np.zeros(rows * columns + 1, np.float32)  # the grid's depths, then 0 for what is off it
+    grid = flat[:-1].reshape(rows, columns)
+    grid[...] = metric[ys[:, None], xs[None, :]]
     threads = 1 if metric.size < _SMALL else None
-    raw, shares = _memory.take(grid.shape, np.float32), _memory.take(grid.shape, np.float32)
-    run_workers(ao_raw, metric, grid, rays, matrix, axis, directions(samples), float(radius), s, raw, threads=threads)
+    raw, shares = np.empty((rows, columns), np.float32), np.empty((rows, columns), np.float32)
+    where = np.empty((MAX_THREADS, STEPS * samples), np.int32)
+    along = np.empty((MAX_THREADS, STEPS * samples), np.float32)
+    run_workers(ao_raw, metric, flat, columns, rays, matrix, axis, tile_steps(samples), float(radius), s, where,
+                along, raw, threads=threads)
     run_workers(ao_blur, grid, raw, float(radius), shares, threads=threads)
     out = _memory.take(metric.shape, np.float32)
-    lows, fractions = _interpolation(height, width, s)
-    run_workers(ao_map, metric, grid, shares, float(radius), lows, fractions, color, _DECODE, _ENCODE, out,
-                threads=threads)
+    lows, fractions, starts = _interpolation(height, width, s)
+    run_workers(ao_map, metric, grid, shares, _busy(shares), float(radius), lows, fractions, starts, color, _DECODE,
+                _ENCODE, out, threads=threads)
     return out
+
+
+def _busy(shares: np.ndarray) -> np.ndarray:
+    """(Hg, Wg + 1) uint8 of :func:`rasterkit.raster.kernels.ao.ao_map`: whether a share of
+    the grid points (j, i), (j, i + 1), (j + 1, i), (j + 1, i + 1) (those within the grid) is
+    above 0, and in the last column whether any of the row's is."""
+    rows, columns = shares.shape
+    some = shares > 0.0
+    across = some.copy()
+    across[:, :-1] |= some[:, 1:]
+    busy = np.zeros((rows, columns + 1), np.uint8)
+    busy[:, :-1] = across
+    busy[:-1, :-1] |= across[1:]
+    busy[:, -1] = busy[:, :-1].any(axis=1)
+    return busy
+
+
+@lru_cache(maxsize=8)
+def tile_steps(samples: int) -> np.ndarray:
+    """(16, 3, STEPS K) float32 of :func:`rasterkit.raster.kernels.ao.ao_raw`: for each rank of a
+    4x4 tile, the K :func:`directions` turned about the normal (z) by ``2 pi rank / 16``, and
+    along each the points at ``(j + shift) / STEPS`` (j = 0 .. STEPS - 1) with the rank's
+    shift ``((7 rank) % 16 + 0.5) / 16`` (so that the ranks' steps interleave), as rows x, y,
+    z; step j of ray k at ``j K + k``."""
+    from rasterkit.raster.kernels.ao import STEPS
+
+    a, b, c = directions(samples).T
+    rank = np.arange(16)[:, None]
+    cos, sin = np.cos(rank * (2.0 * math.pi / 16.0)), np.sin(rank * (2.0 * math.pi / 16.0))
+    turned = np.stack([a * cos - b * sin, a * sin + b * cos, np.broadcast_to(c, (16, samples))], axis=1)
+    along = (np.arange(STEPS)[None, :] + ((rank * 7) % 16 + 0.5) / 16.0) / STEPS  # (16, STEPS)
+    steps = turned[:, :, None, :] * along[:, None, :, None]  # (16, 3, STEPS, K)
+    return _frozen(steps.reshape(16, 3, STEPS * samples).astype(np.float32))
 
 
 def _grid_pixels(size: int, s: int) -> np.ndarray:
@@ -126,11 +165,14 @@ def _grid_pixels(size: int, s: int) -> np.ndarray:
 
 
 @lru_cache(maxsize=8)
-def _interpolation(height: int, width: int, s: int) -> tuple[np.ndarray, np.ndarray]:
-    """(lows (H + W,), fractions (H + W,)) of :func:`rasterkit.raster.kernels.ao.ao_map`: the
-    rows' then the columns' :func:`_between`."""
+def _interpolation(height: int, width: int, s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(lows (H + W,), fractions (H + W,), starts (Wg + 1,)) of
+    :func:`rasterkit.raster.kernels.ao.ao_map`: the rows' then the columns' :func:`_between`,
+    and the first column after each grid point's (then W)."""
     (rows, row_fractions), (columns, column_fractions) = _between(height, s), _between(width, s)
-    return _frozen(np.concatenate([rows, columns])), _frozen(np.concatenate([row_fractions, column_fractions]))
+    starts = np.searchsorted(columns, np.arange(len(_grid_pixels(width, s)) + 1), side="left").astype(np.int64)
+    return (_frozen(np.concatenate([rows, columns])), _frozen(np.concatenate([row_fractions, column_fractions])),
+            _frozen(starts))
 
 
 def _between(size: int, s: int) -> tuple[np.ndarray, np.ndarray]:

@@ -84,34 +84,13 @@ def _normal(metric, rays, x, y, d, width, height):
 
 
 @kernel(inline="always")
-def _march(grid, stride, h0, h1, h3, r0, r1, r3, depth, rise, shift, slack, radius, columns, rows):
-    """Whether the ray whose point at ``t`` projects to the homogeneous raster point
-    ``h + t r`` with axial depth ``depth + t rise`` is blocked within ``radius``: at one of
-    its ``STEPS`` steps the point lies behind the drawn surface (``grid``: the depth of every
-    ``stride``-th pixel) by more than ``slack`` and less than ``radius``. Steps outside the
-    image or on the near side of the camera do not count (a straight ray that leaves either
-    does not come back). Every step is worked out, without branches."""
-    hit = False
-    last_row, last_column = grid.shape[0] - 1, grid.shape[1] - 1
-    for j in range(STEPS):
-        t = radius * (j + shift) * (1.0 / STEPS)
-        w = h3 + t * r3
-        scale = 1.0 / (max(w, 1e-300) * stride)
-        x = (h0 + t * r0) * scale
-        y = (h1 + t * r1) * scale
-        inside = (w > 0.0) & (x >= 0.0) & (x < columns) & (y >= 0.0) & (y < rows)
-        seen = grid[min(max(int(min(max(y, 0.0), rows)), 0), last_row),
-                    min(max(int(min(max(x, 0.0), columns)), 0), last_column)]
-        behind = depth + t * rise - seen
-        hit |= inside & (seen > 0.0) & (behind > slack) & (behind < radius)
-    return hit
-
-
-@kernel(inline="always")
-def _pixel_ao(metric, grid, stride, rays, matrix, axis, directions, radius, x, y, d, width, height, turn, shift):
-    """The share of the rays from pixel (x, y) (depth d > 0) that are blocked."""
+def _pixel_ao(metric, flat, columns, stride, rays, matrix, axis, steps, radius, x, y, d, width, height, where,
+              along):
+    """The share of the rays from pixel (x, y) (depth d > 0) that are blocked (see
+    :func:`ao_raw`); ``steps`` (3, STEPS K) this pixel's steps, ``where`` (STEPS K,) int32
+    and ``along`` (STEPS K,) float32 scratch."""
     p0, p1, p2, n0, n1, n2, slope = _normal(metric, rays, x, y, d, width, height)
-    # a tangent frame (t, b, n), turned by ``turn`` radians about n
+    # a tangent frame (t, b, n)
     if abs(n0) < 0.6:
         t0, t1, t2 = 0.0, -n2, n1
     else:
@@ -119,29 +98,60 @@ def _pixel_ao(metric, grid, stride, rays, matrix, axis, directions, radius, x, y
     size = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
     t0, t1, t2 = t0 / size, t1 / size, t2 / size
     b0, b1, b2 = n1 * t2 - n2 * t1, n2 * t0 - n0 * t2, n0 * t1 - n1 * t0
-    c, s = math.cos(turn), math.sin(turn)
-    t0, t1, t2, b0, b1, b2 = c * t0 + s * b0, c * t1 + s * b1, c * t2 + s * b2, c * b0 - s * t0, c * b1 - s * t1, c * b2 - s * t2
-    # a grid cell's footprint: the rays start that far off the surface
+    # a grid cell's footprint: the rays start that far off the surface, at s
     footprint = 0.5 * stride * math.sqrt((rays[1, 0] + d * rays[4, 0]) ** 2 + (rays[1, 1] + d * rays[4, 1]) ** 2
-                          + (rays[1, 2] + d * rays[4, 2]) ** 2)
+                                         + (rays[1, 2] + d * rays[4, 2]) ** 2)
     s0, s1, s2 = p0 + footprint * n0, p1 + footprint * n1, p2 + footprint * n2
-    h0 = matrix[0, 0] * s0 + matrix[0, 1] * s1 + matrix[0, 2] * s2 + matrix[0, 3]
-    h1 = matrix[1, 0] * s0 + matrix[1, 1] * s1 + matrix[1, 2] * s2 + matrix[1, 3]
-    h3 = matrix[3, 0] * s0 + matrix[3, 1] * s1 + matrix[3, 2] * s2 + matrix[3, 3]
-    depth = axis[0] * s0 + axis[1] * s1 + axis[2] * s2 + axis[3]
-    slack = 0.75 * slope * stride + 1e-5 * d
+    # s, and R times the frame's axes, as homogeneous raster x, y (in grid cells), w and axial
+    # depth: a step's are s's plus the same sums of its offset over R in tangent space
+    f, r = 1.0 / stride, np.float32(radius)
+    sx = np.float32((matrix[0, 0] * s0 + matrix[0, 1] * s1 + matrix[0, 2] * s2 + matrix[0, 3]) * f)
+    sy = np.float32((matrix[1, 0] * s0 + matrix[1, 1] * s1 + matrix[1, 2] * s2 + matrix[1, 3]) * f)
+    sw = np.float32(matrix[3, 0] * s0 + matrix[3, 1] * s1 + matrix[3, 2] * s2 + matrix[3, 3])
+    sd = np.float32(axis[0] * s0 + axis[1] * s1 + axis[2] * s2 + axis[3])
+    tx = np.float32((matrix[0, 0] * t0 + matrix[0, 1] * t1 + matrix[0, 2] * t2) * f * radius)
+    ty = np.float32((matrix[1, 0] * t0 + matrix[1, 1] * t1 + matrix[1, 2] * t2) * f * radius)
+    tw = np.float32((matrix[3, 0] * t0 + matrix[3, 1] * t1 + matrix[3, 2] * t2) * radius)
+    td = np.float32((axis[0] * t0 + axis[1] * t1 + axis[2] * t2) * radius)
+    bx = np.float32((matrix[0, 0] * b0 + matrix[0, 1] * b1 + matrix[0, 2] * b2) * f * radius)
+    by = np.float32((matrix[1, 0] * b0 + matrix[1, 1] * b1 + matrix[1, 2] * b2) * f * radius)
+    bw = np.float32((matrix[3, 0] * b0 + matrix[3, 1] * b1 + matrix[3, 2] * b2) * radius)
+    bd = np.float32((axis[0] * b0 + axis[1] * b1 + axis[2] * b2) * radius)
+    nx = np.float32((matrix[0, 0] * n0 + matrix[0, 1] * n1 + matrix[0, 2] * n2) * f * radius)
+    ny = np.float32((matrix[1, 0] * n0 + matrix[1, 1] * n1 + matrix[1, 2] * n2) * f * radius)
+    nw = np.float32((matrix[3, 0] * n0 + matrix[3, 1] * n1 + matrix[3, 2] * n2) * radius)
+    nd = np.float32((axis[0] * n0 + axis[1] * n1 + axis[2] * n2) * radius)
+    slack = np.float32(0.75 * slope * stride + 1e-5 * d)
+    last_column, last_row = np.int32(columns - 1), np.int32(flat.shape[0] // columns - 1)
+    across = np.int32(columns)
+    right, bottom = np.float32(width / stride), np.float32(height / stride)
+    zero, one, tiny, outside = np.float32(0.0), np.float32(1.0), np.float32(1e-30), np.int32(flat.shape[0] - 1)
+    # every step of every ray (``steps``: its offset over R): the grid cell it falls in
+    # (``outside``: off the image or behind the camera) and its axial depth, without branches
+    # and in 32-bit numbers (LLVM works on eight at once)
+    count = steps.shape[1]
+    for m in range(count):
+        a, b, c = steps[0, m], steps[1, m], steps[2, m]
+        w = sw + a * tw + b * bw + c * nw
+        scale = one / max(w, tiny)
+        gx = (sx + a * tx + b * bx + c * nx) * scale
+        gy = (sy + a * ty + b * by + c * ny) * scale
+        inside = (w > zero) & (gx >= zero) & (gx < right) & (gy >= zero) & (gy < bottom)
+        cell = min(np.int32(max(gy, zero)), last_row) * across + min(np.int32(max(gx, zero)), last_column)
+        where[m] = cell if inside else outside
+        along[m] = sd + a * td + b * bd + c * nd
+    # a ray is blocked at a step behind the drawn surface by more than ``slack``, less than R
+    for m in range(count):
+        behind = along[m] - flat[where[m]]
+        along[m] = one if (flat[where[m]] > zero) & (behind > slack) & (behind < r) else zero
+    rays_count = count // STEPS
     blocked = 0
-    for k in range(directions.shape[0]):
-        a, b, z = directions[k, 0], directions[k, 1], directions[k, 2]
-        r0, r1, r2 = a * t0 + b * b0 + z * n0, a * t1 + b * b1 + z * n1, a * t2 + b * b2 + z * n2
-        if _march(grid, stride, h0, h1, h3,
-                  matrix[0, 0] * r0 + matrix[0, 1] * r1 + matrix[0, 2] * r2,
-                  matrix[1, 0] * r0 + matrix[1, 1] * r1 + matrix[1, 2] * r2,
-                  matrix[3, 0] * r0 + matrix[3, 1] * r1 + matrix[3, 2] * r2,
-                  depth, axis[0] * r0 + axis[1] * r1 + axis[2] * r2, shift, slack, radius, width / stride,
-                  height / stride):
-            blocked += 1
-    return blocked / directions.shape[0]
+    for k in range(rays_count):
+        hit = False
+        for j in range(STEPS):
+            hit |= along[j * rays_count + k] > zero
+        blocked += hit
+    return blocked / rays_count
 
 
 @kernel(inline="always")
@@ -151,20 +161,25 @@ def _grid_pixel(i, stride, size):
 
 
 @kernel(refcounts=False)
-def ao_raw(slot, counter, metric, grid, rays, matrix, axis, directions, radius, stride, out):
+def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radius, stride, where, along, out):
     """``out`` (Hg, Wg) float32: the share of blocked rays at every ``stride``-th pixel of
     ``metric`` (H, W) float32 (axial depths, 0 where nothing was drawn; -1 there in
     ``out``); grid point (i, j) is the pixel (``i stride + stride // 2``, likewise j), within
-    the image, and ``grid`` (Hg, Wg) float32 its depth: what the rays are tested against.
+    the image, and ``flat`` (Hg Wg + 1,) float32 its depth, row by row (``columns`` = Wg a
+    row), then a 0: what the rays are tested against.
 
     ``rays`` (6, 3) float64: the rows O0, Ox, Oy, V0, Vx, Vy of the world-space point
     ``O0 + x Ox + y Oy + d (V0 + x Vx + y Vy)`` at raster (x, y) with axial depth d;
     ``matrix`` (4, 4) float64 world -> homogeneous raster; ``axis`` (4,) float64: the axial
-    depth of a world point, ``axis[:3] . q + axis[3]``; ``directions`` (K, 3) float64 unit
-    tangent-space directions (z along the normal); ``radius`` > 0, world units. A worker of
-    :func:`rasterkit.runtime.threads.run_workers` over ``N_CHUNKS`` pieces of rows."""
+    depth of a world point, ``axis[:3] . q + axis[3]``; ``steps`` (16, 3, STEPS K) float32:
+    for each rank of a 4x4 tile (:data:`TILE`) the steps of its K rays (step j of ray k at
+    ``j K + k``), each a point of the ray over R in tangent space (a, b, c; c along the
+    normal); ``radius`` > 0, world units. ``where`` (threads, STEPS K) int32 and ``along`` (threads, STEPS K) float32:
+    each thread's scratch. A worker of :func:`rasterkit.runtime.threads.run_workers` over
+    ``N_CHUNKS`` pieces of rows."""
     height, width = metric.shape
-    rows, columns = out.shape
+    rows = out.shape[0]
+    cells, depths = where[slot], along[slot]
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
@@ -173,14 +188,13 @@ def ao_raw(slot, counter, metric, grid, rays, matrix, axis, directions, radius, 
             y = _grid_pixel(j, stride, height)
             for i in range(columns):
                 x = _grid_pixel(i, stride, width)
-                d = grid[j, i]
+                d = flat[j * columns + i]
                 if d <= 0.0:
                     out[j, i] = -1.0
                     continue
                 rank = TILE[(j & 3) * 4 + (i & 3)]
-                turn = rank * (2.0 * math.pi / 16.0)
-                shift = ((rank * 7) % 16 + 0.5) / 16.0
-                out[j, i] = _pixel_ao(metric, grid, stride, rays, matrix, axis, directions, radius, x, y, d, width, height, turn, shift)
+                out[j, i] = _pixel_ao(metric, flat, columns, stride, rays, matrix, axis, steps[rank], radius, x,
+                                      y, d, width, height, cells, depths)
     return 0
 
 
@@ -191,6 +205,7 @@ def ao_blur(slot, counter, grid, raw, radius, out):
     tile) whose depth (``grid``, :func:`ao_raw`'s) lies within ``radius / 2`` of its own; -1
     where nothing was drawn."""
     rows, columns = out.shape
+    half = np.float32(0.5 * radius)
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
@@ -201,69 +216,75 @@ def ao_blur(slot, counter, grid, raw, radius, out):
                     out[j, i] = -1.0
                     continue
                 d = grid[j, i]
-                total, weight = 0.0, 0.0
+                total, weight = np.float32(0.0), np.float32(0.0)
                 for v in range(max(j - 1, 0), min(j + 3, rows)):
                     for u in range(max(i - 1, 0), min(i + 3, columns)):
                         other = grid[v, u]
-                        if other > 0.0 and abs(other - d) < 0.5 * radius:
-                            total += raw[v, u]
-                            weight += 1.0
+                        use = (other > 0.0) & (abs(other - d) < half)
+                        total += raw[v, u] if use else np.float32(0.0)
+                        weight += np.float32(1.0) if use else np.float32(0.0)
                 out[j, i] = total / weight
     return 0
 
 
 @kernel(refcounts=False)
-def ao_map(slot, counter, metric, grid, shares, radius, lows, fractions, color, decode, encode, out):
+def ao_map(slot, counter, metric, grid, shares, busy, radius, lows, fractions, starts, color, decode, encode, out):
     """``out`` (H, W) float32: one minus the share of blocked rays at each pixel drawn in
     ``metric`` (NaN elsewhere), interpolated bilinearly from the grid ``shares`` (Hg, Wg)
     (:func:`ao_blur`) among the grid points whose depth (``grid``) lies within ``radius / 2``
     of the pixel's (the nearest in depth when none does); the RGB of ``color`` (H, W, C) uint8
-    sRGB multiplied by it in linear light (``decode`` (256,) float32 sRGB -> linear,
-    ``encode`` (S,) uint8 linear ``i / (S - 1)`` -> sRGB). ``lows`` (H + W,) int64 and
-    ``fractions`` (H + W,) float32: each row's, then each column's, grid point before it and
-    its weight of the one after."""
+    sRGB multiplied by it in linear light where it is below 1 (``decode`` (256,) float32 sRGB
+    -> linear, ``encode`` (S,) uint8 linear ``i / (S - 1)`` -> sRGB). ``lows`` (H + W,) int64
+    and ``fractions`` (H + W,) float32: each row's, then each column's, grid point before it
+    and its weight of the one after; ``starts`` (Wg + 1,) int64: the first column whose grid
+    point before it is each one (then W). ``busy`` (Hg, Wg + 1) uint8: 1 where a share of the
+    four grid points (j, i) .. (j + 1, i + 1) (within the grid) is above 0, and in the last
+    column whether any is in the row; elsewhere every drawn pixel is 1."""
     height, width = metric.shape
     rows, columns = shares.shape
     nan = np.float32(np.nan)
     half = np.float32(0.5 * radius)
-    one = np.float32(1.0)
+    zero, one = np.float32(0.0), np.float32(1.0)
     top = np.float32(encode.shape[0] - 1)
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
         for y in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
+            for x in range(width):  # every drawn pixel in the open, first
+                out[y, x] = one if metric[y, x] > zero else nan
             j0 = lows[y]
+            if not busy[j0, columns]:
+                continue
             j1 = min(j0 + 1, rows - 1)
             fy = fractions[y]
-            for x in range(width):
-                d = metric[y, x]
-                if d <= 0.0:
-                    out[y, x] = nan
+            for i0 in range(columns):
+                if not busy[j0, i0]:
                     continue
-                i0 = lows[height + x]
                 i1 = min(i0 + 1, columns - 1)
-                if max(max(shares[j0, i0], shares[j0, i1]), max(shares[j1, i0], shares[j1, i1])) <= 0.0:
-                    out[y, x] = one  # no ray blocked around (most of a frame): the colour stays
-                    continue
-                fx = fractions[height + x]
-                total, weight = np.float32(0.0), np.float32(0.0)
-                nearest, gap = np.float32(0.0), np.float32(np.inf)
-                for corner in range(4):
-                    j = j1 if corner >= 2 else j0
-                    i = i1 if corner & 1 else i0
-                    share = shares[j, i]
-                    off = abs(grid[j, i] - d)
-                    w = (fy if corner >= 2 else one - fy) * (fx if corner & 1 else one - fx)
-                    use = (share >= 0.0) & (off < half)
-                    total += w * share if use else np.float32(0.0)
-                    weight += w if use else np.float32(0.0)
-                    closer = (share >= 0.0) & (off < gap)
-                    nearest = share if closer else nearest
-                    gap = off if closer else gap
-                light = one - (total / weight if weight > 1e-6 else nearest)
-                out[y, x] = light
-                scale = light * top
-                for c in range(3):
-                    color[y, x, c] = encode[int(decode[color[y, x, c]] * scale + np.float32(0.5))]
+                for x in range(starts[i0], starts[i0 + 1]):
+                    d = metric[y, x]
+                    if d <= zero:
+                        continue
+                    fx = fractions[height + x]
+                    total, weight = zero, zero
+                    nearest, gap = zero, np.float32(np.inf)
+                    for corner in range(4):
+                        j = j1 if corner >= 2 else j0
+                        i = i1 if corner & 1 else i0
+                        share = shares[j, i]
+                        off = abs(grid[j, i] - d)
+                        w = (fy if corner >= 2 else one - fy) * (fx if corner & 1 else one - fx)
+                        use = (share >= zero) & (off < half)
+                        total += w * share if use else zero
+                        weight += w if use else zero
+                        closer = (share >= zero) & (off < gap)
+                        nearest = share if closer else nearest
+                        gap = off if closer else gap
+                    light = one - (total / weight if weight > np.float32(1e-6) else nearest)
+                    out[y, x] = light
+                    if light < one:
+                        scale = light * top
+                        for c in range(3):
+                            color[y, x, c] = encode[int(decode[color[y, x, c]] * scale + np.float32(0.5))]
     return 0
