@@ -101,44 +101,29 @@ def ambient_occlusion(metric: np.ndarray, camera, radius: float, samples: int, c
     distances, 0 where nothing was drawn, as :meth:`rasterkit.Framebuffer.camera_depth`) is
     ``metric`` and camera ``camera``; NaN where nothing was drawn. The RGB of ``color``
     (H, W, 3|4) uint8 sRGB is multiplied by it in linear light, in place."""
-    from rasterkit.raster.kernels.ao import STEPS, ao_blur, ao_map, ao_raw
+    from rasterkit.raster.kernels.ao import STEPS, ao_blur, ao_grid, ao_map, ao_raw
 
     metric = np.ascontiguousarray(metric, np.float32)
     height, width = metric.shape
     rays, matrix, axis = camera_geometry(camera)
     s = stride(width, height)
-    ys, xs = _grid_pixels(height, s), _grid_pixels(width, s)
-    rows, columns = len(ys), len(xs)
+    rows, columns = -(-height // s), -(-width // s)
     flat = np.zeros(rows * columns + 1, np.float32)  # the grid's depths, then 0 for what is off it
     grid = flat[:-1].reshape(rows, columns)
-    grid[...] = metric[ys[:, None], xs[None, :]]
     threads = 1 if metric.size < _SMALL else None
-    raw, shares = np.empty((rows, columns), np.float32), np.empty((rows, columns), np.float32)
+    run_workers(ao_grid, metric, s, grid, threads=threads)
+    raw, shares, some = np.empty_like(grid), np.empty_like(grid), np.empty(rows, np.uint8)
     where = np.empty((MAX_THREADS, STEPS * samples), np.int32)
     along = np.empty((MAX_THREADS, STEPS * samples), np.float32)
     run_workers(ao_raw, metric, flat, columns, rays, matrix, axis, tile_steps(samples), float(radius), s, where,
-                along, raw, threads=threads)
-    run_workers(ao_blur, grid, raw, float(radius), shares, threads=threads)
+                along, raw, some, threads=threads)
+    run_workers(ao_blur, grid, raw, some, float(radius), shares, threads=threads)
     out = _memory.take(metric.shape, np.float32)
-    lows, fractions, starts = _interpolation(height, width, s)
-    run_workers(ao_map, metric, grid, shares, _busy(shares), float(radius), lows, fractions, starts, color, _DECODE,
-                _ENCODE, out, threads=threads)
+    fractions, starts = _interpolation(height, width, s)
+    marks = np.empty((MAX_THREADS, columns), np.uint8)
+    run_workers(ao_map, metric, grid, shares, float(radius), fractions, starts, marks, color, _DECODE, _ENCODE, out,
+                threads=threads)
     return out
-
-
-def _busy(shares: np.ndarray) -> np.ndarray:
-    """(Hg, Wg + 1) uint8 of :func:`rasterkit.raster.kernels.ao.ao_map`: whether a share of
-    the grid points (j, i), (j, i + 1), (j + 1, i), (j + 1, i + 1) (those within the grid) is
-    above 0, and in the last column whether any of the row's is."""
-    rows, columns = shares.shape
-    some = shares > 0.0
-    across = some.copy()
-    across[:, :-1] |= some[:, 1:]
-    busy = np.zeros((rows, columns + 1), np.uint8)
-    busy[:, :-1] = across
-    busy[:-1, :-1] |= across[1:]
-    busy[:, -1] = busy[:, :-1].any(axis=1)
-    return busy
 
 
 @lru_cache(maxsize=8)
@@ -165,14 +150,18 @@ def _grid_pixels(size: int, s: int) -> np.ndarray:
 
 
 @lru_cache(maxsize=8)
-def _interpolation(height: int, width: int, s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(lows (H + W,), fractions (H + W,), starts (Wg + 1,)) of
-    :func:`rasterkit.raster.kernels.ao.ao_map`: the rows' then the columns' :func:`_between`,
-    and the first column after each grid point's (then W)."""
-    (rows, row_fractions), (columns, column_fractions) = _between(height, s), _between(width, s)
-    starts = np.searchsorted(columns, np.arange(len(_grid_pixels(width, s)) + 1), side="left").astype(np.int64)
-    return (_frozen(np.concatenate([rows, columns])), _frozen(np.concatenate([row_fractions, column_fractions])),
-            _frozen(starts))
+def _interpolation(height: int, width: int, s: int) -> tuple[np.ndarray, np.ndarray]:
+    """(fractions (H + W,), starts (Hg + 1 + Wg + 1,)) of
+    :func:`rasterkit.raster.kernels.ao.ao_map`: the rows' then the columns' weights of the
+    grid point after them (:func:`_between`), and the first row after each grid row (then H),
+    then the same for columns (then W)."""
+    parts = []
+    for size in (height, width):
+        low, fraction = _between(size, s)
+        parts.append((fraction, np.searchsorted(low, np.arange(-(-size // s) + 1), side="left")))
+    (row_fractions, row_starts), (column_fractions, column_starts) = parts
+    return (_frozen(np.concatenate([row_fractions, column_fractions])),
+            _frozen(np.concatenate([row_starts, column_starts]).astype(np.int64)))
 
 
 def _between(size: int, s: int) -> tuple[np.ndarray, np.ndarray]:

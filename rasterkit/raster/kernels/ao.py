@@ -161,7 +161,8 @@ def _grid_pixel(i, stride, size):
 
 
 @kernel(refcounts=False)
-def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radius, stride, where, along, out):
+def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radius, stride, where, along, out,
+           some):
     """``out`` (Hg, Wg) float32: the share of blocked rays at every ``stride``-th pixel of
     ``metric`` (H, W) float32 (axial depths, 0 where nothing was drawn; -1 there in
     ``out``); grid point (i, j) is the pixel (``i stride + stride // 2``, likewise j), within
@@ -175,8 +176,8 @@ def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radi
     for each rank of a 4x4 tile (:data:`TILE`) the steps of its K rays (step j of ray k at
     ``j K + k``), each a point of the ray over R in tangent space (a, b, c; c along the
     normal); ``radius`` > 0, world units. ``where`` (threads, STEPS K) int32 and ``along`` (threads, STEPS K) float32:
-    each thread's scratch. A worker of :func:`rasterkit.runtime.threads.run_workers` over
-    ``N_CHUNKS`` pieces of rows."""
+    each thread's scratch. ``some`` (Hg,) uint8: 1 where a share of the row is above 0. A
+    worker of :func:`rasterkit.runtime.threads.run_workers` over ``N_CHUNKS`` pieces of rows."""
     height, width = metric.shape
     rows = out.shape[0]
     cells, depths = where[slot], along[slot]
@@ -186,6 +187,7 @@ def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radi
             break
         for j in range(rows * ch // N_CHUNKS, rows * (ch + 1) // N_CHUNKS):
             y = _grid_pixel(j, stride, height)
+            blocked = False
             for i in range(columns):
                 x = _grid_pixel(i, stride, width)
                 d = flat[j * columns + i]
@@ -193,98 +195,147 @@ def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radi
                     out[j, i] = -1.0
                     continue
                 rank = TILE[(j & 3) * 4 + (i & 3)]
-                out[j, i] = _pixel_ao(metric, flat, columns, stride, rays, matrix, axis, steps[rank], radius, x,
-                                      y, d, width, height, cells, depths)
+                share = _pixel_ao(metric, flat, columns, stride, rays, matrix, axis, steps[rank], radius, x, y, d,
+                                  width, height, cells, depths)
+                out[j, i] = share
+                blocked |= share > 0.0
+            some[j] = blocked
     return 0
 
 
 @kernel(refcounts=False)
-def ao_blur(slot, counter, grid, raw, radius, out):
-    """``out`` (Hg, Wg) float32: each grid point's share of ``raw`` (Hg, Wg) (:func:`ao_raw`)
-    averaged over the 4x4 grid points around it (i - 1 .. i + 2, j - 1 .. j + 2: a whole
-    tile) whose depth (``grid``, :func:`ao_raw`'s) lies within ``radius / 2`` of its own; -1
-    where nothing was drawn."""
+def ao_grid(slot, counter, metric, stride, out):
+    """``out`` (Hg, Wg) float32: the depth of ``metric`` (H, W) at every grid point
+    (:func:`ao_raw`'s)."""
+    height, width = metric.shape
     rows, columns = out.shape
-    half = np.float32(0.5 * radius)
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
         for j in range(rows * ch // N_CHUNKS, rows * (ch + 1) // N_CHUNKS):
+            y = _grid_pixel(j, stride, height)
             for i in range(columns):
-                if raw[j, i] < 0.0:
-                    out[j, i] = -1.0
-                    continue
-                d = grid[j, i]
-                total, weight = np.float32(0.0), np.float32(0.0)
-                for v in range(max(j - 1, 0), min(j + 3, rows)):
-                    for u in range(max(i - 1, 0), min(i + 3, columns)):
-                        other = grid[v, u]
-                        use = (other > 0.0) & (abs(other - d) < half)
-                        total += raw[v, u] if use else np.float32(0.0)
-                        weight += np.float32(1.0) if use else np.float32(0.0)
-                out[j, i] = total / weight
+                out[j, i] = metric[y, _grid_pixel(i, stride, width)]
     return 0
 
 
 @kernel(refcounts=False)
-def ao_map(slot, counter, metric, grid, shares, busy, radius, lows, fractions, starts, color, decode, encode, out):
+def ao_blur(slot, counter, grid, raw, some, radius, out):
+    """``out`` (Hg, Wg) float32: each grid point's share of ``raw`` (Hg, Wg) (:func:`ao_raw`)
+    averaged over the 4x4 grid points around it (i - 1 .. i + 2, j - 1 .. j + 2: a whole
+    tile) whose depth (``grid``, :func:`ao_raw`'s) lies within ``radius / 2`` of its own; -1
+    where nothing was drawn. ``some``: :func:`ao_raw`'s (rows whose shares are all 0 or -1
+    average to themselves)."""
+    rows, columns = out.shape
+    half = np.float32(0.5 * radius)
+    zero = np.float32(0.0)
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for j in range(rows * ch // N_CHUNKS, rows * (ch + 1) // N_CHUNKS):
+            first, last = max(j - 1, 0), min(j + 3, rows)
+            near = False
+            for v in range(first, last):
+                near |= some[v] != 0
+            if not near:
+                for i in range(columns):
+                    out[j, i] = raw[j, i]
+                continue
+            for i in range(columns):
+                if raw[j, i] < zero:
+                    out[j, i] = -1.0
+                    continue
+                d = grid[j, i]
+                total, weight = zero, zero
+                for v in range(first, last):
+                    for u in range(max(i - 1, 0), min(i + 3, columns)):
+                        other = grid[v, u]
+                        use = (other > zero) & (abs(other - d) < half)
+                        total += raw[v, u] if use else zero
+                        weight += np.float32(1.0) if use else zero
+                out[j, i] = total / weight
+    return 0
+
+
+@kernel(inline="always")
+def _nearest(d, s00, s01, s10, s11, g00, g01, g10, g11):
+    """The share (of ``s``, those >= 0) of the grid point whose depth (``g``) is nearest ``d``."""
+    share, gap = np.float32(0.0), np.float32(np.inf)
+    for corner in range(4):
+        s = s00 if corner == 0 else s01 if corner == 1 else s10 if corner == 2 else s11
+        off = abs((g00 if corner == 0 else g01 if corner == 1 else g10 if corner == 2 else g11) - d)
+        closer = (s >= np.float32(0.0)) & (off < gap)
+        share = s if closer else share
+        gap = off if closer else gap
+    return share
+
+
+@kernel(refcounts=False)
+def ao_map(slot, counter, metric, grid, shares, radius, fractions, starts, marks, color, decode, encode, out):
     """``out`` (H, W) float32: one minus the share of blocked rays at each pixel drawn in
     ``metric`` (NaN elsewhere), interpolated bilinearly from the grid ``shares`` (Hg, Wg)
     (:func:`ao_blur`) among the grid points whose depth (``grid``) lies within ``radius / 2``
     of the pixel's (the nearest in depth when none does); the RGB of ``color`` (H, W, C) uint8
     sRGB multiplied by it in linear light where it is below 1 (``decode`` (256,) float32 sRGB
-    -> linear, ``encode`` (S,) uint8 linear ``i / (S - 1)`` -> sRGB). ``lows`` (H + W,) int64
-    and ``fractions`` (H + W,) float32: each row's, then each column's, grid point before it
-    and its weight of the one after; ``starts`` (Wg + 1,) int64: the first column whose grid
-    point before it is each one (then W). ``busy`` (Hg, Wg + 1) uint8: 1 where a share of the
-    four grid points (j, i) .. (j + 1, i + 1) (within the grid) is above 0, and in the last
-    column whether any is in the row; elsewhere every drawn pixel is 1."""
+    -> linear, ``encode`` (S,) uint8 linear ``i / (S - 1)`` -> sRGB).
+
+    ``fractions`` (H + W,) float32: each row's, then each column's, weight of the grid point
+    after it; ``starts`` (Hg + 1 + Wg + 1,) int64: the first row between each grid row and
+    the next (then H), then the same for columns (then W). ``marks`` (threads, Wg) uint8:
+    each thread's scratch. A worker over ``N_CHUNKS`` pieces of grid rows."""
     height, width = metric.shape
     rows, columns = shares.shape
     nan = np.float32(np.nan)
     half = np.float32(0.5 * radius)
     zero, one = np.float32(0.0), np.float32(1.0)
     top = np.float32(encode.shape[0] - 1)
+    busy = marks[slot]
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
-        for y in range(height * ch // N_CHUNKS, height * (ch + 1) // N_CHUNKS):
-            for x in range(width):  # every drawn pixel in the open, first
-                out[y, x] = one if metric[y, x] > zero else nan
-            j0 = lows[y]
-            if not busy[j0, columns]:
-                continue
+        for j0 in range(rows * ch // N_CHUNKS, rows * (ch + 1) // N_CHUNKS):
             j1 = min(j0 + 1, rows - 1)
-            fy = fractions[y]
+            # the cells with a share above 0 at a corner: the others' drawn pixels are all 1
+            some = False
             for i0 in range(columns):
-                if not busy[j0, i0]:
-                    continue
                 i1 = min(i0 + 1, columns - 1)
-                for x in range(starts[i0], starts[i0 + 1]):
-                    d = metric[y, x]
-                    if d <= zero:
+                high = max(max(shares[j0, i0], shares[j0, i1]), max(shares[j1, i0], shares[j1, i1]))
+                busy[i0] = high > zero
+                some |= high > zero
+            for y in range(starts[j0], starts[j0 + 1]):
+                for x in range(width):
+                    out[y, x] = one if metric[y, x] > zero else nan
+                if not some:
+                    continue
+                fy = fractions[y]
+                gy = one - fy
+                for i0 in range(columns):
+                    if not busy[i0]:
                         continue
-                    fx = fractions[height + x]
-                    total, weight = zero, zero
-                    nearest, gap = zero, np.float32(np.inf)
-                    for corner in range(4):
-                        j = j1 if corner >= 2 else j0
-                        i = i1 if corner & 1 else i0
-                        share = shares[j, i]
-                        off = abs(grid[j, i] - d)
-                        w = (fy if corner >= 2 else one - fy) * (fx if corner & 1 else one - fx)
-                        use = (share >= zero) & (off < half)
-                        total += w * share if use else zero
-                        weight += w if use else zero
-                        closer = (share >= zero) & (off < gap)
-                        nearest = share if closer else nearest
-                        gap = off if closer else gap
-                    light = one - (total / weight if weight > np.float32(1e-6) else nearest)
-                    out[y, x] = light
-                    if light < one:
-                        scale = light * top
-                        for c in range(3):
-                            color[y, x, c] = encode[int(decode[color[y, x, c]] * scale + np.float32(0.5))]
+                    i1 = min(i0 + 1, columns - 1)
+                    s00, s01, s10, s11 = shares[j0, i0], shares[j0, i1], shares[j1, i0], shares[j1, i1]
+                    g00, g01, g10, g11 = grid[j0, i0], grid[j0, i1], grid[j1, i0], grid[j1, i1]
+                    for x in range(starts[rows + 1 + i0], starts[rows + 1 + i0 + 1]):
+                        d = metric[y, x]
+                        if d <= zero:
+                            continue
+                        # the bilinear weights of the corners drawn (share >= 0) within R / 2 in depth
+                        fx = fractions[height + x]
+                        w00 = gy * (one - fx) if (s00 >= zero) & (abs(g00 - d) < half) else zero
+                        w01 = gy * fx if (s01 >= zero) & (abs(g01 - d) < half) else zero
+                        w10 = fy * (one - fx) if (s10 >= zero) & (abs(g10 - d) < half) else zero
+                        w11 = fy * fx if (s11 >= zero) & (abs(g11 - d) < half) else zero
+                        weight = (w00 + w01) + (w10 + w11)
+                        if weight > np.float32(1e-6):
+                            light = one - ((w00 * s00 + w01 * s01) + (w10 * s10 + w11 * s11)) / weight
+                        else:
+                            light = one - _nearest(d, s00, s01, s10, s11, g00, g01, g10, g11)
+                        out[y, x] = light
+                        if light < one:
+                            scale = light * top
+                            for c in range(3):
+                                color[y, x, c] = encode[int(decode[color[y, x, c]] * scale + np.float32(0.5))]
     return 0
