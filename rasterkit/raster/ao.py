@@ -185,8 +185,11 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 
 def stride(width: int, height: int) -> int:
     """Every how many pixels (across and down) the rays are sent: one per 180 pixels of the
-    shorter side, rounded, 1 to 8 (1080p: every 6th; 480p: every 3rd; below 270: each)."""
-    return max(1, min(8, round(min(width, height) / 180)))
+    shorter side up to 720, beyond that growing with its square (the grid's points then stay
+    about as many as at 720: 1920x1080 has every 8th pixel's), rounded, 1 to 8 (1280x720:
+    every 4th; 480p: every 3rd; below 270: each)."""
+    side = min(width, height)
+    return max(1, min(8, round(side / 180 * max(1.0, side / 720))))
 
 
 #: Entries of the linear -> sRGB table (linear steps of 1/4095: within one level of 255).

@@ -183,3 +183,63 @@ def test_a_distorted_camera_resamples_the_ao_map_with_the_frame():
     assert fb.ao is not None and fb.ao.shape == (120, 160)
     drawn = np.isfinite(fb.depth)
     assert (np.isnan(fb.ao) == ~drawn).all() and (fb.ao[drawn] < 1).any()
+
+
+def test_the_grid_is_blurred_and_interpolated_as_defined():
+    # the kernels' shortcuts (rows without a blocked ray near, cells without a share above 0)
+    # against the plain definitions: the 4x4 average of the shares on the same surface, and
+    # the bilinear interpolation among the corners drawn within R / 2 in depth (else the
+    # nearest in depth)
+    from rasterkit.raster import ao
+    from rasterkit.raster.kernels.ao import ao_blur, ao_map
+    from rasterkit.runtime.threads import MAX_THREADS, run_workers
+
+    mesh = rk.shapes.demo()
+    camera = framed(mesh, size=(200, 150))
+    fb = rk.render(mesh, camera, "solid", ground="white", camera_depth=True)
+    metric = fb.camera_depth().astype(np.float32)
+    height, width, s, radius = 150, 200, 4, 0.3
+    rng = np.random.default_rng(3)
+    ys, xs = ao._grid_pixels(height, s), ao._grid_pixels(width, s)
+    grid = np.ascontiguousarray(metric[ys[:, None], xs[None, :]])
+    raw = np.where(grid > 0, np.where(rng.random(grid.shape) < 0.1, rng.random(grid.shape), 0.0), -1.0).astype(np.float32)
+    raw[28:] = np.where(grid[28:] > 0, 0.0, -1.0)  # rows without a blocked ray
+    some = (raw > 0).any(axis=1).astype(np.uint8)
+    shares = np.empty_like(raw)
+    run_workers(ao_blur, grid, raw, some, radius, shares)
+    rows, columns = grid.shape
+    expected = np.full_like(raw, -1.0)
+    for j, i in zip(*np.nonzero(raw >= 0)):
+        window = (slice(max(j - 1, 0), j + 3), slice(max(i - 1, 0), i + 3))
+        near = (grid[window] > 0) & (np.abs(grid[window] - grid[j, i]) < radius / 2)
+        expected[j, i] = raw[window][near].mean()
+    np.testing.assert_allclose(shares, expected, atol=1e-6)
+
+    fractions, starts = ao._interpolation(height, width, s)
+    color = fb.color.copy()
+    out = np.empty((height, width), np.float32)
+    run_workers(ao_map, metric, grid, shares, radius, fractions, starts, np.empty((MAX_THREADS, columns), np.uint8),
+                color, ao._DECODE, ao._ENCODE, out)
+    (low_y, _), (low_x, _) = ao._between(height, s), ao._between(width, s)
+    reference = np.full((height, width), np.nan)
+    for y, x in zip(*np.nonzero(metric > 0)):
+        fy, fx = fractions[y], fractions[height + x]
+        corners = [(low_y[y] + a, low_x[x] + b, (fy if a else 1 - fy) * (fx if b else 1 - fx))
+                   for a in (0, 1) for b in (0, 1)]
+        corners = [(min(j, rows - 1), min(i, columns - 1), w) for j, i, w in corners]
+        drawn = [(shares[j, i], abs(grid[j, i] - metric[y, x]), w) for j, i, w in corners if shares[j, i] >= 0]
+        near = [(share, w) for share, off, w in drawn if off < radius / 2]
+        weight = sum(w for _, w in near)
+        reference[y, x] = 1 - (sum(share * w for share, w in near) / weight if weight > 1e-6 else
+                               min(drawn, key=lambda t: t[1])[0])
+    assert (reference < 1).sum() > 100
+    np.testing.assert_allclose(out, reference, atol=1e-5)
+    changed = out < 1
+    expected_color = linear_to_srgb255(srgb_to_linear(fb.color[changed][:, :3] / 255.0) * out[changed][:, None])
+    assert np.abs(color[changed][:, :3].astype(float) - expected_color).max() <= 1.0
+    assert (color[~changed] == fb.color[~changed]).all()
+
+
+def test_ao_at_1080p_correlates_with_ray_tracing():
+    mesh = rk.shapes.demo()
+    assert agreement(mesh, framed(mesh, size=(1920, 1080))) >= 0.9
