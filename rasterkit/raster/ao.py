@@ -9,8 +9,8 @@ Definition
     same sense), and the colour of each drawn pixel is multiplied by it in linear light.
 
 Estimate (screen space)
-    :mod:`rasterkit.raster.kernels.ao` works it out from the frame's metric depth alone:
-    ``P`` from the pixel's ray and depth, ``N`` from the neighbouring depths (the geometric
+    :mod:`rasterkit.raster.kernels.ao` works it out from the frame's depth buffer alone:
+    ``P`` from the pixel's ray and axial depth, ``N`` from the neighbouring depths (the geometric
     normal), ``samples`` rays in cosine-weighted directions (a Fibonacci spiral, turned per
     pixel within a 4x4 tile), each marched in four steps up to ``R`` and blocked where a step
     falls behind the surface the depth buffer holds there by less than ``R``; then each
@@ -23,7 +23,7 @@ Estimate (screen space)
 from __future__ import annotations
 
 import math
-from functools import lru_cache
+from functools import lru_cache, partial
 
 import numpy as np
 
@@ -96,33 +96,45 @@ def camera_geometry(camera) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return _frozen(rays), _frozen(matrix), _frozen(axis)  # (kept for the camera's next frames)
 
 
-def ambient_occlusion(metric: np.ndarray, camera, radius: float, samples: int, color: np.ndarray) -> np.ndarray:
-    """(H, W) float32 ``1 - AO`` (see the module) of the frame whose metric depth (axial
-    distances, 0 where nothing was drawn, as :meth:`rasterkit.Framebuffer.camera_depth`) is
-    ``metric`` and camera ``camera``; NaN where nothing was drawn. The RGB of ``color``
-    (H, W, 3|4) uint8 sRGB is multiplied by it in linear light, in place."""
-    from rasterkit.raster.kernels.ao import STEPS, ao_blur, ao_grid, ao_map, ao_raw
+def ambient_occlusion(depth: np.ndarray, camera, radius: float, samples: int, color: np.ndarray):
+    """Multiplies the RGB of ``color`` (H, W, 3|4) uint8 sRGB, in place and in linear light,
+    by ``1 - AO`` (see the module) of the frame whose depth buffer is ``depth`` (H, W) float32
+    and camera ``camera``; returns a function that makes the (H, W) float32 map of ``1 - AO``
+    (NaN where nothing was drawn) from the same depths, for :attr:`rasterkit.Framebuffer.ao`
+    (only the pixels near a blocked ray are darkened here, and a render whose map nobody
+    reads does not fill one)."""
+    from rasterkit.raster.kernels.ao import STEPS, ao_blur, ao_grid, ao_raw, ao_shade
 
-    metric = np.ascontiguousarray(metric, np.float32)
-    height, width = metric.shape
+    height, width = depth.shape
+    view = (np.ascontiguousarray(depth, np.float32), float(camera.near), float(camera.far),
+            camera.kind == "perspective")
     rays, matrix, axis = camera_geometry(camera)
     s = stride(width, height)
     rows, columns = -(-height // s), -(-width // s)
     flat = np.zeros(rows * columns + 1, np.float32)  # the grid's depths, then 0 for what is off it
     grid = flat[:-1].reshape(rows, columns)
-    threads = 1 if metric.size < _SMALL else None
-    run_workers(ao_grid, metric, s, grid, threads=threads)
+    threads = 1 if depth.size < _SMALL else None
+    run_workers(ao_grid, view, s, grid, threads=threads)
     raw, shares, some = np.empty_like(grid), np.empty_like(grid), np.empty(rows, np.uint8)
     where = np.empty((MAX_THREADS, STEPS * samples), np.int32)
     along = np.empty((MAX_THREADS, STEPS * samples), np.float32)
-    run_workers(ao_raw, metric, flat, columns, rays, matrix, axis, tile_steps(samples), float(radius), s, where,
+    run_workers(ao_raw, view, flat, columns, rays, matrix, axis, tile_steps(samples), float(radius), s, where,
                 along, raw, some, threads=threads)
     run_workers(ao_blur, grid, raw, some, float(radius), shares, threads=threads)
-    out = _memory.take(metric.shape, np.float32)
     fractions, starts = _interpolation(height, width, s)
     marks = np.empty((MAX_THREADS, columns), np.uint8)
-    run_workers(ao_map, metric, grid, shares, float(radius), fractions, starts, marks, color, _DECODE, _ENCODE, out,
-                threads=threads)
+    run_workers(ao_shade, view, grid, shares, float(radius), fractions, starts, marks,
+                np.empty((MAX_THREADS, width), np.float32), color, _DECODE, _ENCODE, threads=threads)
+    return partial(_fill, view, grid, shares, float(radius), fractions, starts, threads)
+
+
+def _fill(view, grid, shares, radius, fractions, starts, threads) -> np.ndarray:
+    """The map of :func:`ambient_occlusion` (:func:`rasterkit.raster.kernels.ao.ao_fill`)."""
+    from rasterkit.raster.kernels.ao import ao_fill
+
+    out = _memory.take(view[0].shape, np.float32)
+    run_workers(ao_fill, view, grid, shares, radius, fractions, starts,
+                np.empty((MAX_THREADS, grid.shape[1]), np.uint8), out, threads=threads)
     return out
 
 

@@ -65,7 +65,8 @@ class Framebuffer:
     ao : (H, W) float32 or None
         ``render(..., ao=True)``: the ambient light each pixel's surface receives, 1 in the
         open to 0 fully enclosed (one minus its ambient occlusion, :mod:`rasterkit.raster.ao`),
-        NaN where no face was drawn; the colour was multiplied by it.
+        NaN where no face was drawn; the colour was multiplied by it. Made on first read,
+        from the frame's depth buffer as the render left it.
     camera : Camera or None
         The camera a render drew with (:meth:`camera_depth` inverts its depth mapping).
     width, height : int
@@ -99,7 +100,8 @@ class Framebuffer:
         self._depth = None  # not made yet: all farthest, or what _depth_source draws (defer_depth)
         self._depth_source = None
         self.ids = _memory.take((height, width), np.int32) if ids else None
-        self.object_ids = self.normals = self.uv = self.camera = self.ao = None
+        self.object_ids = self.normals = self.uv = self.camera = None
+        self._ao, self._ao_source = None, None  # the AO map, or what makes it (defer_ao)
         self.object_first = None  # (K,) int64: each scene object's first face, with object_ids
         self._camera_depth = None  # (metric depth, its camera), made by a render (keep_camera_depth)
         if cleared:
@@ -136,6 +138,21 @@ class Framebuffer:
         self._depth = value
         self._depth_source = None
         self._camera_depth = None
+
+    @property
+    def ao(self) -> np.ndarray | None:
+        if self._ao_source is not None:
+            source, self._ao_source = self._ao_source, None
+            self._ao = source()
+        return self._ao
+
+    @ao.setter
+    def ao(self, value) -> None:
+        self._ao, self._ao_source = value, None
+
+    def defer_ao(self, source) -> None:
+        """Leave the AO map to ``source()``, called on the first read of :attr:`ao`."""
+        self._ao, self._ao_source = None, source
 
     def uncleared_depth(self) -> np.ndarray:
         """The depth buffer, for a renderer that writes every pixel of it (it clears the
@@ -179,9 +196,9 @@ class Framebuffer:
         return self.color.shape[2] == 4
 
     def clear(self) -> None:
-        """Colour to the background, depth to +inf, ids to -1."""
+        """Colour to the background, depth to +inf, ids to -1, and no AO map (:attr:`ao` None)."""
         self.color[...] = self.background[: self.color.shape[2]]
-        self._depth_source = self._camera_depth = None
+        self._depth_source = self._camera_depth = self._ao = self._ao_source = None
         if self._depth is not None:
             self._depth.fill(FARTHEST)
         if self.ids is not None:

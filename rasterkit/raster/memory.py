@@ -37,10 +37,14 @@ def frame_bytes(mesh: Mesh, width: int, height: int, style, alpha: bool, ids: bo
     return total
 
 
-def ao_bytes(pixels: int, metric_made: bool) -> int:
-    """Bytes of ambient occlusion's images (rasterkit.raster.ao): the rays' shares, the map,
-    and the metric depth it reads unless the band worker made it (``metric_made``)."""
-    return (8 if metric_made else 12) * pixels
+def ao_bytes(width: int, height: int, depth_counted: bool) -> int:
+    """Bytes of ambient occlusion's images (rasterkit.raster.ao): the grid's depths, rays'
+    shares and blurred shares, the map, and the depth buffer it reads unless the frame's
+    count has it (``depth_counted``)."""
+    from rasterkit.raster.ao import stride
+
+    s = stride(width, height)
+    return 12 * -(-width // s) * -(-height // s) + (4 if depth_counted else 8) * width * height
 
 
 def maps_bytes(mesh: Mesh, pixels: int, normals: bool, objects: bool, metric: bool, uv: bool = False) -> int:

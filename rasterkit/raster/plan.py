@@ -61,9 +61,9 @@ class FramePlan:
 
     @property
     def metric(self) -> bool:
-        """Whether the frame's metric depth is made (asked for, or read by the AO or the
-        shadow catcher)."""
-        return self.options.camera_depth or self.ao_radius is not None or self.catcher is not None
+        """Whether the frame's metric depth is made (asked for, or read by the shadow
+        catcher; the AO reads the depth buffer)."""
+        return self.options.camera_depth or self.catcher is not None
 
     @property
     def with_ids(self) -> bool:
@@ -118,7 +118,7 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
     if options.ao and row.faces:
         ao_radius = options.ao_radius or default_radius(mesh.vertices[:None if casters is None else casters[0]])
     catcher = len(mesh.faces) - len(ground.faces) if ground is not None and options.ground == SHADOW_GROUND else None
-    metric = options.camera_depth or ao_radius is not None or catcher is not None
+    metric = options.camera_depth or catcher is not None
     style = Style(row, options.cull, options.shading, parse_color(options.color), parse_color(options.line_color),
                   options.aa, light_direction(light, camera), textures=options.textures,
                   texture_filter=options.texture_filter,
@@ -133,6 +133,8 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
         # a vision frame (its depth is wanted too), or points to test against the depth: a
         # deferred depth pass would draw again
         style = replace(style, keep_depth=True, points=points)
+    if ao_radius is not None and one_sample:  # the AO reads the whole depth buffer: drawn into it
+        style = replace(style, keep_depth=True)
     width, height = camera.width, camera.height
     alpha = parse_color(background)[3] < 255
     need = (frame_bytes(mesh, width, height, style, alpha, wanted_ids)
@@ -140,7 +142,7 @@ def plan_frame(mesh, camera, options: RenderOptions, points=None, point_colors=N
                                       len(mesh.faces) if row.faces else 0)
             + maps_bytes(mesh, width * height, normals, object_faces is not None, metric and in_bands, options.uv)
             + (0 if style.lights is None else style.lights.shadow_bytes())
-            + (0 if ao_radius is None else ao_bytes(width * height, in_bands)))
+            + (0 if ao_radius is None else ao_bytes(width, height, row.depth_kept or style.keep_depth)))
     return FramePlan(mesh, camera, style, background, options, one_sample, in_bands, object_faces, need, ao_radius, catcher)
 
 

@@ -159,7 +159,7 @@ def _finish(fb: Framebuffer, plan: FramePlan, style) -> Framebuffer:
     if plan.ao_radius is not None:
         from rasterkit.raster.ao import ambient_occlusion
 
-        fb.ao = ambient_occlusion(fb.camera_depth(), plan.camera, plan.ao_radius, options.ao_samples, fb.color)
+        fb.defer_ao(ambient_occlusion(fb.depth, plan.camera, plan.ao_radius, options.ao_samples, fb.color))
     if plan.catcher is not None:
         from rasterkit.raster.ground import catch_shadows
         from rasterkit.raster.shading import per_pixel

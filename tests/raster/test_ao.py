@@ -146,6 +146,23 @@ def test_the_same_at_any_thread_count_and_with_samples():
     np.testing.assert_array_equal(many.ao, one.ao)
 
 
+def test_the_map_is_made_when_first_read_from_the_depths_the_render_left():
+    mesh = rk.shapes.demo()
+    camera = framed(mesh, size=(200, 150))
+    fb = rk.render(mesh, camera, "solid", ao=True)
+    other = rk.render(mesh, camera, "solid", ao=True, camera_depth=True)
+    first = fb.ao
+    assert fb.ao is first  # made once
+    np.testing.assert_array_equal(first, other.ao)
+    # NaN exactly where the metric depth says nothing was drawn
+    assert (np.isnan(first) == (other.camera_depth() <= 0)).all()
+    fb.ao = None
+    assert fb.ao is None
+    again = rk.render(mesh, camera, "solid", ao=True)
+    again.clear()  # a cleared framebuffer shows no AO
+    assert again.ao is None
+
+
 def test_without_ao_nothing_changes_and_wireframes_have_none():
     mesh = rk.shapes.demo()
     camera = framed(mesh, size=(200, 150))
@@ -191,7 +208,7 @@ def test_the_grid_is_blurred_and_interpolated_as_defined():
     # the bilinear interpolation among the corners drawn within R / 2 in depth (else the
     # nearest in depth)
     from rasterkit.raster import ao
-    from rasterkit.raster.kernels.ao import ao_blur, ao_map
+    from rasterkit.raster.kernels.ao import ao_blur, ao_fill, ao_shade
     from rasterkit.runtime.threads import MAX_THREADS, run_workers
 
     mesh = rk.shapes.demo()
@@ -218,8 +235,11 @@ def test_the_grid_is_blurred_and_interpolated_as_defined():
     fractions, starts = ao._interpolation(height, width, s)
     color = fb.color.copy()
     out = np.empty((height, width), np.float32)
-    run_workers(ao_map, metric, grid, shares, radius, fractions, starts, np.empty((MAX_THREADS, columns), np.uint8),
-                color, ao._DECODE, ao._ENCODE, out)
+    view = (fb.depth, float(camera.near), float(camera.far), True)
+    marks = np.empty((MAX_THREADS, columns), np.uint8)
+    run_workers(ao_fill, view, grid, shares, radius, fractions, starts, marks, out)
+    run_workers(ao_shade, view, grid, shares, radius, fractions, starts, marks,
+                np.empty((MAX_THREADS, width), np.float32), color, ao._DECODE, ao._ENCODE)
     (low_y, _), (low_x, _) = ao._between(height, s), ao._between(width, s)
     reference = np.full((height, width), np.nan)
     for y, x in zip(*np.nonzero(metric > 0)):

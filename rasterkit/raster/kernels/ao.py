@@ -2,8 +2,9 @@
 frame's metric depth buffer.
 
 Each pixel's surface point ``P`` and geometric normal ``N`` come from the depth buffer (the
-point from the pixel's ray and its axial depth; the normal from the neighbours on the side
-whose depth continues the pixel's). From ``P`` go ``K`` rays in cosine-weighted directions
+point from the pixel's ray and its axial depth, :func:`~rasterkit.raster.kernels.map_rows.metric_of`
+of the buffer's value; the normal from the neighbours on the side whose depth continues the
+pixel's). From ``P`` go ``K`` rays in cosine-weighted directions
 around ``N``, each marched in ``STEPS`` steps up to the radius ``R``; a ray is blocked at the
 first step whose point lies behind the surface the depth buffer holds there, by less than
 ``R`` (so a surface far in front of the point, which hides it, does not count). The share of
@@ -20,6 +21,7 @@ import math
 
 import numpy as np
 
+from rasterkit.raster.kernels.map_rows import metric_of
 from rasterkit.runtime.intrinsics import fetch_add
 from rasterkit.runtime.jit import kernel
 
@@ -43,12 +45,20 @@ def _point(rays, x, y, d):
 
 
 @kernel(inline="always")
-def _side(metric, x, y, dx, dy, d, width, height):
+def _metric(view, y, x):
+    """The axial depth at pixel (x, y) of ``view``: ``(depth buffer (H, W) float32, near,
+    far, perspective)`` (0 where nothing was drawn)."""
+    depth, near, far, perspective = view
+    return metric_of(depth[y, x], near, far, perspective)
+
+
+@kernel(inline="always")
+def _side(view, x, y, dx, dy, d, width, height):
     """The neighbour of (x, y) that continues its surface along (dx, dy): +1 or -1, or 0
     when neither is drawn, and the difference of depths on that side."""
     xa, ya, xb, yb = x + dx, y + dy, x - dx, y - dy
-    da = metric[ya, xa] if 0 <= xa < width and 0 <= ya < height else np.float32(0.0)
-    db = metric[yb, xb] if 0 <= xb < width and 0 <= yb < height else np.float32(0.0)
+    da = _metric(view, ya, xa) if 0 <= xa < width and 0 <= ya < height else np.float32(0.0)
+    db = _metric(view, yb, xb) if 0 <= xb < width and 0 <= yb < height else np.float32(0.0)
     if da > 0.0 and (db <= 0.0 or abs(da - d) <= abs(db - d)):
         return 1, da - d
     if db > 0.0:
@@ -57,13 +67,13 @@ def _side(metric, x, y, dx, dy, d, width, height):
 
 
 @kernel(inline="always")
-def _normal(metric, rays, x, y, d, width, height):
+def _normal(view, rays, x, y, d, width, height):
     """The unit normal at pixel (x, y) from its neighbours' points, facing the camera, and
     the depth's change over a pixel (across plus down)."""
     cx, cy = x + 0.5, y + 0.5
     p0, p1, p2 = _point(rays, cx, cy, d)
-    sx, gx = _side(metric, x, y, 1, 0, d, width, height)
-    sy, gy = _side(metric, x, y, 0, 1, d, width, height)
+    sx, gx = _side(view, x, y, 1, 0, d, width, height)
+    sy, gy = _side(view, x, y, 0, 1, d, width, height)
     vx = rays[3, 0] + cx * rays[4, 0] + cy * rays[5, 0]
     vy = rays[3, 1] + cx * rays[4, 1] + cy * rays[5, 1]
     vz = rays[3, 2] + cx * rays[4, 2] + cy * rays[5, 2]
@@ -84,12 +94,12 @@ def _normal(metric, rays, x, y, d, width, height):
 
 
 @kernel(inline="always")
-def _pixel_ao(metric, flat, columns, stride, rays, matrix, axis, steps, radius, x, y, d, width, height, where,
+def _pixel_ao(view, flat, columns, stride, rays, matrix, axis, steps, radius, x, y, d, width, height, where,
               along):
     """The share of the rays from pixel (x, y) (depth d > 0) that are blocked (see
     :func:`ao_raw`); ``steps`` (3, STEPS K) this pixel's steps, ``where`` (STEPS K,) int32
     and ``along`` (STEPS K,) float32 scratch."""
-    p0, p1, p2, n0, n1, n2, slope = _normal(metric, rays, x, y, d, width, height)
+    p0, p1, p2, n0, n1, n2, slope = _normal(view, rays, x, y, d, width, height)
     # a tangent frame (t, b, n)
     if abs(n0) < 0.6:
         t0, t1, t2 = 0.0, -n2, n1
@@ -161,11 +171,11 @@ def _grid_pixel(i, stride, size):
 
 
 @kernel(refcounts=False)
-def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radius, stride, where, along, out,
+def ao_raw(slot, counter, view, flat, columns, rays, matrix, axis, steps, radius, stride, where, along, out,
            some):
     """``out`` (Hg, Wg) float32: the share of blocked rays at every ``stride``-th pixel of
-    ``metric`` (H, W) float32 (axial depths, 0 where nothing was drawn; -1 there in
-    ``out``); grid point (i, j) is the pixel (``i stride + stride // 2``, likewise j), within
+    the frame's ``view`` (:func:`_metric`: its depth buffer (H, W) and camera range; -1
+    where nothing was drawn in ``out``); grid point (i, j) is the pixel (``i stride + stride // 2``, likewise j), within
     the image, and ``flat`` (Hg Wg + 1,) float32 its depth, row by row (``columns`` = Wg a
     row), then a 0: what the rays are tested against.
 
@@ -178,7 +188,7 @@ def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radi
     normal); ``radius`` > 0, world units. ``where`` (threads, STEPS K) int32 and ``along`` (threads, STEPS K) float32:
     each thread's scratch. ``some`` (Hg,) uint8: 1 where a share of the row is above 0. A
     worker of :func:`rasterkit.runtime.threads.run_workers` over ``N_CHUNKS`` pieces of rows."""
-    height, width = metric.shape
+    height, width = view[0].shape
     rows = out.shape[0]
     cells, depths = where[slot], along[slot]
     while True:
@@ -195,7 +205,7 @@ def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radi
                     out[j, i] = -1.0
                     continue
                 rank = TILE[(j & 3) * 4 + (i & 3)]
-                share = _pixel_ao(metric, flat, columns, stride, rays, matrix, axis, steps[rank], radius, x, y, d,
+                share = _pixel_ao(view, flat, columns, stride, rays, matrix, axis, steps[rank], radius, x, y, d,
                                   width, height, cells, depths)
                 out[j, i] = share
                 blocked |= share > 0.0
@@ -204,10 +214,10 @@ def ao_raw(slot, counter, metric, flat, columns, rays, matrix, axis, steps, radi
 
 
 @kernel(refcounts=False)
-def ao_grid(slot, counter, metric, stride, out):
-    """``out`` (Hg, Wg) float32: the depth of ``metric`` (H, W) at every grid point
+def ao_grid(slot, counter, view, stride, out):
+    """``out`` (Hg, Wg) float32: the axial depth (:func:`_metric`) at every grid point
     (:func:`ao_raw`'s)."""
-    height, width = metric.shape
+    height, width = view[0].shape
     rows, columns = out.shape
     while True:
         ch = fetch_add(counter, 0, 1)
@@ -216,7 +226,7 @@ def ao_grid(slot, counter, metric, stride, out):
         for j in range(rows * ch // N_CHUNKS, rows * (ch + 1) // N_CHUNKS):
             y = _grid_pixel(j, stride, height)
             for i in range(columns):
-                out[j, i] = metric[y, _grid_pixel(i, stride, width)]
+                out[j, i] = _metric(view, y, _grid_pixel(i, stride, width))
     return 0
 
 
@@ -272,70 +282,114 @@ def _nearest(d, s00, s01, s10, s11, g00, g01, g10, g11):
     return share
 
 
+@kernel(inline="always")
+def _busy_cells(shares, j0, busy):
+    """Marks in ``busy`` the cells of grid row ``j0`` (between it and the next) with a share
+    above 0 at a corner (the others' drawn pixels are all 1); whether there are any."""
+    rows, columns = shares.shape
+    j1 = min(j0 + 1, rows - 1)
+    some = False
+    for i0 in range(columns):
+        i1 = min(i0 + 1, columns - 1)
+        high = max(max(shares[j0, i0], shares[j0, i1]), max(shares[j1, i0], shares[j1, i1]))
+        busy[i0] = high > np.float32(0.0)
+        some |= high > np.float32(0.0)
+    return some
+
+
+@kernel(inline="always")
+def _cell_light(view, y, j0, i0, grid, shares, half, fractions, starts, light):
+    """``light[x]`` for the pixels x of row ``y`` in cell (j0, i0): one minus the share of
+    blocked rays interpolated bilinearly from the cell's corners drawn (share >= 0) within
+    ``half`` in depth of the pixel (the nearest in depth when none is), NaN where nothing was
+    drawn."""
+    rows, columns = shares.shape
+    height = view[0].shape[0]
+    zero, one = np.float32(0.0), np.float32(1.0)
+    j1, i1 = min(j0 + 1, rows - 1), min(i0 + 1, columns - 1)
+    fy = fractions[y]
+    gy = one - fy
+    s00, s01, s10, s11 = shares[j0, i0], shares[j0, i1], shares[j1, i0], shares[j1, i1]
+    g00, g01, g10, g11 = grid[j0, i0], grid[j0, i1], grid[j1, i0], grid[j1, i1]
+    for x in range(starts[rows + 1 + i0], starts[rows + 1 + i0 + 1]):
+        d = _metric(view, y, x)
+        if d <= zero:
+            light[x] = np.float32(np.nan)
+            continue
+        fx = fractions[height + x]
+        w00 = gy * (one - fx) if (s00 >= zero) & (abs(g00 - d) < half) else zero
+        w01 = gy * fx if (s01 >= zero) & (abs(g01 - d) < half) else zero
+        w10 = fy * (one - fx) if (s10 >= zero) & (abs(g10 - d) < half) else zero
+        w11 = fy * fx if (s11 >= zero) & (abs(g11 - d) < half) else zero
+        weight = (w00 + w01) + (w10 + w11)
+        if weight > np.float32(1e-6):
+            light[x] = one - ((w00 * s00 + w01 * s01) + (w10 * s10 + w11 * s11)) / weight
+        else:
+            light[x] = one - _nearest(d, s00, s01, s10, s11, g00, g01, g10, g11)
+
+
 @kernel(refcounts=False)
-def ao_map(slot, counter, metric, grid, shares, radius, fractions, starts, marks, color, decode, encode, out):
+def ao_shade(slot, counter, view, grid, shares, radius, fractions, starts, marks, light, color, decode, encode):
+    """The RGB of ``color`` (H, W, C) uint8 sRGB multiplied in linear light by the light that
+    reaches each pixel drawn (:func:`ao_fill`'s value) where it is below 1 (``decode`` (256,)
+    float32 sRGB -> linear, ``encode`` (S,) uint8 linear ``i / (S - 1)`` -> sRGB): only the
+    pixels of cells with a share above 0 at a corner are read. ``marks`` (threads, Wg) uint8 and
+    ``light`` (threads, W) float32: each thread's scratch. A worker over ``N_CHUNKS`` pieces of
+    grid rows."""
+    rows, columns = shares.shape
+    half = np.float32(0.5 * radius)
+    one = np.float32(1.0)
+    top = np.float32(encode.shape[0] - 1)
+    busy, values = marks[slot], light[slot]
+    while True:
+        ch = fetch_add(counter, 0, 1)
+        if ch >= N_CHUNKS:
+            break
+        for j0 in range(rows * ch // N_CHUNKS, rows * (ch + 1) // N_CHUNKS):
+            if not _busy_cells(shares, j0, busy):
+                continue
+            for y in range(starts[j0], starts[j0 + 1]):
+                for i0 in range(columns):
+                    if not busy[i0]:
+                        continue
+                    _cell_light(view, y, j0, i0, grid, shares, half, fractions, starts, values)
+                    for x in range(starts[rows + 1 + i0], starts[rows + 1 + i0 + 1]):
+                        if values[x] < one:
+                            scale = values[x] * top
+                            for c in range(3):
+                                color[y, x, c] = encode[int(decode[color[y, x, c]] * scale + np.float32(0.5))]
+    return 0
+
+
+@kernel(refcounts=False)
+def ao_fill(slot, counter, view, grid, shares, radius, fractions, starts, marks, out):
     """``out`` (H, W) float32: one minus the share of blocked rays at each pixel drawn in
-    ``metric`` (NaN elsewhere), interpolated bilinearly from the grid ``shares`` (Hg, Wg)
-    (:func:`ao_blur`) among the grid points whose depth (``grid``) lies within ``radius / 2``
-    of the pixel's (the nearest in depth when none does); the RGB of ``color`` (H, W, C) uint8
-    sRGB multiplied by it in linear light where it is below 1 (``decode`` (256,) float32 sRGB
-    -> linear, ``encode`` (S,) uint8 linear ``i / (S - 1)`` -> sRGB).
+    ``view`` (:func:`_metric`; NaN elsewhere), interpolated bilinearly from the grid
+    ``shares`` (Hg, Wg) (:func:`ao_blur`) among the grid points whose depth (``grid``) lies
+    within ``radius / 2`` of the pixel's (the nearest in depth when none does).
 
     ``fractions`` (H + W,) float32: each row's, then each column's, weight of the grid point
     after it; ``starts`` (Hg + 1 + Wg + 1,) int64: the first row between each grid row and
     the next (then H), then the same for columns (then W). ``marks`` (threads, Wg) uint8:
     each thread's scratch. A worker over ``N_CHUNKS`` pieces of grid rows."""
-    height, width = metric.shape
+    width = view[0].shape[1]
     rows, columns = shares.shape
     nan = np.float32(np.nan)
     half = np.float32(0.5 * radius)
     zero, one = np.float32(0.0), np.float32(1.0)
-    top = np.float32(encode.shape[0] - 1)
     busy = marks[slot]
     while True:
         ch = fetch_add(counter, 0, 1)
         if ch >= N_CHUNKS:
             break
         for j0 in range(rows * ch // N_CHUNKS, rows * (ch + 1) // N_CHUNKS):
-            j1 = min(j0 + 1, rows - 1)
-            # the cells with a share above 0 at a corner: the others' drawn pixels are all 1
-            some = False
-            for i0 in range(columns):
-                i1 = min(i0 + 1, columns - 1)
-                high = max(max(shares[j0, i0], shares[j0, i1]), max(shares[j1, i0], shares[j1, i1]))
-                busy[i0] = high > zero
-                some |= high > zero
+            some = _busy_cells(shares, j0, busy)
             for y in range(starts[j0], starts[j0 + 1]):
+                row = out[y]
                 for x in range(width):
-                    out[y, x] = one if metric[y, x] > zero else nan
-                if not some:
-                    continue
-                fy = fractions[y]
-                gy = one - fy
-                for i0 in range(columns):
-                    if not busy[i0]:
-                        continue
-                    i1 = min(i0 + 1, columns - 1)
-                    s00, s01, s10, s11 = shares[j0, i0], shares[j0, i1], shares[j1, i0], shares[j1, i1]
-                    g00, g01, g10, g11 = grid[j0, i0], grid[j0, i1], grid[j1, i0], grid[j1, i1]
-                    for x in range(starts[rows + 1 + i0], starts[rows + 1 + i0 + 1]):
-                        d = metric[y, x]
-                        if d <= zero:
-                            continue
-                        # the bilinear weights of the corners drawn (share >= 0) within R / 2 in depth
-                        fx = fractions[height + x]
-                        w00 = gy * (one - fx) if (s00 >= zero) & (abs(g00 - d) < half) else zero
-                        w01 = gy * fx if (s01 >= zero) & (abs(g01 - d) < half) else zero
-                        w10 = fy * (one - fx) if (s10 >= zero) & (abs(g10 - d) < half) else zero
-                        w11 = fy * fx if (s11 >= zero) & (abs(g11 - d) < half) else zero
-                        weight = (w00 + w01) + (w10 + w11)
-                        if weight > np.float32(1e-6):
-                            light = one - ((w00 * s00 + w01 * s01) + (w10 * s10 + w11 * s11)) / weight
-                        else:
-                            light = one - _nearest(d, s00, s01, s10, s11, g00, g01, g10, g11)
-                        out[y, x] = light
-                        if light < one:
-                            scale = light * top
-                            for c in range(3):
-                                color[y, x, c] = encode[int(decode[color[y, x, c]] * scale + np.float32(0.5))]
+                    row[x] = one if _metric(view, y, x) > zero else nan  # noqa: FURB136
+                if some:
+                    for i0 in range(columns):
+                        if busy[i0]:
+                            _cell_light(view, y, j0, i0, grid, shares, half, fractions, starts, row)
     return 0

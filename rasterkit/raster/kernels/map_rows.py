@@ -240,15 +240,18 @@ def band_maps(ids, y0, y1, maps, band_depth, drawn):
 
 
 @kernel(inline="always")
+def metric_of(depth, near, far, perspective):
+    """The distance along the optical axis (float32) of the depth buffer's value ``depth``, in
+    float64: ``f·n / (f - D·(f - n))`` for a perspective camera, ``n + D·(f - n)`` for a
+    parallel one; 0 where ``D`` is +inf (nothing drawn)."""
+    d = np.float64(depth)
+    value = far * near / (far - d * (far - near)) if perspective else near + d * (far - near)  # noqa: FURB136
+    return np.float32(value if d < np.inf else 0.0)  # noqa: FURB136
+
+
+@kernel(inline="always")
 def metric_run(dflat, oflat, lo, hi, near, far, perspective):
     """Elements ``lo .. hi - 1`` of :func:`rasterkit.raster.kernels.maps.metric_depth` (unsigned indices: no wraparound
     tests, vectorised)."""
-    span = far - near
-    product = far * near
     for k in range(lo, hi):
-        d = np.float64(dflat[k])
-        if perspective:
-            value = product / (far - d * span)
-        else:
-            value = near + d * span
-        oflat[k] = value if d < np.inf else 0.0
+        oflat[k] = metric_of(dflat[k], near, far, perspective)
