@@ -47,6 +47,7 @@ PARSER = (("rasterkit.obj.kernels.chunk", "read_lines"),
           ("rasterkit.obj.kernels.corners", "resolve_corners"))
 
 _helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the helper compiling it
+_frame_only = False  # the helpers compile only the frame's own band worker call (frame_call)
 _parser_helper: subprocess.Popen | None = None
 
 
@@ -109,11 +110,13 @@ def start(options, depth: bool, loading: bool) -> None:
     next run). A wireframe of the built-in model leaves too little to do here while a helper
     works to make up for starting a new interpreter: no band worker helper then, unless it is
     forked. Once per process."""
+    global _frame_only
     if _helpers:
         return
     from rasterkit.raster.modes import mode
 
     style = helper_style(options)
+    _frame_only = style["shadows"]
     lists = [] if not mode(options.mode).faces and not loading and not _forks() else [
         names for names in ([w.py_func.__name__ for w in workers if not _cached(w)]
                             for workers in helped_workers(options)) if names]
@@ -122,8 +125,8 @@ def start(options, depth: bool, loading: bool) -> None:
     for names in lists:
         # a lone helper compiles the face normals' kernel (before the binning it compiles);
         # with two, this process does (it has the least to compile), the helpers need not
-        helper = _spawn({"options": style, "depth": depth, "workers": names, "normals": len(lists) == 1},
-                        report=True)
+        helper = _spawn({"options": style, "depth": depth, "workers": names, "normals": len(lists) == 1,
+                         "frame_only": _frame_only}, report=True)
         if helper is not None:
             _helpers.update(dict.fromkeys(names, helper))
     if not loading and (_forks() or not lists):
@@ -266,7 +269,7 @@ def _wait_for_helper(worker, args):
     reported it compiled (or has ended: then this process compiles what is missing)."""
     name = getattr(worker, "py_func", worker).__name__  # a plain function (no kernel) is no helper's
     helper = _helpers.get(name)
-    if helper is None:
+    if helper is None or _frame_only and not frame_call(worker, args):
         return None
     mine = [n for n, h in _helpers.items() if h is helper]
     while name in _helpers:
@@ -284,7 +287,19 @@ def _wait_for_helper(worker, args):
     return None
 
 
-def _compile_only(names: list[str]):
+def frame_call(worker, args) -> bool:
+    """Whether a call of ``worker`` with ``args`` (those after the slot) is one a helper
+    compiles when its frame has shadow maps (``frame_only``): any call but the triangles'
+    band worker drawing a shadow map or the visible surface they are fitted to. Those come
+    first, and are of another variant than the frame's own call, which carries the lights
+    or the textures (a shadowed frame is lit per pixel): the helper compiles the frame's
+    variant, the longer one, while this process compiles the maps' itself."""
+    if getattr(worker, "py_func", worker).__name__ != "draw_bands":
+        return True
+    return args[-1] is not None or args[-4] is not None  # lights, textures
+
+
+def _compile_only(names: list[str], frame_only: bool = False):
     """In the helper: compile the workers ``names`` for the arguments they get, run nothing,
     and name each on standard output once it is in the cache.
 
@@ -294,7 +309,7 @@ def _compile_only(names: list[str]):
 
     def hook(worker, args):
         name = worker.py_func.__name__
-        if name in names:
+        if name in names and (not frame_only or frame_call(worker, args)):
             _jit.compile_apart(worker, (0, *args))
             print(name, flush=True)
         _zero_writable(args)
@@ -350,7 +365,7 @@ def _run(order: dict) -> None:
     from rasterkit import Light, RenderOptions, render, shapes
     from rasterkit.camera import Camera
 
-    _threads.intercept(_compile_only(order["workers"]))
+    _threads.intercept(_compile_only(order["workers"], order.get("frame_only", False)))
     camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
     mesh = shapes.icosphere(1)
     if not order.get("normals", True):  # another helper compiles the kernel: these are the same numbers

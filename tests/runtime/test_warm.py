@@ -263,7 +263,7 @@ def test_a_wire_demo_gets_a_band_worker_helper_only_where_helpers_are_forked(mon
     wire = RenderOptions(mode="wire", background="white")
     _warm.start(wire, depth=False, loading=False)
     style = _warm.helper_style(wire)
-    band = {"options": style, "depth": False, "workers": ["draw_wire_bands"], "normals": True}
+    band = {"options": style, "depth": False, "workers": ["draw_wire_bands"], "normals": True, "frame_only": False}
     assert orders == ([band] if forks else []) + [{"obj": True}]
 
 
@@ -371,3 +371,34 @@ def test_a_lit_renders_helper_draws_with_a_light_the_same_variant_of_every_kerne
     (options,) = seen
     assert [light.kind for light in options.lights] == ["directional"]
     assert (options.shading, options.ao) == ("phong", True) and options.lights[0].shadows
+
+
+def test_a_shadowed_frames_helper_compiles_the_frames_own_band_worker_and_leaves_the_maps(monkeypatch):
+    """A frame with shadow maps calls the band worker first for the maps (depth only) and
+    the visible surface, then for itself (lit per pixel: another variant, the longer one to
+    compile). The helper compiles the frame's call only, and this process does not wait for
+    it on the others (it compiles those itself meanwhile)."""
+    from rasterkit.runtime import warm
+
+    compiled, calls = [], []
+    monkeypatch.setattr(warm._jit, "compile_apart", lambda worker, args: compiled.append((worker, args)))
+    hook = warm._compile_only(["draw_bands"], frame_only=True)
+    monkeypatch.setattr(warm._threads, "_intercept", lambda worker, args: calls.append((worker, args))
+                        or hook(worker, args))
+    mesh = rasterkit.shapes.icosphere(1)
+    camera = rasterkit.Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
+    rasterkit.render(mesh, camera, "solid", shading="phong",
+                     lights=[rasterkit.Light.directional((-1, -2, -1), shadows=True)])
+    bands = [(worker, args) for worker, args in calls if worker.py_func.__name__ == "draw_bands"]
+    assert len(bands) >= 2 and not warm.frame_call(*bands[0]) and warm.frame_call(*bands[-1])
+    (worker, args), = compiled
+    assert worker is bands[-1][0] and args[-1] is not None  # the frame's own call, with its lights
+
+    saved = dict(warm._helpers)
+    monkeypatch.setattr(warm, "_frame_only", True)
+    warm._helpers["draw_bands"] = object()  # would block if read from
+    try:
+        assert warm._wait_for_helper(*bands[0]) is None
+    finally:
+        warm._helpers.clear()
+        warm._helpers.update(saved)
