@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from rasterkit.raster.kernels import phong_rows as rows
 from rasterkit.raster.kernels.powers import exp2, log2, power
 from rasterkit.runtime.jit import kernel
 
@@ -49,3 +50,38 @@ def test_exp2_clamps_its_argument_instead_of_overflowing_and_reads_nan_as_its_lo
     _, exps = _logs_and_exps(np.ones(1), np.array([-5000.0, 5000.0, np.nan]))
     assert exps[0] == 2.0 ** -1020 and exps[1] == 2.0 ** 1020
     assert exps[2] == 2.0 ** -1020  # a NaN highlight is selected away by the caller: no NaN escapes
+
+
+@kernel
+def _chunk_highlights(ndh, shininess):
+    """phong_rows' highlights of one chunk: ``ndh`` raised to ``shininess`` (CHUNK values each)."""
+    s = np.zeros(rows.FIELDS * rows.CHUNK)
+    n = ndh.size
+    for q in range(n):
+        s[rows._NDH + np.uint64(q)] = ndh[q]
+        s[rows._SHINE + np.uint64(q)] = shininess[q]
+    whole = rows._whole_exponent(s, n)
+    rows._highlights(s, n, whole)
+    out = np.empty(n)
+    for q in range(n):
+        out[q] = s[rows._POWER + np.uint64(q)]
+    return whole, out
+
+
+@pytest.mark.parametrize("k", [0.0, 1.0, 2.0, 3.0, 5.0, 32.0, 255.0, 1000.0, 65535.0])
+def test_a_chunk_of_one_whole_shininess_is_raised_by_squarings_to_the_last_few_places(k):
+    rng = np.random.default_rng(int(k))
+    x = np.concatenate([rng.random(rows.CHUNK - 4), [0.0, 1.0, 0.999999, 0.5]])
+    whole, out = _chunk_highlights(x, np.full(rows.CHUNK, k))
+    assert whole == k
+    np.testing.assert_allclose(out, x ** k, rtol=1e-13, atol=1e-300)
+
+
+@pytest.mark.parametrize("shininess", [[32.0] * 63 + [16.0], [32.5] * 64, [65536.0] * 64, [-1.0] * 64])
+def test_mixed_fractional_or_huge_shininess_goes_through_the_polynomial_power(shininess):
+    rng = np.random.default_rng(5)
+    x = rng.random(64)
+    s = np.array(shininess)
+    whole, out = _chunk_highlights(x, s)
+    assert whole == -1.0
+    np.testing.assert_array_equal(out, [_powers(np.array([v]), e)[0] for v, e in zip(x, s)])

@@ -12,9 +12,10 @@ on the stack, one value per pixel in each of its columns (:data:`FIELDS`):
    shininess and emission, and for shadow lookups the normal of the face's plane;
 2. the unit normal and the direction towards the viewer (the normal turned towards the
    viewer on a two-sided face seen from behind);
-3. per light, its share added to every pixel's sum: a loop without branches (selects), so
-   LLVM turns it into vector instructions; the highlight's power by
-   :func:`rasterkit.raster.kernels.powers.power` (no library call). A light with a shadow
+3. per light, its share added to every pixel's sum: loops without branches (selects), so
+   LLVM turns them into vector instructions; the highlight's power by squarings when the
+   chunk's pixels share one whole shininess (the default 32 and most materials'), else by
+   :func:`rasterkit.raster.kernels.powers.power` (no library call either way). A light with a shadow
    map first looks up each pixel that faces it (:func:`~rasterkit.raster.kernels.lights.shadow_factor`);
 4. the sums encoded to sRGB by table and written.
 
@@ -40,7 +41,7 @@ CHUNK = 64
 #: Columns of the scratch, CHUNK values each: first the values interpolated across a face
 #: (position, normal, base colour), then those a face has one of (specular colour,
 #: shininess, emission, its plane's normal, two-sided or not), then the pixel's own.
-FIELDS = 25
+FIELDS = 28
 _INTERPOLATED = 9
 _CONSTANT = 11
 _SCRATCH = FIELDS * CHUNK  # a literal for stack_floats
@@ -49,7 +50,11 @@ _LINES = 3 * _INTERPOLATED + _CONSTANT
 
 # where each column starts in the scratch (unsigned: no negative-index arithmetic)
 (_X, _Y, _Z, _NX, _NY, _NZ, _BR, _BG, _BB, _SR, _SG, _SB, _SHINE, _AR, _AG, _AB, _PX, _PY, _PZ, _TWO,
- _COLUMN, _VX, _VY, _VZ, _SHADE) = (np.uint64(k * CHUNK) for k in range(FIELDS))
+ _COLUMN, _VX, _VY, _VZ, _SHADE, _NDL, _NDH, _POWER) = (np.uint64(k * CHUNK) for k in range(FIELDS))
+
+#: Shininess raised by squarings when every pixel of a chunk has the same whole one below
+#: this (:func:`_highlights`); other exponents through :func:`~rasterkit.raster.kernels.powers.power`.
+WHOLE_LIMIT = 65536.0
 
 # the kind codes of rasterkit.raster.lights.KINDS
 _AMBIENT, _DIRECTIONAL, _POINT, _SPOT, _HEADLIGHT = 0, 1, 2, 3, 4
@@ -231,8 +236,43 @@ def _unshadowed(s, n):
 
 
 @kernel(inline="always")
-def _add_light(s, n, k, table):
-    """Step 3 for light ``k`` (not ambient) over the chunk's ``n`` pixels."""
+def _whole_exponent(s, n):
+    """The shininess of the chunk's ``n`` pixels when they all have the same one and it is a
+    whole number from 0 to below :data:`WHOLE_LIMIT`, else -1."""
+    first = s[_SHINE]
+    same = True
+    for q in range(n):
+        same &= s[_SHINE + np.uint64(q)] == first
+    return first if same and first >= 0.0 and first < WHOLE_LIMIT and first == np.floor(first) else -1.0
+
+
+@kernel(inline="always")
+def _highlights(s, n, whole):
+    """Each pixel's ``max(n.h, 0)`` (column _NDH) raised to its shininess, into column
+    _POWER: for a chunk of one ``whole`` exponent (:func:`_whole_exponent`) by squarings, one
+    pass over the chunk for each (exact to a few units of the last place), else by
+    :func:`~rasterkit.raster.kernels.powers.power`."""
+    if whole < 0.0:
+        for q in range(n):
+            s[_POWER + np.uint64(q)] = power(s[_NDH + np.uint64(q)], s[_SHINE + np.uint64(q)])
+        return
+    e = np.int64(whole)
+    for q in range(n):
+        s[_POWER + np.uint64(q)] = 1.0
+    while e > 0:  # the bits of the exponent from the lowest: the product of those squares
+        if e & 1:
+            for q in range(n):
+                s[_POWER + np.uint64(q)] *= s[_NDH + np.uint64(q)]
+        e >>= 1
+        if e > 0:
+            for q in range(n):
+                s[_NDH + np.uint64(q)] *= s[_NDH + np.uint64(q)]
+
+
+@kernel(inline="always")
+def _add_light(s, n, k, table, whole):
+    """Step 3 for light ``k`` (not ambient) over the chunk's ``n`` pixels; ``whole``: the
+    chunk's :func:`_whole_exponent`."""
     kind = table[k, 0]
     directional = kind == _DIRECTIONAL or kind == _HEADLIGHT
     spot = kind == _SPOT
@@ -261,11 +301,17 @@ def _add_light(s, n, k, table):
         hx, hy, hz = lx + s[_VX + np.uint64(q)], ly + s[_VY + np.uint64(q)], lz + s[_VZ + np.uint64(q)]
         hl = np.sqrt(hx * hx + hy * hy + hz * hz)
         ndh = (nx * hx + ny * hy + nz * hz) / hl if hl > 0.0 else 0.0  # noqa: FURB136
-        highlight = power(max(ndh, 0.0), s[_SHINE + np.uint64(q)])
         lit = ndl > 0.0 and a > 0.0  # else nothing (a NaN from a point at the light included)
+        s[_SHADE + np.uint64(q)] = a if lit else 0.0  # noqa: FURB136
+        s[_NDL + np.uint64(q)] = ndl
+        s[_NDH + np.uint64(q)] = max(ndh, 0.0)
+    _highlights(s, n, whole)
+    for q in range(n):
+        a, ndl, highlight = s[_SHADE + np.uint64(q)], s[_NDL + np.uint64(q)], s[_POWER + np.uint64(q)]
         red = a * cr * (s[_BR + np.uint64(q)] * ndl + s[_SR + np.uint64(q)] * highlight)
         green = a * cg * (s[_BG + np.uint64(q)] * ndl + s[_SG + np.uint64(q)] * highlight)
         blue = a * cb * (s[_BB + np.uint64(q)] * ndl + s[_SB + np.uint64(q)] * highlight)
+        lit = a > 0.0
         s[_AR + np.uint64(q)] += red if lit else 0.0  # noqa: FURB136
         s[_AG + np.uint64(q)] += green if lit else 0.0  # noqa: FURB136
         s[_AB + np.uint64(q)] += blue if lit else 0.0  # noqa: FURB136
@@ -277,6 +323,7 @@ def _shade_chunk(s, n, color, j, lit, shadows):
     (None: no light has a shadow map, and none of the lookups is compiled)."""
     table, eye, perspective, view, encode_table = lit[0], lit[1], lit[2], lit[3], lit[14]
     _orient(s, n, eye, perspective, view)
+    whole = _whole_exponent(s, n)
     for k in range(table.shape[0]):
         if table[k, 0] == _AMBIENT:
             cr, cg, cb = table[k, 7], table[k, 8], table[k, 9]
@@ -291,7 +338,7 @@ def _shade_chunk(s, n, color, j, lit, shadows):
             _shadows(s, n, k, table, shadows)
         else:
             _unshadowed(s, n)
-        _add_light(s, n, k, table)
+        _add_light(s, n, k, table, whole)
     ju = np.uint64(j)
     for q in range(n):
         rgba = 255 << 24
