@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -234,12 +235,17 @@ def check_lights(name: str, value) -> tuple:
 
 
 def light_table(lights: tuple, view_direction: np.ndarray) -> np.ndarray:
-    """(L, TABLE_WIDTH) float64: one row per light for the kernels: its kind code, position
-    (3), unit direction towards the scene (3; a headlight's is ``view_direction``, the
-    camera's), linear colour times intensity (3), range (0: none) and the spot cone's
+    """(L, TABLE_WIDTH) float64, read-only: one row per light for the kernels: its kind code,
+    position (3), unit direction towards the scene (3; a headlight's is ``view_direction``,
+    the camera's), linear colour times intensity (3), range (0: none) and the spot cone's
     ``scale, offset`` (its factor is ``clamp(cos · scale + offset, 0, 1)²``, cos the angle's
     between the cone's axis and the direction to the point), its first shadow map (-1: none)
-    and their count."""
+    and their count. Kept for the next frames of the same lights and view."""
+    return _light_table(tuple(lights), tuple(float(v) for v in view_direction))
+
+
+@lru_cache(maxsize=32)
+def _light_table(lights: tuple, view_direction: tuple) -> np.ndarray:
     from rasterkit.colors import parse_color
     from rasterkit.material.colorspace import decode_srgb
 
@@ -259,6 +265,7 @@ def light_table(lights: tuple, view_direction: np.ndarray) -> np.ndarray:
         row[11] = 1.0 / max(1e-3, inner - outer)
         row[12] = -outer * row[11]
         row[13] = -1.0  # no shadow map (FrameLights.shadow_terms)
+    table.flags.writeable = False
     return table
 
 

@@ -288,15 +288,11 @@ def _wait_for_helper(worker, args):
 
 
 def frame_call(worker, args) -> bool:
-    """Whether a call of ``worker`` with ``args`` (those after the slot) is one a helper
-    compiles when its frame has shadow maps (``frame_only``): any call but the triangles'
-    band worker drawing a shadow map or the visible surface they are fitted to. Those come
-    first, and are of another variant than the frame's own call, which carries the lights
-    or the textures (a shadowed frame is lit per pixel): the helper compiles the frame's
-    variant, the longer one, while this process compiles the maps' itself."""
-    if getattr(worker, "py_func", worker).__name__ != "draw_bands":
-        return True
-    return args[-1] is not None or args[-4] is not None  # lights, textures
+    """Whether a helper of a frame with shadow maps (``frame_only``) compiles this call (``args``
+    after the slot): not the band worker's first calls, for the maps (another variant, which
+    this process compiles meanwhile), only the frame's own, lit per pixel (lights or textures)."""
+    return getattr(worker, "py_func", worker).__name__ != "draw_bands" or args[-1] is not None \
+        or args[-4] is not None
 
 
 def _compile_only(names: list[str], frame_only: bool = False):
@@ -326,32 +322,6 @@ def _zero_writable(values) -> None:
             value.fill(0)
 
 
-#: An OBJ with a statement of every kind the reader needs: vertices with and without
-#: colours, texture coordinates and normals, triangles with every corner form, negative
-#: indices, a quad, a line and a point, groups and a material. (Polygons are split by NumPy:
-#: :mod:`rasterkit.obj.split`.)
-SAMPLE_OBJ = """\
-o sample
-v 0 0 0 1 0 0
-v 1 0 0 0 1 0
-v 1 1 0 0 0 1
-v 0 1 0.2
-vt 0 0
-vt 1 0
-vt 1 1
-vn 0 0 1
-g faces
-usemtl red
-f 1/1/1 2/2/1 3/3/1
-f 1/1 3/2 4/3
-f 1//1 2//1 4//1
-f -4 -3 -1
-f 1 2 3 4
-l 1 2 3
-p 4
-"""
-
-
 def _helper_main(order: str) -> None:
     _run(json.loads(order))
 
@@ -359,8 +329,9 @@ def _helper_main(order: str) -> None:
 def _run(order: dict) -> None:
     """In the helper: do what ``order`` says."""
     if order.get("obj"):  # nothing waits for it: it yields the core to anything that does
-        _lower_priority()
-        _read_sample_obj()
+        from rasterkit.runtime.warm_obj import read_sample_obj
+
+        read_sample_obj()
         return
     from rasterkit import Light, RenderOptions, render, shapes
     from rasterkit.camera import Camera
@@ -384,26 +355,6 @@ def _run(order: dict) -> None:
 def _readonly(a: np.ndarray) -> np.ndarray:
     a.flags.writeable = False
     return a
-
-
-def _lower_priority() -> None:
-    try:
-        os.nice(19)
-    except (AttributeError, OSError):  # not on this platform, or not allowed
-        pass
-
-
-def _read_sample_obj() -> None:
-    """In the demo's helper: read :data:`SAMPLE_OBJ`, which compiles the reader's kernels."""
-    import tempfile
-
-    from rasterkit.obj import load_obj
-
-    with tempfile.TemporaryDirectory() as folder:
-        path = os.path.join(folder, "sample.obj")
-        with open(path, "w") as f:
-            f.write(SAMPLE_OBJ)
-        load_obj(path, textures=False)
 
 
 if __name__ == "__main__":
