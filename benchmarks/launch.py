@@ -15,10 +15,19 @@ __all__ = ["ROOT", "child_environment", "cold_runs", "launch", "rasterkit_comman
 ROOT = Path(__file__).resolve().parents[1]
 
 # Runs one command (argv as JSON) with stdout discarded and stderr to a file, and prints
-# {"seconds", "maxrss" (bytes), "exit"}; stdlib only so that its own peak stays small.
+# {"seconds", "maxrss" (bytes), "exit"}; stdlib only so that its own peak stays small. On Linux
+# the launcher adopts the command's orphans (a first run's helper may outlive the command) and
+# waits for them after the measurement, so that none still writes into the run's Numba cache
+# when the suite removes it, nor competes with the next run for the cores.
 _LAUNCHER = r"""
-import json, os, sys, time
+import ctypes, json, os, sys, time
 argv, err = json.loads(sys.argv[1]), sys.argv[2]
+adopts = False
+if sys.platform.startswith("linux"):
+    try:
+        adopts = ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0) == 0  # PR_SET_CHILD_SUBREAPER
+    except (OSError, AttributeError):
+        pass
 actions = [(os.POSIX_SPAWN_OPEN, 0, os.devnull, os.O_RDONLY, 0),
            (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
            (os.POSIX_SPAWN_OPEN, 2, err, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)]
@@ -26,6 +35,11 @@ begin = time.perf_counter()
 pid = os.posix_spawn(argv[0], argv, os.environ, file_actions=actions)
 _, status, usage = os.wait4(pid, 0)
 end = time.perf_counter()
+while adopts:
+    try:
+        os.waitpid(-1, 0)
+    except ChildProcessError:
+        break
 print(json.dumps({"seconds": end - begin, "maxrss": usage.ru_maxrss * 1024,
                   "user": usage.ru_utime, "exit": os.waitstatus_to_exitcode(status)}))
 """
