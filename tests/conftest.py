@@ -7,6 +7,7 @@ so no test file needs a path of its own. The fixtures here are the ones several 
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -27,3 +28,9 @@ def models_dir() -> Path:
     if not MODELS.is_dir():
         pytest.skip(f"{MODELS} is absent (the shared test models are not part of the repository)")
     return MODELS
+
+
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto``: one worker per core, at most 4 (each worker compiles the kernels its tests
+    need for itself unless another has cached them already; more workers mostly compile more)."""
+    return max(1, min(os.cpu_count() or 1, 4))
