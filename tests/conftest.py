@@ -34,3 +34,26 @@ def pytest_xdist_auto_num_workers(config):
     """``-n auto``: one worker per core, at most 4 (each worker compiles the kernels its tests
     need for itself unless another has cached them already; more workers mostly compile more)."""
     return max(1, min(os.cpu_count() or 1, 4))
+
+
+#: The test files that take longest on a first run (most of it compiling), collected first:
+#: the worker processes then finish at about the same time, instead of one running the last
+#: long file alone. The others keep their order.
+SLOW_FIRST = (
+    "tests/tools/test_benchmarks_smoke.py",
+    "tests/raster/test_lights.py",
+    "tests/runtime/test_warm.py",
+    "tests/cli/test_cli_lights.py",
+    "tests/api/test_api_hostile.py",
+    "tests/gltf/test_fuzz_gltf.py",
+    "tests/obj/test_obj_polygons.py",
+    "tests/raster/test_textured_frames.py",
+    "tests/tools/test_benchmarks_textures.py",
+    "tests/obj/test_obj_hostile.py",
+    "tests/cli/test_cli_hostile.py",
+)
+
+
+def pytest_collection_modifyitems(session, config, items):
+    rank = {path: k for k, path in enumerate(SLOW_FIRST)}
+    items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(rank)))
