@@ -19,7 +19,7 @@ from pathlib import Path
 import numba
 
 from . import (aa, batch, cli, contention, cv, fill, lighting, lines2d, loading, memory, render, report, scaling,
-               startup, svg, textures)
+               startup, svg, textures, viewer)
 from .first_models import MODES as FIRST_MODES
 from .peers import Peers
 from .settings import FULL, QUICK, TARGETS, TINY
@@ -29,9 +29,9 @@ from .settings import FULL, QUICK, TARGETS, TINY
 FAMILIES = {"render": render.run, "aa": aa.run, "cv": cv.run, "textures": textures.run, "lighting": lighting.run,
             "svg": svg.run, "fill": fill.run, "lines2d": lines2d.run, "loading": loading.run, "scaling": scaling.run,
             "memory": memory.run, "cli": cli.run, "startup": startup.run, "contention": contention.run, "batch": batch.run,
-            "threads": scaling.run_threads}
+            "threads": scaling.run_threads, "viewer": viewer.run}
 DEFAULT_FAMILIES = ("render", "aa", "cv", "textures", "lighting", "svg", "fill", "lines2d", "loading", "scaling",
-                    "memory", "cli", "startup", "contention", "batch")
+                    "memory", "cli", "startup", "contention", "batch", "viewer")
 """What a run measures unless ``--only`` says otherwise (``threads`` is part of ``scaling``)."""
 TARGET_FAMILIES = ("render", "aa", "fill", "threads", "textures", "lighting")
 

@@ -114,6 +114,8 @@ class Settings:
         demo model (``rasterkit.shapes.demo()``), any other name a shared OBJ.
     lighting_size : (width, height)
         Their image size.
+    viewer_model, viewer_size
+        The ``viewer`` family's model and picture size (:mod:`benchmarks.viewer`).
     """
 
     name: str
@@ -156,6 +158,8 @@ class Settings:
     lit_cold_runs: int = 1
     lighting_models: tuple = ("demo", "stanford-bunny")
     lighting_size: tuple = TARGET_SIZE
+    viewer_model: str = "sportsCar"
+    viewer_size: tuple = (960, 720)
 
 
 FULL = Settings(
@@ -215,7 +219,7 @@ TINY = Settings(
     aa_model="suzanne", aa_size=(64, 48), cv_model="suzanne", cv_size=(64, 48),
     svg_models=("suzanne",), svg_size=(64, 48), batch_size=(64, 48), batch_models=("suzanne",),
     texture_models=("spot", "fuze"), texture_size=(64, 48), textured_cold_runs=0, lit_cold_runs=0,
-    lighting_models=("demo",), lighting_size=(64, 48),
+    lighting_models=("demo",), lighting_size=(64, 48), viewer_model="suzanne", viewer_size=(64, 48),
 )
 
 

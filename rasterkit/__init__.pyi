@@ -21,6 +21,7 @@ from rasterkit.raster.render import render as render
 from rasterkit.runtime.threads import set_threads as set_threads
 from rasterkit.scene import Scene as Scene
 from rasterkit.svg import render_svg as render_svg
+from rasterkit.viewer.widget import Viewer as Viewer
 
 __version__: str
 __all__: list[str]

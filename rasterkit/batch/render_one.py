@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import NamedTuple
 
 from rasterkit.batch import report as _report
 from rasterkit.batch.outputs import check_distinct, check_writable, named_outputs
@@ -19,7 +20,7 @@ from rasterkit.batch.job_memory import check_job
 from rasterkit.batch.report import UsageError
 from rasterkit.options import SVG_MODES, RenderOptions
 
-__all__ = ["render_model"]
+__all__ = ["Drawn", "load_drawn", "render_model"]
 
 
 def _turntable(mesh, cloud, camera, center, frames: int, options, turn_lights: bool = False):
@@ -44,6 +45,37 @@ def _turntable(mesh, cloud, camera, center, frames: int, options, turn_lights: b
             yield render(spun, camera, options=options, **points).color
 
 
+class Drawn(NamedTuple):
+    """A model as it is drawn (:func:`load_drawn`)."""
+
+    model: object  #: what the file holds: a Mesh, a Scene or a PointCloud
+    mesh: object  #: the Mesh drawn (None: a point cloud alone)
+    cloud: object  #: the points drawn with it (None: none)
+    options: RenderOptions  #: the render's, with a glTF file's lights where it names none
+    framed: object  #: what the view frames (a glTF scene itself: it may bring its own camera)
+
+
+def load_drawn(source: Path | None, options: RenderOptions, textures: bool, say=None) -> Drawn:
+    """The model ``source`` (None: the built-in demo) read as a render draws it, ``textures``
+    read or not; ``say(line)`` prints the loader's warnings. Raises UsageError when nothing
+    of it is left to draw."""
+    from rasterkit.formats import as_drawn, load
+    from rasterkit.scene import Scene
+    from rasterkit.shapes import demo
+
+    model = demo() if source is None else load(source, textures=textures)
+    mesh, cloud = as_drawn(model)  # mesh None: a point cloud alone; cloud with a mesh: a glTF scene's points
+    if isinstance(model, Scene) and model.lights and not options.lights:  # a glTF file's lights, unless --light
+        options = options.replace(lights=tuple(model.lights))
+    if mesh is not None and cloud is None and len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:
+        raise UsageError(f"{'; '.join(map(_report.one_line, mesh.warnings)) or source}: nothing left to draw")
+    if say is not None:
+        for warning in (cloud if mesh is None else mesh).warnings:
+            say(f"rasterkit: warning: {_report.one_line(warning)}")
+    framed = cloud if mesh is None else model if isinstance(model, Scene) else mesh
+    return Drawn(model, mesh, cloud, options, framed)
+
+
 def render_model(source: Path | None, output: Path, task, say=None) -> int:
     """Render the model ``source`` (None: the built-in demo) into ``output`` as ``task`` (a
     :class:`rasterkit.batch.task.Task`) says; returns its number of triangles. ``say(line)`` prints the loader's warnings (one
@@ -52,11 +84,8 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
     from rasterkit.runtime import warm as _warm
     from rasterkit.image.atomic import all_or_none
     from rasterkit.image.files import save_animation
-    from rasterkit.formats import as_drawn, load
     from rasterkit.raster.modes import mode
-    from rasterkit.scene import Scene
     from rasterkit.raster.render import render
-    from rasterkit.shapes import demo
 
     svg = output.suffix.lower() == ".svg"
     _check_svg_options(task, svg)
@@ -70,18 +99,9 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
     elif options.mode == "hidden":  # the SVG's depth pass: the triangles' band worker, with face ids
         _warm.start(RenderOptions(mode="hidden", ids=True), depth=False, loading=source is not None)
     # textures are read only where they are drawn (shaded faces, into an image)
-    textures = options.textures and not svg and mode(options.mode).shaded
-    model = demo() if source is None else load(source, textures=textures)
-    mesh, cloud = as_drawn(model)  # mesh None: a point cloud alone; cloud with a mesh: a glTF scene's points
-    if isinstance(model, Scene) and model.lights and not options.lights:  # a glTF file's lights, unless --light
-        options = options.replace(lights=tuple(model.lights))
-    if mesh is not None and cloud is None and len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:
-        raise UsageError(f"{'; '.join(map(_report.one_line, mesh.warnings)) or source}: nothing left to draw")
-    if say is not None:
-        for warning in (cloud if mesh is None else mesh).warnings:
-            say(f"rasterkit: warning: {_report.one_line(warning)}")
-    # a glTF scene is framed itself: it may bring its own camera (--camera gltf)
-    camera, center = task.view.frame(cloud if mesh is None else model if isinstance(model, Scene) else mesh)
+    drawn = load_drawn(source, options, options.textures and not svg and mode(options.mode).shaded, say)
+    mesh, cloud, options = drawn.mesh, drawn.cloud, drawn.options
+    camera, center = task.view.frame(drawn.framed)
     if cloud is not None and svg:
         if mesh is None:
             raise UsageError(f"{source}: a point cloud is drawn into an image, not an SVG drawing")
