@@ -5,7 +5,9 @@ command printed at the end draws the last frame again, pixel for pixel."""
 from __future__ import annotations
 
 import io
+import os
 import shlex
+import shutil
 
 import numpy as np
 import pytest
@@ -36,7 +38,7 @@ def test_the_page_shows_frames_follows_the_mouse_and_hands_back_its_view(tmp_pat
 
     process, url = browser.start_view(*_model(), "--mode", "solid", "--size", f"{SIZE[0]}x{SIZE[1]}")
     try:
-        with browser.chromium() as driver:
+        with browser.chromium(900, 620) as driver:
             driver.get(url)
             first = browser.wait_frame(driver, 0)
             before = browser.shown_picture(driver)
@@ -49,13 +51,15 @@ def test_the_page_shows_frames_follows_the_mouse_and_hands_back_its_view(tmp_pat
             assert turned["camera"]["elevation"] == pytest.approx(first["camera"]["elevation"])
             after = browser.shown_picture(driver)
             assert not np.array_equal(_pixels(after), _pixels(before))
+            driver.save_screenshot(str(tmp_path / "viewer.png"))
+            if os.environ.get("RASTERKIT_VIEWER_SCREENSHOT"):  # the README's picture (docs/viewer.md)
+                shutil.copyfile(tmp_path / "viewer.png", os.environ["RASTERKIT_VIEWER_SCREENSHOT"])
             Select(driver.find_element(By.NAME, "mode")).select_by_value("hidden")
             hidden = browser.wait_frame(driver, turned["number"])
             assert "--mode" in hidden["camera"]["command"]
             assert hidden["camera"]["command"][hidden["camera"]["command"].index("--mode") + 1] == "hidden"
             last = browser.shown_picture(driver)
             assert not np.array_equal(_pixels(last), _pixels(after))
-            driver.save_screenshot(str(tmp_path / "viewer.png"))
     finally:
         command = browser.stop_view(process)
     words = shlex.split(command)
