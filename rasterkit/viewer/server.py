@@ -74,6 +74,9 @@ class ViewerServer(ThreadingHTTPServer):
 class _Handler(BaseHTTPRequestHandler):
     server: ViewerServer
     protocol_version = "HTTP/1.1"
+    # headers and body go out as two writes: without TCP_NODELAY the body would wait for the
+    # page's delayed acknowledgement of the headers (about 40 ms on Linux) on every frame
+    disable_nagle_algorithm = True
 
     def log_message(self, format, *args) -> None:  # quiet: the terminal shows the flags at the end
         pass

@@ -23,9 +23,11 @@ EVENTS = ("drag", "wheel", "reframe", "release", "set")
 #: The largest move one event may carry, pixels or notches (a bigger one is refused).
 MAX_MOVE = 1e5
 #: While the user drags, a frame that takes longer than this (seconds) is drawn smaller next
-#: time, by as much as it needs to fit, down to :data:`MIN_PREVIEW_SCALE` of each side.
+#: time: at the largest of :data:`PREVIEW_SCALES` (of each side) that fits. A few sizes, not
+#: any: the framebuffers' memory is recycled by size (:mod:`rasterkit.runtime.scratch`), so
+#: a few sizes keep the memory flat.
 PREVIEW_SECONDS = 0.035
-MIN_PREVIEW_SCALE = 0.25
+PREVIEW_SCALES = (1.0, 0.8, 0.64, 0.5, 0.4, 0.32, 0.25)
 
 
 def choices() -> dict:
@@ -168,7 +170,7 @@ class ViewerSession:
         seconds = time.perf_counter() - begin
         if not final:
             fit = scale * math.sqrt(PREVIEW_SECONDS / max(seconds, 1e-6))
-            self.preview_scale = max(MIN_PREVIEW_SCALE, min(1.0, fit))
+            self.preview_scale = max([k for k in PREVIEW_SCALES if k <= fit], default=PREVIEW_SCALES[-1])
         data, mime = encode(picture(fb, self.shown), final)
         return Frame(number, data, mime, size[0], size[1], final, self.camera_record(), seconds)
 

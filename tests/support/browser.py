@@ -100,7 +100,7 @@ def shown_picture(driver) -> bytes:
     """The bytes of the picture the page shows now (PNG for a final frame)."""
     encoded = driver.execute_async_script("""
         const done = arguments[arguments.length - 1];
-        fetch(document.getElementById('frame').src).then(r => r.arrayBuffer()).then(buffer => {
+        fetch(window.rasterkitViewer.url).then(r => r.arrayBuffer()).then(buffer => {
           let text = '';
           for (const byte of new Uint8Array(buffer)) text += String.fromCharCode(byte);
           done(btoa(text));

@@ -95,7 +95,7 @@ def test_a_bad_event_is_one_line_and_changes_nothing(event, words):
     assert (session.orbit, session.options, session.shown) == before
 
 
-def test_a_slow_preview_is_drawn_smaller_next_time_and_never_below_a_quarter(monkeypatch):
+def test_a_slow_preview_is_drawn_smaller_next_time_at_one_of_a_few_sizes(monkeypatch):
     from rasterkit.viewer import session as module
 
     session = _session()
@@ -105,3 +105,7 @@ def test_a_slow_preview_is_drawn_smaller_next_time_and_never_below_a_quarter(mon
     second = session.render(final=False)
     assert (second.width, second.height) == (24, 18)
     assert session.render(final=True).width == SIZE[0]
+    monkeypatch.setattr(module, "PREVIEW_SECONDS", 0.3)  # roomier: the scale grows back, by steps
+    for _ in range(6):
+        session.render(final=False)
+        assert session.preview_scale in module.PREVIEW_SCALES  # a few sizes: memory recycled by size

@@ -2,8 +2,8 @@
 // frame as soon as there is one), events by POST (rasterkit/viewer/server.py).
 import {attach, bar, sender} from './controls.js';
 
-const image = document.getElementById('frame');
-const stats = {frames: 0, latencies: [], number: 0, camera: null, final: false};
+const canvas = document.getElementById('frame');
+const stats = {frames: 0, latencies: [], arrivals: [], number: 0, camera: null, final: false};
 window.rasterkitViewer = stats;  // read by the browser test
 
 async function post(event) {
@@ -24,17 +24,17 @@ async function frames() {
       return;
     }
     if (answer.status !== 200) continue;  // no new frame yet
+    const arrived = performance.now();
     const blob = await answer.blob();
-    const url = URL.createObjectURL(blob);
-    const loaded = new Image();
-    loaded.src = url;
-    await loaded.decode();
-    const old = image.src;
-    image.src = url;
-    if (old) URL.revokeObjectURL(old);
+    const bitmap = await createImageBitmap(blob);  // decoded off the page's main thread
+    canvas.getContext('2d').drawImage(bitmap, 0, 0, canvas.width, canvas.height);
+    bitmap.close();
+    if (stats.url) URL.revokeObjectURL(stats.url);
+    stats.url = URL.createObjectURL(blob);  // the picture's bytes, for the browser test
     const seq = Number(answer.headers.get('X-Event-Seq'));
     if (sent.has(seq)) {
       stats.latencies.push(performance.now() - sent.get(seq));
+      stats.arrivals.push(arrived - sent.get(seq));
       for (const key of sent.keys()) if (key <= seq) sent.delete(key);
     }
     stats.number = Number(answer.headers.get('X-Frame-Number'));
@@ -48,8 +48,8 @@ async function frames() {
 
 const state = await (await fetch('state')).json();
 document.getElementById('model').textContent = state.model;
-image.width = state.size[0];
-image.height = state.size[1];
-attach(image, send, () => state.size[1] / (image.clientHeight || state.size[1]));
+canvas.width = state.size[0];
+canvas.height = state.size[1];
+attach(canvas, send, () => state.size[1] / (canvas.clientHeight || state.size[1]));
 bar(document.getElementById('bar'), state.choices, state.current, send);
 frames();
