@@ -18,6 +18,7 @@ from rasterkit.options import RenderOptions as RenderOptions
 from rasterkit.raster.framebuffer import Framebuffer as Framebuffer
 from rasterkit.raster.lights import Light as Light
 from rasterkit.raster.render import render as render
+from rasterkit.viewer.turntable import turntable as turntable
 from rasterkit.runtime.threads import set_threads as set_threads
 from rasterkit.scene import Scene as Scene
 from rasterkit.svg import render_svg as render_svg

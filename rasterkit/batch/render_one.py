@@ -10,7 +10,6 @@ NumPy and Numba load when a model is rendered.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import NamedTuple
 
@@ -21,28 +20,6 @@ from rasterkit.batch.report import UsageError
 from rasterkit.options import SVG_MODES, RenderOptions
 
 __all__ = ["Drawn", "load_drawn", "render_model"]
-
-
-def _turntable(mesh, cloud, camera, center, frames: int, options, turn_lights: bool = False):
-    """The frames of a turntable, rendered one at a time as they are asked for (a point
-    ``cloud``'s points spun with the mesh; ``turn_lights``: the lights too)."""
-    from rasterkit.raster.lights import moved
-    from rasterkit.raster.render import render
-    from rasterkit.scene import Scene
-    from rasterkit.transform import apply_points, rotate_axis
-
-    lights = options.lights
-    for k in range(frames):
-        spin = rotate_axis(2 * math.pi * k / frames, (0, 1, 0), center)
-        if turn_lights and lights:
-            options = options.replace(lights=tuple(moved(light, spin) for light in lights))
-        if cloud is None:
-            yield render(Scene(camera).add(mesh, spin), options=options).color
-        else:
-            points = cloud.render_arguments()
-            points["points"] = apply_points(spin, points["points"])
-            spun = mesh if not len(mesh.faces) and not len(mesh.lines) else Scene(camera).add(mesh, spin)
-            yield render(spun, camera, options=options, **points).color
 
 
 class Drawn(NamedTuple):
@@ -86,6 +63,7 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
     from rasterkit.image.files import save_animation
     from rasterkit.raster.modes import mode
     from rasterkit.raster.render import render
+    from rasterkit.raster.turntable import turntable_frames
 
     svg = output.suffix.lower() == ".svg"
     _check_svg_options(task, svg)
@@ -118,7 +96,8 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
         return len(mesh.faces)
     check_job(mesh, camera, task, output)  # the whole job's memory, before any of it is allocated
     if task.turntable:  # streamed: one frame in memory at a time
-        save_animation(_turntable(mesh, cloud, camera, center, task.turntable, options, task.turn_lights), output)
+        save_animation(turntable_frames(mesh, cloud, camera, center, task.turntable, options, task.turn_lights),
+                       output)
         return len(mesh.faces)
     fb = render(mesh, camera, options=options, **({} if cloud is None else cloud.render_arguments()))
     with all_or_none():

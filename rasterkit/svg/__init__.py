@@ -26,7 +26,7 @@ from rasterkit.scene import Scene
 from rasterkit.raster.sides import face_sides
 from rasterkit.raster.vertex import transform_points
 
-__all__ = ["HIDDEN", "SVG_MODES", "Drawing", "render_svg", "save_svg", "svg_drawing"]
+__all__ = ["HIDDEN", "SVG_MODES", "Drawing", "SvgText", "render_svg", "save_svg", "svg_drawing"]
 
 #: Decimals of the coordinates: 1/100 pixel, below any visible difference at any zoom a
 #: plotter or a page would use, and 10x finer than the visibility's tolerance needs.
@@ -125,6 +125,13 @@ def svg_drawing(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden
     return Drawing(text, len(xy), len(lines), before, after, lines)
 
 
+class SvgText(str):
+    """The text of an SVG document (a ``str``), which a notebook shows as the drawing."""
+
+    def _repr_svg_(self) -> str:
+        return str(self)
+
+
 def render_svg(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden", edges: str = "all",
                crease_angle: float = 30.0, hidden: str | None = None, line_color="black",
                stroke_width: float = 1.0, *, stroke=None) -> str:
@@ -160,7 +167,7 @@ def render_svg(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden"
     Returns
     -------
     str
-        The SVG: top-level groups are Inkscape layers (``visible``, and ``hidden`` with
+        (an :class:`SvgText`, which a notebook shows as the drawing) The SVG: top-level groups are Inkscape layers (``visible``, and ``hidden`` with
         ``hidden="dashed"``), holding one group per object, holding one ``<path>`` per
         polyline with the class of its edges (``edge``, ``silhouette``, ``boundary``,
         ``crease``, ``material``). Coordinates in pixels with two decimals at most.
@@ -169,7 +176,7 @@ def render_svg(mesh_or_scene, camera: Camera | None = None, mode: str = "hidden"
         if line_color != "black":
             raise TypeError("give line_color or stroke (the same colour), not both")
         line_color = stroke
-    return svg_drawing(mesh_or_scene, camera, mode, edges, crease_angle, hidden, line_color, stroke_width).text
+    return SvgText(svg_drawing(mesh_or_scene, camera, mode, edges, crease_angle, hidden, line_color, stroke_width).text)
 
 
 def svg_bytes(n_vertices, n_faces, n_edges, width, height, mode) -> int:

@@ -4,7 +4,7 @@ Both draw with rasterkit on the Python side and show the frames in a page that s
 mouse's events back: :mod:`.session` (the state: model, view, options; events in, frames out),
 :mod:`.orbit` (the camera's moves), :mod:`.loop` (the newest state drawn on a thread, never
 a queue), :mod:`.pictures` (maps as pictures, PNG or JPEG bytes), :mod:`.server` (the local
-page), :mod:`.start` (a viewer's first view) and :mod:`.widget` (the notebook widget, with
+page), :mod:`.start` (a viewer's first view), :mod:`.turntable` (``rasterkit.turntable``: an animation a notebook shows) and :mod:`.widget` (the notebook widget, with
 the optional ``anywidget``: imported when :class:`Viewer` is first used).
 """
 
