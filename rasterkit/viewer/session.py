@@ -58,9 +58,9 @@ class ViewerSession:
     size is the viewer's)."""
 
     def __init__(self, drawn, view):
+        camera, _ = view.frame(drawn.framed)  # (the model itself: it may bring its own camera)
         self.drawn = drawn._replace(framed=_Framed(drawn.framed))
         self.options: RenderOptions = drawn.options
-        camera, _ = view.frame(self.drawn.framed)
         radius = self.drawn.framed.bounding_sphere()[1]
         self.orbit = Orbit.around(camera.eye, camera.target, radius)
         # from here on the orbit places the camera (a model's own or an OpenCV camera gives

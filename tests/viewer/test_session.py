@@ -109,3 +109,23 @@ def test_a_slow_preview_is_drawn_smaller_next_time_at_one_of_a_few_sizes(monkeyp
     for _ in range(6):
         session.render(final=False)
         assert session.preview_scale in module.PREVIEW_SCALES  # a few sizes: memory recycled by size
+
+
+def test_a_models_own_camera_gives_the_first_view_and_the_orbit_takes_over(tmp_path):
+    import math
+
+    from support.gltffiles import GltfBuilder
+
+    b = GltfBuilder()
+    triangle = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+    mesh = b.mesh({"attributes": {"POSITION": b.accessor(triangle)}})
+    b.json["cameras"] = [{"type": "perspective", "perspective": {"yfov": math.radians(50), "znear": 0.1}}]
+    b.scene(b.node(mesh=mesh), b.node(camera=0, translation=[0.3, 0.2, 4.0]))
+    path = b.write_glb(tmp_path / "cam.glb")
+    view = rk.View(size=SIZE, camera="gltf")
+    session = ViewerSession(load_drawn(path, rk.RenderOptions(mode="solid"), False), view)
+    own = view.camera_for(rk.load(path))
+    np.testing.assert_allclose(session.camera.eye, own.eye, atol=1e-12)
+    assert session.camera.fov_y == pytest.approx(50) and session.view.camera is None
+    session.handle({"kind": "drag", "dx": 10, "dy": 0})
+    assert not np.allclose(session.camera.eye, own.eye)  # the file's camera no longer decides
