@@ -19,7 +19,7 @@ from rasterkit.batch.job_memory import check_job
 from rasterkit.batch.report import UsageError
 from rasterkit.options import SVG_MODES, RenderOptions
 
-__all__ = ["Drawn", "load_drawn", "render_model"]
+__all__ = ["Drawn", "drawn_model", "load_drawn", "render_model"]
 
 
 class Drawn(NamedTuple):
@@ -36,19 +36,27 @@ def load_drawn(source: Path | None, options: RenderOptions, textures: bool, say=
     """The model ``source`` (None: the built-in demo) read as a render draws it, ``textures``
     read or not; ``say(line)`` prints the loader's warnings. Raises UsageError when nothing
     of it is left to draw."""
-    from rasterkit.formats import as_drawn, load
-    from rasterkit.scene import Scene
+    from rasterkit.formats import load
     from rasterkit.shapes import demo
 
-    model = demo() if source is None else load(source, textures=textures)
-    mesh, cloud = as_drawn(model)  # mesh None: a point cloud alone; cloud with a mesh: a glTF scene's points
-    if isinstance(model, Scene) and model.lights and not options.lights:  # a glTF file's lights, unless --light
-        options = options.replace(lights=tuple(model.lights))
+    drawn = drawn_model(demo() if source is None else load(source, textures=textures), options)
+    mesh, cloud = drawn.mesh, drawn.cloud
     if mesh is not None and cloud is None and len(mesh.faces) == 0 and len(mesh.edges) == 0 and len(mesh.lines) == 0:
         raise UsageError(f"{'; '.join(map(_report.one_line, mesh.warnings)) or source}: nothing left to draw")
     if say is not None:
         for warning in (cloud if mesh is None else mesh).warnings:
             say(f"rasterkit: warning: {_report.one_line(warning)}")
+    return drawn
+
+
+def drawn_model(model, options: RenderOptions) -> Drawn:
+    """``model`` (a Mesh, Scene or PointCloud) as a render draws it with ``options``."""
+    from rasterkit.formats import as_drawn
+    from rasterkit.scene import Scene
+
+    mesh, cloud = as_drawn(model)  # mesh None: a point cloud alone; cloud with a mesh: a glTF scene's points
+    if isinstance(model, Scene) and model.lights and not options.lights:  # a glTF file's lights, unless --light
+        options = options.replace(lights=tuple(model.lights))
     framed = cloud if mesh is None else model if isinstance(model, Scene) else mesh
     return Drawn(model, mesh, cloud, options, framed)
 

@@ -122,7 +122,7 @@ class ViewerSession:
         if not isinstance(event, dict) or event.get("kind") not in EVENTS:
             raise ValueError(f"not a viewer event: kind must be one of {', '.join(EVENTS)}")
         kind = event["kind"]
-        width, height = self.base.size
+        height = self.base.size[1]
         if kind == "drag":
             dx, dy = _number(event, "dx"), _number(event, "dy")
             if event.get("pan"):

@@ -9,19 +9,13 @@ def drawn_of(model, options=None):
     """The :class:`rasterkit.batch.render_one.Drawn` of a Mesh, Scene or PointCloud drawn
     with ``options`` (None: ``RenderOptions(mode="solid")``; a Scene's lights where the
     options name none)."""
-    from rasterkit.batch.render_one import Drawn
-    from rasterkit.formats import as_drawn
+    from rasterkit.batch.render_one import drawn_model
     from rasterkit.options import RenderOptions
-    from rasterkit.scene import Scene
 
     options = RenderOptions(mode="solid") if options is None else options
     if not isinstance(options, RenderOptions):
         raise TypeError(f"options must be a RenderOptions, got {type(options).__name__}")
-    mesh, cloud = as_drawn(model)
-    if isinstance(model, Scene) and model.lights and not options.lights:
-        options = options.replace(lights=tuple(model.lights))
-    framed = cloud if mesh is None else model if isinstance(model, Scene) else mesh
-    return Drawn(model, mesh, cloud, options, framed)
+    return drawn_model(model, options)
 
 
 def view_of(camera, size):
