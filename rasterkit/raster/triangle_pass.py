@@ -318,7 +318,8 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
     # Flat colours without ids or textures: the visibility buffer carries the colour itself.
     resolve = SHADE_TAGGED if mode == SHADE_FLAT and not ids and textures is None else mode
     colors = vertex_colors if vertex_colors is not None else np.zeros((0, 3), np.float32)
-    shading = Shading(resolve, m, fan_face, packed, colors, faces, bary, faces if color_index is None else color_index)
+    # every row table read-only, as faces are: one compiled band worker whoever made them
+    shading = Shading(resolve, m, fan_face, packed, colors, faces, bary, faces if color_index is None else readonly(color_index))
     stats = dict(
         faces=m,
         drawn=int(counts[STATUS_DRAWN]),
