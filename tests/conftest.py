@@ -2,7 +2,7 @@
 
 The helpers of ``tests/support`` (hostile children, slow references, the render corpus, the
 fuzzer) import as ``support.<module>``: this file puts ``tests/`` itself on ``sys.path``, once,
-so no test file needs a path of its own. The fixtures here are the ones several folders use.
+so no test file needs a path of its own, and the checkout before it. The fixtures here are the ones several folders use.
 """
 
 from __future__ import annotations
@@ -14,8 +14,12 @@ from pathlib import Path
 import pytest
 
 TESTS = Path(__file__).resolve().parent
-if str(TESTS) not in sys.path:
-    sys.path.insert(0, str(TESTS))
+# The checkout's rasterkit, ahead of an installed copy (``pip install .``): the one the command
+# line tests run too (their children get the checkout on PYTHONPATH), so both load the kernels
+# one of them compiled into the same Numba cache instead of each compiling its own.
+for path in (TESTS.parent, TESTS):
+    if str(path) not in sys.path:
+        sys.path.insert(0, str(path))
 
 from support.paths import MODELS  # noqa: E402
 
