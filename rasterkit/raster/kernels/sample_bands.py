@@ -188,7 +188,7 @@ def _note_boundaries(items, start, end, n_faces, records, faces, corners, neighb
 
 
 @kernel
-def _unseen_rgb(f, i, j, records, shading, textures, mapped):
+def _unseen_rgb(f, i, j, background, records, shading, textures, mapped):
     """Face ``f``'s packed colour in pixel ``(i, j)`` that no sample saw (a corner or a sliver
     between the sample points): its flat colour, or its smooth or textured colour at its
     corner in the pixel (else at the pixel's centre)."""
@@ -201,13 +201,31 @@ def _unseen_rgb(f, i, j, records, shading, textures, mapped):
         x, y = np.int64(tri_xy[f, 2 * k]), np.int64(tri_xy[f, 2 * k + 1])
         if (x >> 8) == i and (y >> 8) == j:
             cx, cy = x, y
-    if mapped is not None:
-        return mapped_rgba(mode, f, cx / 256.0, cy / 256.0, packed, vertex_colors, corners, bary,
-                           texture_fields(mapped))
-    if textures is not None:
-        return pixel_rgba(mode, f, cx / 256.0, cy / 256.0, packed, vertex_colors, corners, bary,
-                          texture_fields(textures))
-    return smooth_rgba(f, cx / 256.0, cy / 256.0, vertex_colors, corners, bary)
+    if textures is None:
+        return smooth_rgba(f, cx / 256.0, cy / 256.0, vertex_colors, corners, bary)
+    return _textured_point(f, cx / 256.0, cy / 256.0, background, shading, textures, mapped)
+
+
+@kernel(inline="always")
+def _textured_point(f, x, y, background, shading, textures, mapped):
+    """The packed colour of face ``f`` of a textured frame at raster point ``(x, y)``, worked
+    out by :func:`_add_textured_row` on a band of one pixel (its sample point placed at ``(x,
+    y)``: exact, the offsets are multiples of 1/256): the band rows' own compiled kernel, not
+    a second copy of the texture and lighting code (it took 13 s to compile). The scratch
+    arrays are made and sliced as :func:`draw_sample_bands` makes its bands, so that the call
+    has the band rows' argument types and compiles nothing more."""
+    lid = np.full((1, 1, 1), f, np.int32)
+    depth = np.full((1, 1), np.inf, np.float32)
+    sums = np.empty((1, 1, 1, 3), np.uint16)
+    for c in range(3):  # the background: the row adds the colour minus the background
+        sums[0, 0, 0, c] = (background >> (8 * c)) & 0xFF
+    marks = np.zeros((1, 1, 1), np.int32)
+    band_sums = sums[0, 0:]
+    zero = np.int64(0)
+    _add_textured_row(lid[0, 0:], depth[0:1], zero, zero, zero, zero, x - 0.5, y - 0.5, shading, background,
+                      band_sums, marks.shape[0] < 0, marks[0, 0:], marks[0, 0:], textures, mapped)
+    return np.uint32(255 << 24) | np.uint32(band_sums[0, 0, 0]) | (np.uint32(band_sums[0, 0, 1]) << 8) | \
+        (np.uint32(band_sums[0, 0, 2]) << 16)
 
 
 @kernel
@@ -220,7 +238,7 @@ def _exact_pixel(color, sums, ru, i, y, f, hits, n, background, records, shading
     tri_xy = records[0]
     area = pixel_area(np.int64(tri_xy[f, 0]), np.int64(tri_xy[f, 1]), np.int64(tri_xy[f, 2]), np.int64(tri_xy[f, 3]),
                       np.int64(tri_xy[f, 4]), np.int64(tri_xy[f, 5]), i, y)
-    rgb = _unseen_rgb(f, i, y, records, shading, textures, mapped) if hits == 0 else np.uint32(0)
+    rgb = _unseen_rgb(f, i, y, background, records, shading, textures, mapped) if hits == 0 else np.uint32(0)
     rgba = color.shape[2] == 4
     alpha = np.uint8(255.0 * area + 0.5)
     yu, iu = np.uint64(y), np.uint64(i)
