@@ -296,6 +296,26 @@ def test_phong_frames_are_the_same_at_any_thread_count_and_average_their_samples
     assert not np.array_equal(single, averaged)
 
 
+def test_the_edge_pixels_of_a_lit_multi_sample_render_are_the_lit_colour_times_their_coverage():
+    # on black, a pixel a face covers in part is its lit colour times its share of the pixel, the
+    # same share in every channel; a pixel no sample saw (an edge's sliver or corner) too, not
+    # the face's unlit colour (a grey fringe under a coloured light)
+    vertices = np.array([[-1.0, -0.9, 0.0], [1.1, -0.7, 0.0], [-0.2, 1.0, 0.0]])
+    mesh = rk.Mesh(vertices, np.array([[0, 1, 2]]))
+    camera = rk.Camera.look_at((0, 0, 3), (0, 0, 0), width=40, height=40, fov_y=50)
+    lights = [rk.Light.directional((0.3, 0.2, -1), color=(255, 120, 40))]
+    options = rk.RenderOptions(specular=0.0)  # no highlight: one lit colour across the face
+    lit = rk.render(mesh, camera, "solid", shading="phong", lights=lights, background="black",
+                    options=options).color[20, 20].astype(float)
+    assert lit[0] > 2 * lit[1] > 4 * lit[2] > 0
+    averaged = rk.render(mesh, camera, "solid", shading="phong", lights=lights, samples=4, background="black",
+                         options=options).color.astype(float)
+    partial = (averaged[..., 0] > 0) & (averaged[..., 0] < lit[0] - 1)
+    assert partial.sum() > 50
+    share = averaged[..., 0] / lit[0]
+    assert np.abs(averaged - share[..., None] * lit)[partial].max() <= 1.0
+
+
 @pytest.mark.parametrize("shading", ["flat", "phong"])
 def test_the_untextured_resolve_agrees_with_the_textured_one_on_a_white_texture(shading):
     # an untextured frame lit per pixel has a resolve of its own (rasterkit.raster.kernels.phong_rows,

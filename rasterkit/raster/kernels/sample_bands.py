@@ -190,10 +190,11 @@ def _note_boundaries(items, start, end, n_faces, records, faces, corners, neighb
 @kernel
 def _unseen_rgb(f, i, j, background, records, shading, textures, mapped):
     """Face ``f``'s packed colour in pixel ``(i, j)`` that no sample saw (a corner or a sliver
-    between the sample points): its flat colour, or its smooth or textured colour at its
-    corner in the pixel (else at the pixel's centre)."""
+    between the sample points): its flat colour, or its smooth, textured or lit-per-pixel
+    colour at its corner in the pixel (else at the pixel's centre)."""
     mode, _, _, packed, vertex_colors, _, bary, corners = shading
-    if mode != SHADE_SMOOTH and (textures is None or textures.face_texture[f] < 0):
+    per_pixel = mapped is not None and mapped.lights.shape[0] > 0 and mapped.phong  # every face lit per pixel
+    if mode != SHADE_SMOOTH and not per_pixel and (textures is None or textures.face_texture[f] < 0):
         return packed[np.uint64(f)]
     tri_xy = records[0]
     cx, cy = (i << 8) + 128, (j << 8) + 128
