@@ -72,13 +72,17 @@ def run(settings, results, peers) -> None:
             time.sleep(1.0)
             figures = browser.stats(driver)
             latencies = sorted(figures["latencies"])
+            # each group of drags ends in the final frame drawn after the last release: waited
+            # for by a number from before the group (read after it, the frame may be shown already)
+            mark = browser.stats(driver)["number"]
             for _ in range(2):  # the allocator's and the page's own warm-up, before the count
                 browser.drag(driver, 100, 10, steps=100)
-            browser.wait_frame(driver, browser.stats(driver)["number"], final=False, timeout=60)
+            browser.wait_frame(driver, mark, timeout=60)
             before = _rss(process.pid)
+            mark = browser.stats(driver)["number"]
             for _ in range(MEMORY_EVENTS // 100):
                 browser.drag(driver, 100, 10, steps=100)
-            browser.wait_frame(driver, browser.stats(driver)["number"], final=False, timeout=60)
+            browser.wait_frame(driver, mark, timeout=60)
             after = _rss(process.pid)
     finally:
         browser.stop_view(process)
