@@ -310,6 +310,13 @@ def _stop_helper() -> None:
         warm.stop()
 
 
+def _finish_helper() -> None:
+    """Wait for the demo's compiling helper (:func:`rasterkit.runtime.warm.finish`), if there is one."""
+    warm = sys.modules.get("rasterkit.runtime.warm")
+    if warm is not None:
+        warm.finish()
+
+
 def _quiet_stdout() -> None:
     """Point stdout at /dev/null, so that Python's last flush of it finds no closed pipe."""
     try:
@@ -331,10 +338,13 @@ def main(argv: list[str] | None = None) -> int:
                     from rasterkit.cli import view
 
                     return view.run(args, argv)
-                return {"render": _render, "info": _info_command, "explain": _explain}[args.command](args)
+                code = {"render": _render, "info": _info_command, "explain": _explain}[args.command](args)
+            _finish_helper()
+            return code
         except (KeyboardInterrupt, Terminated) as e:
             return _stopped(isinstance(e, KeyboardInterrupt))
         except Exception as e:  # bad input (2), or a bug of ours (1): one line either way
+            _stop_helper()
             if _stop.pending() is not None:  # the signal's exception, turned into another on its way
                 return _stopped(_stop.pending() is KeyboardInterrupt)
             if isinstance(e, BrokenPipeError) and e.filename is None:  # stdout: info | head

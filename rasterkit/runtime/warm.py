@@ -22,9 +22,10 @@ compiles the kernels itself: the images never depend on it.
 The built-in demo (no model to load) gets a helper of another kind on a machine with two
 cores or more: while this process compiles the demo's kernels, it compiles the OBJ reader's
 (:data:`PARSER`, by reading a small triangle OBJ with every kind of statement), which the
-first real model would otherwise compile for about 4 seconds. This process does not wait for
-it (it has nothing to wait for); the helper runs to its end on its own, in a few seconds,
-unless the command line is interrupted.
+first real model would otherwise compile for about 4 seconds. Nothing waits for it while the
+demo renders; at its end the command line waits for it (:func:`finish`: it has usually ended
+by then, or ends within a few seconds, once it has the core to itself), so that no process of
+the command is left writing into Numba's cache after the command has returned.
 """
 
 from __future__ import annotations
@@ -241,6 +242,20 @@ def _start_parser_helper() -> None:
     if all(_cached(k) for k in kernels):
         return
     _parser_helper = _spawn({"obj": True})
+
+
+def finish() -> None:
+    """At the command line's end: wait for the reader's helper, if one is still compiling (a
+    script that removes the environment right after the command must not find a process still
+    writing into it)."""
+    global _parser_helper
+    helper, _parser_helper = _parser_helper, None
+    if helper is None:
+        return
+    with contextlib.suppress(OSError, ChildProcessError):
+        helper.wait()
+    if helper.stdout is not None:
+        helper.stdout.close()
 
 
 def stop() -> None:

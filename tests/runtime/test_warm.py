@@ -248,6 +248,63 @@ def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(mon
     assert orders == [{"obj": True}]
 
 
+class _Helper:
+    """A stand-in for the reader's helper process: records what is asked of it."""
+    stdout = None
+
+    def __init__(self):
+        self.calls = []
+
+    def wait(self, timeout=None):
+        self.calls.append("wait")
+        return 0
+
+    def terminate(self):
+        self.calls.append("terminate")
+
+
+def _demo_with_a_readers_helper(monkeypatch) -> _Helper:
+    helper = _Helper()
+    parser = {function for _, function in _warm.PARSER}
+    monkeypatch.setattr(_warm, "_spawn", lambda order, report=False: helper if order == {"obj": True} else None)
+    monkeypatch.setattr(_warm, "_cached", lambda dispatcher: dispatcher.py_func.__name__ not in parser)
+    monkeypatch.setattr(_warm, "_helpers", {})
+    monkeypatch.setattr(_warm, "_parser_helper", None)
+    monkeypatch.setattr(rasterkit.runtime.threads, "_threads", 2)
+    return helper
+
+
+def test_the_command_line_returns_only_after_the_readers_helper_has_ended(monkeypatch, tmp_path):
+    """The demo's helper compiles while the demo renders; the command waits for it at its end
+    (a script removing the environment right after must not race a process writing into it),
+    and stops it, without waiting for its work, when the command itself fails."""
+    from rasterkit.batch import plan, render_one
+    from rasterkit.cli import main
+
+    helper = _demo_with_a_readers_helper(monkeypatch)
+    assert main(["render", "--demo", "-o", str(tmp_path / "x.png"), "--size", "16x12"]) == 0
+    assert helper.calls == ["wait"] and _warm._parser_helper is None
+
+    helper = _demo_with_a_readers_helper(monkeypatch)
+
+    def fails(*args, **kwargs):
+        raise RuntimeError("broken on purpose")
+
+    monkeypatch.setattr(render_one, "load_drawn", fails)  # the model's failure, reported by the batch
+    assert main(["render", "--demo", "-o", str(tmp_path / "y.png"), "--size", "16x12"]) == 1
+    assert helper.calls == ["wait"] and _warm._parser_helper is None
+
+    helper = _demo_with_a_readers_helper(monkeypatch)
+
+    def escapes(*args, **kwargs):
+        _warm.start(RenderOptions(), depth=False, loading=False)
+        raise RuntimeError("broken on purpose")
+
+    monkeypatch.setattr(plan, "render_jobs", escapes)  # an error out of the command itself
+    assert main(["render", "--demo", "-o", str(tmp_path / "z.png"), "--size", "16x12"]) == 1
+    assert helper.calls == ["terminate", "wait"] and _warm._parser_helper is None
+
+
 @pytest.mark.parametrize("forks", [True, False])
 def test_a_wire_demo_gets_a_band_worker_helper_only_where_helpers_are_forked(monkeypatch, forks):
     """A forked helper costs no imports, so even the demo's wireframe (little else to compile
