@@ -61,16 +61,23 @@ def octahedron(radius: float = 1.0) -> Mesh:
     return _from_polygons(v, faces)
 
 
-def icosahedron(radius: float = 1.0) -> Mesh:
-    """Regular icosahedron inscribed in a sphere of ``radius``: 12 vertices, 20 faces."""
+def _icosahedron_arrays():
+    """The vertices (12, 3) of a regular icosahedron (at distance ``|v[0]|`` from its centre)
+    and its faces (20, 3), as a list of index triples."""
     t = (1.0 + 5.0 ** 0.5) / 2.0
     v = np.array([(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
                   (0, -1, -t), (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)],
                  np.float64)
-    v *= real_number(radius, "radius") / np.linalg.norm(v[0])
     faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
              (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
              (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    return v, faces
+
+
+def icosahedron(radius: float = 1.0) -> Mesh:
+    """Regular icosahedron inscribed in a sphere of ``radius``: 12 vertices, 20 faces."""
+    v, faces = _icosahedron_arrays()
+    v *= real_number(radius, "radius") / np.linalg.norm(v[0])
     return _from_polygons(v, faces)
 
 
@@ -81,8 +88,9 @@ def icosphere(subdivisions: int = 2, radius: float = 1.0) -> Mesh:
     """
     if not 0 <= _count(subdivisions, "subdivisions") <= 7:
         raise ValueError(f"subdivisions must be between 0 and 7, got {subdivisions}")
-    base = icosahedron(1.0)
-    vertices, faces = base.vertices, base.faces
+    vertices, faces = _icosahedron_arrays()  # (no Mesh: its polygon edges would go unused)
+    vertices *= 1.0 / np.linalg.norm(vertices[0])
+    faces = np.asarray(faces, np.int64)
     for _ in range(int(subdivisions)):
         vertices, faces = _subdivide(vertices, faces)
     vertices = real_number(radius, "radius") * vertices / np.linalg.norm(vertices, axis=1, keepdims=True)

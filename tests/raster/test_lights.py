@@ -321,7 +321,7 @@ def test_the_untextured_resolve_agrees_with_the_textured_one_on_a_white_texture(
     # an untextured frame lit per pixel has a resolve of its own (rasterkit.raster.kernels.phong_rows,
     # rows lit in chunks of 64 pixels across faces); a face textured white is lit by the textured
     # resolve (lit_shade): the same surface, point, normal and colour, so the same pixels
-    from rasterkit.raster.kernels.phong_rows import CHUNK
+    from rasterkit.raster.kernels.lit_columns import CHUNK
 
     ball = rk.shapes.icosphere(3)
     m = len(ball.faces)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from rasterkit.raster.kernels import phong_rows as rows
+from rasterkit.raster.kernels import lit_columns as rows
 from rasterkit.raster.kernels.powers import exp2, log2, power
 from rasterkit.runtime.jit import kernel
 
@@ -54,17 +54,17 @@ def test_exp2_clamps_its_argument_instead_of_overflowing_and_reads_nan_as_its_lo
 
 @kernel
 def _chunk_highlights(ndh, shininess):
-    """phong_rows' highlights of one chunk: ``ndh`` raised to ``shininess`` (CHUNK values each)."""
+    """The lit rows' highlights of one chunk: ``ndh`` raised to ``shininess`` (CHUNK values each)."""
     s = np.zeros(rows.FIELDS * rows.CHUNK)
     n = ndh.size
     for q in range(n):
-        s[rows._NDH + np.uint64(q)] = ndh[q]
-        s[rows._SHINE + np.uint64(q)] = shininess[q]
-    whole = rows._whole_exponent(s, n)
-    rows._highlights(s, n, whole)
+        s[rows.NDH + np.uint64(q)] = ndh[q]
+        s[rows.SHINE + np.uint64(q)] = shininess[q]
+    whole = rows.whole_exponent(s, n)
+    rows.highlights(s, n, whole)
     out = np.empty(n)
     for q in range(n):
-        out[q] = s[rows._POWER + np.uint64(q)]
+        out[q] = s[rows.POWER + np.uint64(q)]
     return whole, out
 
 

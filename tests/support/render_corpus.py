@@ -1,7 +1,8 @@
-"""A fixed set of renders whose images must never change: every mode, shaded and not, built-in
-shapes and real models, several projections, 1 and 2 threads, RGBA, ids, depth and the 2D
-line helpers. ``python tests/support/render_corpus.py`` prints their SHA-256 digests as JSON (how
-``tests/data/render_checksums.json`` was made, before the kernels were restructured);
+"""A fixed set of renders whose images must never change: every mode, shaded and not, lit
+(lights, Blinn-Phong, shadows), built-in shapes and real models, several projections, 1 and 2
+threads, RGBA, ids, depth and the 2D line helpers. ``python tests/support/render_corpus.py``
+prints their SHA-256 digests as JSON (how ``tests/data/render_checksums.json`` was made, before
+the kernels were restructured; the lit renders' before the lit resolve was made one kernel);
 ``tests/raster/test_render_checksums.py`` compares against that file."""
 
 from __future__ import annotations
@@ -69,6 +70,34 @@ def _renders(mesh, name, size, cameras=("persp", "iso", "cabinet", "3-point")):
     yield f"{name}/depth-hidden", lambda: _digest(rasterkit.render(mesh, cam, mode="hidden").depth)
 
 
+def _lit_renders(mesh, name, size):
+    """Lights, Blinn-Phong and shadows (issue 29's renders), placed by the model's bounding sphere."""
+    center, radius = _sphere(mesh)
+    cam = _frame(mesh, *size, azimuth=30, elevation=20)
+    Light = rasterkit.Light
+    at = [tuple(center + radius * np.array(v)) for v in ((1.5, 1.0, 1.5), (-1.2, 1.6, 0.8), (0.5, 2.0, -1.0))]
+    key = Light.directional((-1, -2, -1), color="#ffe0b0", intensity=0.9)
+    fill = Light.point(at[0], color="#80b0ff", intensity=0.3 * radius * radius)
+    spot = Light.spot(at[1], tuple(center - np.array(at[1])), angle=40, blend=0.3, intensity=2 * radius * radius)
+    ambient = Light.ambient("#202838", 1.0)
+    renders = {
+        "phong-two": dict(shading="phong", lights=[key, fill]),
+        "flat-spot-ambient": dict(shading="flat", lights=[spot, ambient]),
+        "smooth-three": dict(shading="smooth", lights=[key, fill, ambient], specular=0.6, shininess=20.5),
+        "phong-shadows": dict(shading="phong", lights=[key, ambient], shadows=True, ground="#d8d8d8"),
+        "phong-point-shadows": dict(shading="phong", lights=[Light.point(at[2], intensity=4 * radius * radius,
+                                                                         shadows=True)], ground="shadow"),
+        "phong-spot-shadows-two-sided": dict(shading="phong", lights=[Light.spot(
+            at[1], tuple(center - np.array(at[1])), angle=40, blend=0.3, intensity=2 * radius * radius,
+            shadows=True)], cull="none"),
+        "phong-samples": dict(shading="phong", lights=[key, fill], samples=4),
+        "phong-ids-depth": dict(shading="phong", lights=[key], ids=True),
+    }
+    for label, kw in renders.items():
+        digest = _ids_depth if kw.get("ids") else _color
+        yield f"{name}/lit/{label}", lambda kw=kw, digest=digest: digest(rasterkit.render(mesh, cam, mode="solid", **kw))
+
+
 def _color(fb):
     return _digest(fb.color)
 
@@ -96,6 +125,7 @@ def cases():
     scene_mesh = shapes.torus()
     yield from _renders(shapes.demo(), "demo", (320, 240))
     yield from _renders(shapes.icosphere(3), "icosphere", (257, 191), cameras=("persp", "iso"))
+    yield from _lit_renders(shapes.demo(), "demo", (320, 240))
     scene = rasterkit.Scene(Camera.look_at(eye=(3, 2, 4), target=(0, 0, 0), fov_y=40, width=300, height=200))
     scene.add(shapes.cube(), transform.translate(-1, 0, 0), color="red")
     scene.add(scene_mesh, transform.rotate_x(0.5))
@@ -112,6 +142,8 @@ def cases():
             yield from _renders(mesh, model, (640, 360), cameras=("persp", "iso"))
             yield f"{model}/1080p-solid", lambda m=mesh: _color(
                 rasterkit.render(m, _frame(m, 1920, 1080), mode="solid"))
+            if model == "stanford-bunny.obj":
+                yield from _lit_renders(mesh, model, (640, 360))
 
 
 def digests(threads=(1, 2)) -> dict:

@@ -33,7 +33,7 @@ from rasterkit.runtime.jit import kernel
 from rasterkit.raster.kernels.clear import fill_bytes
 from rasterkit.runtime.intrinsics import fetch_add, prefetch_row
 from rasterkit.raster.kernels.map_rows import band_maps
-from rasterkit.raster.kernels.phong_rows import resolve_lit_row
+from rasterkit.raster.kernels.phong_rows import resolve_lit_rows
 from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_TAGGED, resolve_row
 from rasterkit.raster.kernels.texture_shade import resolve_textured_row
 from rasterkit.raster.kernels.face_setup import N_CHUNKS, ONE, chunk_range
@@ -260,7 +260,7 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
         map. None for frames without them, which compile none of that code.
     lights : PixelLights or None
         An untextured frame lit per pixel (:class:`rasterkit.raster.kernels.records.PixelLights`):
-        the resolve is :func:`rasterkit.raster.kernels.phong_rows.resolve_lit_row`. None for
+        the resolve is :func:`rasterkit.raster.kernels.phong_rows.resolve_lit_rows`. None for
         other frames.
 
     Compiled without reference counting (nothing is allocated here, and the counts cost
@@ -294,7 +294,7 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
             if textures is not None:
                 _resolve_textured(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, textures, mapped)
             elif lights is not None:
-                _resolve_lit(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, lights)
+                resolve_lit_rows(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, lights)
         if maps is not None:
             band_maps(ids, y0, y1, maps, band_depth, drawn)
     return fragments
@@ -348,15 +348,3 @@ def _resolve_textured(y0, y1, shading, target, sample, band_lid, row_lo, row_hi,
     for r in range(y1 - y0):
         resolve_textured_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed,
                              vertex_colors, corners, bary, color, write_ids, ids, textures, mapped)
-
-
-@kernel(refcounts=False)
-def _resolve_lit(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, lights):
-    """Resolve rows ``y0 .. y1 - 1`` of an untextured frame lit per pixel
-    (:func:`rasterkit.raster.kernels.phong_rows.resolve_lit_row`)."""
-    mode, _, _, packed, vertex_colors, _, bary, corners = shading
-    _, _, _, color, write_ids, ids = target
-    sample_x, sample_y = sample.x / ONE, sample.y / ONE
-    for r in range(y1 - y0):
-        resolve_lit_row(mode, band_lid, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, packed, vertex_colors,
-                        corners, bary, color, write_ids, ids, lights)

@@ -3,7 +3,8 @@
 Blinn-Phong under the frame's lights (the formulas: :mod:`rasterkit.raster.kernels.lights`).
 
 A row's visible pixels are lit :data:`CHUNK` at a time, across faces, in passes over scratch
-on the stack, one value per pixel in each of its columns (:data:`FIELDS`):
+on the stack, one value per pixel in each of its columns
+(:mod:`rasterkit.raster.kernels.lit_columns`):
 
 1. gather (one pixel at a time: what it reads depends on its face): the face's
    perspective-correct barycentrics at the pixel's sample point, the surface point and the
@@ -16,7 +17,7 @@ on the stack, one value per pixel in each of its columns (:data:`FIELDS`):
    LLVM turns them into vector instructions; the highlight's power by squarings when the
    chunk's pixels share one whole shininess (the default 32 and most materials'), else by
    :func:`rasterkit.raster.kernels.powers.power` (no library call either way). A light with a shadow
-   map first looks up each pixel that faces it (:func:`~rasterkit.raster.kernels.lights.shadow_factor`);
+   map first looks up each pixel that faces it (:mod:`rasterkit.raster.kernels.lit_shadows`);
 4. the sums encoded to sRGB by table and written.
 
 The same arithmetic as :func:`rasterkit.raster.kernels.lit_shade.lit_rgba` (which lights the
@@ -28,36 +29,18 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.raster.kernels.cull import per_face
-from rasterkit.raster.kernels.powers import power
+from rasterkit.raster.kernels.face_setup import ONE
 from rasterkit.raster.kernels.shade import SHADE_SMOOTH, put_rgba, to_u8
-from rasterkit.raster.kernels.lights import parallel_map, parallel_shadow, parallel_terms, shadow_factor
+from rasterkit.raster.kernels.lit_columns import (
+    AB, AG, AMBIENT, AR, BB, BG, BR, CHUNK, COLUMN, CONSTANT, DIRECTIONAL, HEADLIGHT, INTERPOLATED, NDH, NDL, NX,
+    NY, NZ, POWER, SB, SCRATCH, SG, SHADE, SPOT, SR, TWO, VX, VY, VZ, X, Y, Z, highlights, unit, whole_exponent)
+from rasterkit.raster.kernels.lit_shadows import light_reaches
 from rasterkit.raster.kernels.surface import encode
 from rasterkit.runtime.intrinsics import stack_floats
 from rasterkit.runtime.jit import kernel
 
-#: Pixels lit at a time.
-CHUNK = 64
-
-#: Columns of the scratch, CHUNK values each: first the values interpolated across a face
-#: (position, normal, base colour), then those a face has one of (specular colour,
-#: shininess, emission, its plane's normal, two-sided or not), then the pixel's own.
-FIELDS = 28
-_INTERPOLATED = 9
-_CONSTANT = 11
-_SCRATCH = FIELDS * CHUNK  # a literal for stack_floats
 #: What a run's gather keeps: a line (3 values) per interpolated value, and the constants.
-_LINES = 3 * _INTERPOLATED + _CONSTANT
-
-# where each column starts in the scratch (unsigned: no negative-index arithmetic)
-(_X, _Y, _Z, _NX, _NY, _NZ, _BR, _BG, _BB, _SR, _SG, _SB, _SHINE, _AR, _AG, _AB, _PX, _PY, _PZ, _TWO,
- _COLUMN, _VX, _VY, _VZ, _SHADE, _NDL, _NDH, _POWER) = (np.uint64(k * CHUNK) for k in range(FIELDS))
-
-#: Shininess raised by squarings when every pixel of a chunk has the same whole one below
-#: this (:func:`_highlights`); other exponents through :func:`~rasterkit.raster.kernels.powers.power`.
-WHOLE_LIMIT = 65536.0
-
-# the kind codes of rasterkit.raster.lights.KINDS
-_AMBIENT, _DIRECTIONAL, _POINT, _SPOT, _HEADLIGHT = 0, 1, 2, 3, 4
+_LINES = 3 * INTERPOLATED + CONSTANT
 
 
 @kernel(inline="always")
@@ -124,35 +107,26 @@ def _gather(s, lines, q0, count, f, column0, px0, py, mode, packed, vertex_color
             if own:
                 at = np.uint64(3 * row)
                 lines[at], lines[at + np.uint64(1)], lines[at + np.uint64(2)] = value * t1, value * t0, value
-    for k in range(_CONSTANT):
-        lines[np.uint64(3 * _INTERPOLATED + k)] = constants[k]
+    for k in range(CONSTANT):
+        lines[np.uint64(3 * INTERPOLATED + k)] = constants[k]
     for q in range(count):
         px = px0 + q
         total = t1 * px + t0
         inside = total != 0.0
         inv = 1.0 / total if inside else 0.0  # noqa: FURB136 - a select
         u = np.uint64(q0 + q)
-        for k in range(_INTERPOLATED):
+        for k in range(INTERPOLATED):
             at = np.uint64(3 * k)
             value = (lines[at] * px + lines[at + np.uint64(1)]) * inv
             s[np.uint64(k * CHUNK) + u] = value if inside else lines[at + np.uint64(2)]  # noqa: FURB136
-        for k in range(_CONSTANT):
-            s[np.uint64((_INTERPOLATED + k) * CHUNK) + u] = lines[np.uint64(3 * _INTERPOLATED + k)]
-        s[_COLUMN + u] = column0 + q
+        for k in range(CONSTANT):
+            s[np.uint64((INTERPOLATED + k) * CHUNK) + u] = lines[np.uint64(3 * INTERPOLATED + k)]
+        s[COLUMN + u] = column0 + q
     if mode == SHADE_SMOOTH:
         for q in range(q0, q0 + count):
             for channel in range(3):
-                at = _BR + np.uint64(channel * CHUNK + q)
+                at = BR + np.uint64(channel * CHUNK + q)
                 s[at] = _decoded(decode, s[at])
-
-
-@kernel(inline="always")
-def _unit(x, y, z):
-    """(x, y, z) made unit length; zero when it has none (or is not finite)."""
-    length = np.sqrt(x * x + y * y + z * z)
-    scale = 1.0 / length if length > 0.0 else 0.0  # noqa: FURB136 - a select
-    scale = scale if np.isfinite(scale) else 0.0  # noqa: FURB136
-    return x * scale, y * scale, z * scale
 
 
 @kernel(inline="always")
@@ -161,121 +135,21 @@ def _orient(s, n, eye, perspective, view):
     ex, ey, ez = eye[0], eye[1], eye[2]  # locals: the loop stores to the scratch
     wx, wy, wz = view[0], view[1], view[2]
     for q in range(n):
-        vx, vy, vz = _unit(ex - s[_X + np.uint64(q)], ey - s[_Y + np.uint64(q)], ez - s[_Z + np.uint64(q)])
+        vx, vy, vz = unit(ex - s[X + np.uint64(q)], ey - s[Y + np.uint64(q)], ez - s[Z + np.uint64(q)])
         vx, vy, vz = (vx, vy, vz) if perspective else (wx, wy, wz)
-        nx, ny, nz = _unit(s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)])
-        flip = -1.0 if s[_TWO + np.uint64(q)] > 0.0 and nx * vx + ny * vy + nz * vz < 0.0 else 1.0
-        s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)] = nx * flip, ny * flip, nz * flip
-        s[_VX + np.uint64(q)], s[_VY + np.uint64(q)], s[_VZ + np.uint64(q)] = vx, vy, vz
-
-
-@kernel(refcounts=False)
-def _shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows):
-    """:func:`~rasterkit.raster.kernels.lights.shadow_factor`, compiled once on its own (not
-    into each loop that looks shadows up)."""
-    return shadow_factor(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
-
-
-@kernel(refcounts=False)
-def _parallel_shadows(s, n, k, table, shadows):
-    """:func:`_shadows` of a directional light with a parallel map: the terms of a face
-    (:func:`~rasterkit.raster.kernels.lights.parallel_terms`) made once for each run of
-    pixels with the same plane (the chunk's pixels come run by run), only the point's own
-    lookup per pixel; a degenerate face's pixels through :func:`_shadow_at`."""
-    lx, ly, lz = -table[k, 4], -table[k, 5], -table[k, 6]
-    last_x, last_y, last_z = np.nan, np.nan, np.nan
-    fx, fy, fz = 0.0, 0.0, 0.0
-    terms = (0.0, 0.0, 0.0, 0.0, 0.0)
-    for q in range(n):
-        nx, ny, nz = s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)]
-        factor = 0.0
-        if nx * lx + ny * ly + nz * lz > 0.0:
-            x, y, z = s[_X + np.uint64(q)], s[_Y + np.uint64(q)], s[_Z + np.uint64(q)]
-            ax, ay, az = s[_PX + np.uint64(q)], s[_PY + np.uint64(q)], s[_PZ + np.uint64(q)]
-            if not (ax == last_x and ay == last_y and az == last_z):
-                last_x, last_y, last_z = ax, ay, az
-                fx, fy, fz = _unit(ax, ay, az)
-                terms = parallel_terms(k, table, fx, fy, fz, shadows)
-            if fx == 0.0 and fy == 0.0 and fz == 0.0:
-                factor = _shadow_at(k, table, x, y, z, nx, ny, nz, nx, ny, nz, shadows)
-            else:
-                towards = -terms[0] if fx * nx + fy * ny + fz * nz < 0.0 else terms[0]  # noqa: FURB136
-                factor = parallel_shadow(k, table, x, y, z, towards, terms, shadows)
-        s[_SHADE + np.uint64(q)] = factor
-
-
-@kernel(inline="always")
-def _shadows(s, n, k, table, shadows):
-    """Light ``k``'s shadow factor of each pixel that faces it (0 for the others), into the
-    scratch."""
-    if parallel_map(k, table, shadows):
-        _parallel_shadows(s, n, k, table, shadows)
-        return
-    directional = table[k, 0] == _DIRECTIONAL or table[k, 0] == _HEADLIGHT
-    for q in range(n):
-        x, y, z = s[_X + np.uint64(q)], s[_Y + np.uint64(q)], s[_Z + np.uint64(q)]
-        nx, ny, nz = s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)]
-        if directional:
-            lx, ly, lz = -table[k, 4], -table[k, 5], -table[k, 6]
-        else:
-            lx, ly, lz = table[k, 1] - x, table[k, 2] - y, table[k, 3] - z
-        factor = 0.0
-        if nx * lx + ny * ly + nz * lz > 0.0:
-            fx, fy, fz = _unit(s[_PX + np.uint64(q)], s[_PY + np.uint64(q)], s[_PZ + np.uint64(q)])
-            if fx == 0.0 and fy == 0.0 and fz == 0.0:
-                fx, fy, fz = nx, ny, nz
-            factor = _shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
-        s[_SHADE + np.uint64(q)] = factor
-
-
-@kernel(inline="always")
-def _unshadowed(s, n):
-    """A light without a shadow map reaches every pixel."""
-    for q in range(n):
-        s[_SHADE + np.uint64(q)] = 1.0
-
-
-@kernel(inline="always")
-def _whole_exponent(s, n):
-    """The shininess of the chunk's ``n`` pixels when they all have the same one and it is a
-    whole number from 0 to below :data:`WHOLE_LIMIT`, else -1."""
-    first = s[_SHINE]
-    same = True
-    for q in range(n):
-        same &= s[_SHINE + np.uint64(q)] == first
-    return first if same and first >= 0.0 and first < WHOLE_LIMIT and first == np.floor(first) else -1.0
-
-
-@kernel(inline="always")
-def _highlights(s, n, whole):
-    """Each pixel's ``max(n.h, 0)`` (column _NDH) raised to its shininess, into column
-    _POWER: for a chunk of one ``whole`` exponent (:func:`_whole_exponent`) by squarings, one
-    pass over the chunk for each (exact to a few units of the last place), else by
-    :func:`~rasterkit.raster.kernels.powers.power`."""
-    if whole < 0.0:
-        for q in range(n):
-            s[_POWER + np.uint64(q)] = power(s[_NDH + np.uint64(q)], s[_SHINE + np.uint64(q)])
-        return
-    e = np.int64(whole)
-    for q in range(n):
-        s[_POWER + np.uint64(q)] = 1.0
-    while e > 0:  # the bits of the exponent from the lowest: the product of those squares
-        if e & 1:
-            for q in range(n):
-                s[_POWER + np.uint64(q)] *= s[_NDH + np.uint64(q)]
-        e >>= 1
-        if e > 0:
-            for q in range(n):
-                s[_NDH + np.uint64(q)] *= s[_NDH + np.uint64(q)]
+        nx, ny, nz = unit(s[NX + np.uint64(q)], s[NY + np.uint64(q)], s[NZ + np.uint64(q)])
+        flip = -1.0 if s[TWO + np.uint64(q)] > 0.0 and nx * vx + ny * vy + nz * vz < 0.0 else 1.0
+        s[NX + np.uint64(q)], s[NY + np.uint64(q)], s[NZ + np.uint64(q)] = nx * flip, ny * flip, nz * flip
+        s[VX + np.uint64(q)], s[VY + np.uint64(q)], s[VZ + np.uint64(q)] = vx, vy, vz
 
 
 @kernel(inline="always")
 def _add_light(s, n, k, table, whole):
     """Step 3 for light ``k`` (not ambient) over the chunk's ``n`` pixels; ``whole``: the
-    chunk's :func:`_whole_exponent`."""
+    chunk's :func:`whole_exponent`."""
     kind = table[k, 0]
-    directional = kind == _DIRECTIONAL or kind == _HEADLIGHT
-    spot = kind == _SPOT
+    directional = kind == DIRECTIONAL or kind == HEADLIGHT
+    spot = kind == SPOT
     cr, cg, cb = table[k, 7], table[k, 8], table[k, 9]
     ox, oy, oz = table[k, 1], table[k, 2], table[k, 3]
     dx, dy, dz = table[k, 4], table[k, 5], table[k, 6]
@@ -283,8 +157,8 @@ def _add_light(s, n, k, table, whole):
     inv_reach4 = 1.0 / (reach * reach * reach * reach) if reach > 0.0 else 0.0
     scale, offset = table[k, 11], table[k, 12]
     for q in range(n):
-        x, y, z = s[_X + np.uint64(q)], s[_Y + np.uint64(q)], s[_Z + np.uint64(q)]
-        nx, ny, nz = s[_NX + np.uint64(q)], s[_NY + np.uint64(q)], s[_NZ + np.uint64(q)]
+        x, y, z = s[X + np.uint64(q)], s[Y + np.uint64(q)], s[Z + np.uint64(q)]
+        nx, ny, nz = s[NX + np.uint64(q)], s[NY + np.uint64(q)], s[NZ + np.uint64(q)]
         if directional:
             lx, ly, lz, a = -dx, -dy, -dz, 1.0
         else:
@@ -296,99 +170,108 @@ def _add_light(s, n, k, table, whole):
             cone = min(max(-(lx * dx + ly * dy + lz * dz) * scale + offset, 0.0), 1.0)
             cone = cone * cone if spot else 1.0  # noqa: FURB136
             a = window * cone / d2 if d2 > 0.0 else 0.0  # noqa: FURB136
-        a *= s[_SHADE + np.uint64(q)]
+        a *= s[SHADE + np.uint64(q)]
         ndl = nx * lx + ny * ly + nz * lz
-        hx, hy, hz = lx + s[_VX + np.uint64(q)], ly + s[_VY + np.uint64(q)], lz + s[_VZ + np.uint64(q)]
+        hx, hy, hz = lx + s[VX + np.uint64(q)], ly + s[VY + np.uint64(q)], lz + s[VZ + np.uint64(q)]
         hl = np.sqrt(hx * hx + hy * hy + hz * hz)
         ndh = (nx * hx + ny * hy + nz * hz) / hl if hl > 0.0 else 0.0  # noqa: FURB136
         lit = ndl > 0.0 and a > 0.0  # else nothing (a NaN from a point at the light included)
-        s[_SHADE + np.uint64(q)] = a if lit else 0.0  # noqa: FURB136
-        s[_NDL + np.uint64(q)] = ndl
-        s[_NDH + np.uint64(q)] = max(ndh, 0.0)
-    _highlights(s, n, whole)
+        s[SHADE + np.uint64(q)] = a if lit else 0.0  # noqa: FURB136
+        s[NDL + np.uint64(q)] = ndl
+        s[NDH + np.uint64(q)] = max(ndh, 0.0)
+    highlights(s, n, whole)
     for q in range(n):
-        a, ndl, highlight = s[_SHADE + np.uint64(q)], s[_NDL + np.uint64(q)], s[_POWER + np.uint64(q)]
-        red = a * cr * (s[_BR + np.uint64(q)] * ndl + s[_SR + np.uint64(q)] * highlight)
-        green = a * cg * (s[_BG + np.uint64(q)] * ndl + s[_SG + np.uint64(q)] * highlight)
-        blue = a * cb * (s[_BB + np.uint64(q)] * ndl + s[_SB + np.uint64(q)] * highlight)
+        a, ndl, highlight = s[SHADE + np.uint64(q)], s[NDL + np.uint64(q)], s[POWER + np.uint64(q)]
+        red = a * cr * (s[BR + np.uint64(q)] * ndl + s[SR + np.uint64(q)] * highlight)
+        green = a * cg * (s[BG + np.uint64(q)] * ndl + s[SG + np.uint64(q)] * highlight)
+        blue = a * cb * (s[BB + np.uint64(q)] * ndl + s[SB + np.uint64(q)] * highlight)
         lit = a > 0.0
-        s[_AR + np.uint64(q)] += red if lit else 0.0  # noqa: FURB136
-        s[_AG + np.uint64(q)] += green if lit else 0.0  # noqa: FURB136
-        s[_AB + np.uint64(q)] += blue if lit else 0.0  # noqa: FURB136
+        s[AR + np.uint64(q)] += red if lit else 0.0  # noqa: FURB136
+        s[AG + np.uint64(q)] += green if lit else 0.0  # noqa: FURB136
+        s[AB + np.uint64(q)] += blue if lit else 0.0  # noqa: FURB136
 
 
-@kernel(refcounts=False)
+@kernel(inline="always")
 def _shade_chunk(s, n, color, j, lit, shadows):
     """Steps 2-4 for the chunk's ``n`` pixels of image row ``j``; ``shadows`` the record's
-    (None: no light has a shadow map, and none of the lookups is compiled)."""
+    (None: no light has a shadow map)."""
     table, eye, perspective, view, encode_table = lit[0], lit[1], lit[2], lit[3], lit[14]
     _orient(s, n, eye, perspective, view)
-    whole = _whole_exponent(s, n)
+    whole = whole_exponent(s, n)
     for k in range(table.shape[0]):
-        if table[k, 0] == _AMBIENT:
+        if table[k, 0] == AMBIENT:
             cr, cg, cb = table[k, 7], table[k, 8], table[k, 9]
             for q in range(n):
-                s[_AR + np.uint64(q)] += s[_BR + np.uint64(q)] * cr
-                s[_AG + np.uint64(q)] += s[_BG + np.uint64(q)] * cg
-                s[_AB + np.uint64(q)] += s[_BB + np.uint64(q)] * cb
+                s[AR + np.uint64(q)] += s[BR + np.uint64(q)] * cr
+                s[AG + np.uint64(q)] += s[BG + np.uint64(q)] * cg
+                s[AB + np.uint64(q)] += s[BB + np.uint64(q)] * cb
             continue
-        if shadows is None:
-            _unshadowed(s, n)
-        elif table[k, 13] >= 0.0:
-            _shadows(s, n, k, table, shadows)
-        else:
-            _unshadowed(s, n)
+        light_reaches(s, n, k, table, shadows)
         _add_light(s, n, k, table, whole)
     ju = np.uint64(j)
     for q in range(n):
         rgba = 255 << 24
         for channel in range(3):  # one copy of the encoding to compile, not three
-            rgba |= to_u8(encode(encode_table, s[_AR + np.uint64(channel * CHUNK + q)]) * 255.0) << (8 * channel)
-        put_rgba(color, ju, np.uint64(np.int64(s[_COLUMN + np.uint64(q)])), np.uint32(rgba))
+            rgba |= to_u8(encode(encode_table, s[AR + np.uint64(channel * CHUNK + q)]) * 255.0) << (8 * channel)
+        put_rgba(color, ju, np.uint64(np.int64(s[COLUMN + np.uint64(q)])), np.uint32(rgba))
 
 
 @kernel(inline="always")
 def lit_fields(lit):
-    """The record's fields as a tuple, unpacked once per row."""
+    """The record's fields as a tuple, unpacked once per band."""
     return (lit.lights, lit.eye, lit.perspective, lit.toward_viewer, lit.positions, lit.faces, lit.specular,
             lit.shininess, lit.emission, lit.smooth, lit.corner_normals, lit.normal_corners, lit.face_normals,
             lit.two_sided, lit.encode, lit.decode, lit.shadows)
 
 
 @kernel(refcounts=False)
-def resolve_lit_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colors, corners, bary, color,
-                    write_ids, ids, lighting):
-    """:func:`rasterkit.raster.kernels.shade.resolve_row` of a frame lit per pixel
-    (``mode`` SHADE_FLAT: each face's own colour ``packed``, or SHADE_SMOOTH: ``vertex_colors``
-    through ``corners``), ``lighting`` its :class:`~rasterkit.raster.kernels.records.PixelLights`."""
+def resolve_lit_rows(y0, y1, shading, target, sample, lid, row_lo, row_hi, lighting):
+    """:func:`rasterkit.raster.kernels.shade.resolve_row` for rows ``y0 .. y1 - 1`` of a frame
+    lit per pixel (:func:`rasterkit.raster.kernels.bands.draw_bands`' arguments; ``lid`` the
+    band's rows of the visibility buffer, ``row_lo``, ``row_hi`` the columns each may have
+    been written in): shading mode SHADE_FLAT (each face's own colour ``packed``) or
+    SHADE_SMOOTH (``vertex_colors`` through ``corners``); ``lighting`` the frame's
+    :class:`~rasterkit.raster.kernels.records.PixelLights`.
+
+    One function, the chunk's shading at one place in it: each kernel a caller calls is
+    compiled again into the caller's code, so a chain of them would compile the lighting
+    once per link."""
+    mode, _, _, packed, vertex_colors, _, bary, corners = shading
+    _, _, _, color, write_ids, ids = target
     lit = lit_fields(lighting)
-    s = stack_floats(_SCRATCH)
+    sample_x, sample_y = sample.x / ONE, sample.y / ONE
+    s = stack_floats(SCRATCH)
     lines = stack_floats(_LINES)
-    ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
-    px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
-    width = hi - lo + 1
-    n = 0
-    k = 0
-    while k < width:  # each run of one face's pixels
-        f = lid[ru, base + np.uint64(k)]
-        if f < 0:
-            k += 1
-            continue
-        end = k + 1
-        while end < width and lid[ru, base + np.uint64(end)] == f:
-            end += 1
-        for q in range(k, end):
-            i = base + np.uint64(q)
-            lid[ru, i] = -1
-            if write_ids:
-                ids[ju, i] = f
-        while k < end:  # in pieces that fill the chunk
-            count = min(end - k, CHUNK - n)
-            _gather(s, lines, n, count, f, lo + k, px + k, py, mode, packed, vertex_colors, corners, bary, lit)
-            n += count
-            k += count
-            if n == CHUNK:
-                _shade_chunk(s, n, color, j, lit, lit[16])
-                n = 0
-    if n:
-        _shade_chunk(s, n, color, j, lit, lit[16])
+    for r in range(y1 - y0):
+        j, lo, hi = y0 + r, row_lo[r], row_hi[r]
+        ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
+        px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
+        width = hi - lo + 1
+        n = 0  # pixels in the chunk
+        k = 0  # the next column of the row to gather
+        end = 0  # the end of the current run of one face's pixels
+        f = -1
+        while True:
+            while n < CHUNK:  # fill the chunk, run by run, a run in pieces where it does not fit
+                if k >= end:
+                    while k < width and lid[ru, base + np.uint64(k)] < 0:
+                        k += 1
+                    if k >= width:
+                        break
+                    f = lid[ru, base + np.uint64(k)]
+                    end = k + 1
+                    while end < width and lid[ru, base + np.uint64(end)] == f:
+                        end += 1
+                    for q in range(k, end):
+                        i = base + np.uint64(q)
+                        lid[ru, i] = -1
+                        if write_ids:
+                            ids[ju, i] = f
+                count = min(end - k, CHUNK - n)
+                _gather(s, lines, n, count, f, lo + k, px + k, py, mode, packed, vertex_colors, corners, bary, lit)
+                n += count
+                k += count
+            if n == 0:
+                break
+            _shade_chunk(s, n, color, j, lit, lit[16])
+            n = 0
