@@ -12,6 +12,11 @@ cores a first render takes about as long as the larger half of its compiling ins
 of it. A helper is this process forked (on Linux, when no other thread runs: everything it
 needs is imported already) or, elsewhere, a new interpreter (``python -m rasterkit.runtime.warm``).
 
+A frame lit per pixel gets one more forked helper, started first, that compiles only the lit
+resolve, the largest kernel, which the band worker compiles into itself
+(:mod:`rasterkit.runtime.warm_lit`): the band worker's helper waits for it when its compile
+gets there and loads the resolve from the cache.
+
 The helper renders a tiny mesh in the same mode through the ordinary drivers, with
 :func:`rasterkit.runtime.threads.run_parallel` intercepted: its workers are compiled for the argument
 types they get (``Dispatcher.compile``) and not run, and the other workers are neither
@@ -32,15 +37,14 @@ from __future__ import annotations
 
 import contextlib
 import json
-import os
-import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 
 from rasterkit.runtime import jit as _jit
+from rasterkit.runtime.forked import can_fork, fork, prepare_numba
+from rasterkit.runtime.warm_lit import LIT_ROWS, is_lit_frame, lit_per_pixel, rows_args, wait_for_report
 from rasterkit.runtime import threads as _threads
 
 #: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
@@ -50,6 +54,7 @@ PARSER = (("rasterkit.obj.kernels.chunk", "read_lines"),
 _helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the helper compiling it
 _frame_only = False  # the helpers compile only the frame's own band worker call (frame_call)
 _parser_helper: subprocess.Popen | None = None
+_lit_helper = None  # the lit resolve's helper (warm_lit), until this process has waited for it
 
 
 #: The options that decide which variant of each helped kernel a render compiles (the others,
@@ -122,28 +127,48 @@ def start(options, depth: bool, loading: bool) -> None:
         names for names in ([w.py_func.__name__ for w in workers if not _cached(w)]
                             for workers in helped_workers(options)) if names]
     if lists and _forks():
-        _prepare_numba()
+        prepare_numba()
+    lit = _start_lit_helper(style, depth, lists)
     for names in lists:
         # a lone helper compiles the face normals' kernel (before the binning it compiles);
         # with two, this process does (it has the least to compile), the helpers need not
-        helper = _spawn({"options": style, "depth": depth, "workers": names, "normals": len(lists) == 1,
-                         "frame_only": _frame_only}, report=True)
+        order = {"options": style, "depth": depth, "workers": names, "normals": len(lists) == 1,
+                 "frame_only": _frame_only}
+        if lit is not None and "draw_bands" in names:
+            order["lit_report"] = lit.stdout.fileno()
+        helper = _spawn(order, report=True)
         if helper is not None:
             _helpers.update(dict.fromkeys(names, helper))
+    if lit is not None:  # only the band worker's helper reads its pipe
+        lit.stdout.close()
+        lit.stdout = None
     if not loading and (_forks() or not lists):
         _start_parser_helper()
     if _helpers:
         _threads.intercept(_wait_for_helper)
 
 
+def _start_lit_helper(style: dict, depth: bool, lists: list):
+    """For a frame lit per pixel whose band worker a helper compiles: a helper forked first
+    that compiles the lit resolve meanwhile (:mod:`rasterkit.runtime.warm_lit`), when it is
+    not cached; the helper, or None."""
+    global _lit_helper
+    if not (_forks() and lit_per_pixel(style) and any("draw_bands" in names for names in lists)) \
+            or _cached(_kernel(LIT_ROWS)):
+        return None
+    _lit_helper = _spawn({"options": style, "depth": depth, "lit_rows": True, "normals": False}, report=True)
+    return _lit_helper
+
+
 def _spawn(order: dict, report: bool = False):
-    """The helper process for ``order`` (a ``subprocess.Popen`` or a :class:`_Forked`);
+    """The helper process for ``order`` (a ``subprocess.Popen`` or a
+    :class:`~rasterkit.runtime.forked.Forked`);
     ``report``: its standard output is a pipe on which it names each worker it has compiled.
     Forked on Linux when this process runs no other thread (it has imported everything the
     helper needs: a new interpreter would spend most of a second importing it again), else a
     new interpreter."""
     if _forks():
-        return _fork(order, report)
+        return fork(lambda: _run(order), report)
     try:
         return subprocess.Popen([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(order)],
                                 stdin=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
@@ -152,82 +177,7 @@ def _spawn(order: dict, report: bool = False):
         return None
 
 
-def _prepare_numba() -> None:
-    """Before forking helpers: load Numba's typing registries here (about 0.4 s of the first
-    compile of every process), so that the helpers inherit them instead of each loading them
-    again."""
-    try:
-        from numba.core.registry import cpu_target
-
-        cpu_target.typing_context.refresh()
-        cpu_target.target_context.refresh()
-    except Exception:  # another Numba: each process loads them on its first compile, as usual
-        pass
-
-
-def _forks() -> bool:
-    """Whether a helper is forked: on Linux, when this process runs no other thread."""
-    import threading
-
-    return sys.platform.startswith("linux") and threading.active_count() == 1
-
-
-class _Forked:
-    """A forked helper, with the part of ``subprocess.Popen`` this module uses."""
-
-    def __init__(self, pid: int, stdout):
-        self.pid, self.stdout, self.returncode = pid, stdout, None
-
-    def terminate(self) -> None:
-        if self.returncode is None:
-            with contextlib.suppress(ProcessLookupError):
-                os.kill(self.pid, signal.SIGTERM)
-
-    def wait(self, timeout: float | None = None) -> int:
-        deadline = None if timeout is None else time.monotonic() + timeout
-        while self.returncode is None:
-            pid, status = os.waitpid(self.pid, 0 if deadline is None else os.WNOHANG)
-            if pid:
-                self.returncode = os.waitstatus_to_exitcode(status)
-            elif time.monotonic() >= deadline:
-                raise subprocess.TimeoutExpired("rasterkit helper", timeout)
-            else:
-                time.sleep(0.01)
-        return self.returncode
-
-
-def _fork(order: dict, report: bool) -> _Forked | None:
-    read, write = os.pipe() if report else (-1, -1)
-    for stream in (sys.stdout, sys.stderr):  # nothing buffered here is written twice
-        with contextlib.suppress(Exception):
-            stream.flush()
-    try:
-        pid = os.fork()
-    except OSError:
-        for fd in (read, write):
-            if fd >= 0:
-                os.close(fd)
-        return None
-    if pid == 0:  # the helper: it never returns into the caller's code
-        code = 1
-        try:
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                signal.signal(sig, signal.SIG_DFL)
-            null = os.open(os.devnull, os.O_RDWR)
-            os.dup2(null, 0)
-            os.dup2(null, 2)
-            os.dup2(write if report else null, 1)
-            if report:
-                os.close(read)
-            sys.stdout = os.fdopen(1, "w", closefd=False)  # the reports go to the pipe, whatever sys.stdout was
-            _run(order)
-            sys.stdout.flush()
-            code = 0
-        finally:
-            os._exit(code)
-    if report:
-        os.close(write)
-    return _Forked(pid, os.fdopen(read, "rb") if report else None)
+_forks = can_fork  # (a name of this module: tests replace it)
 
 
 def _start_parser_helper() -> None:
@@ -245,17 +195,17 @@ def _start_parser_helper() -> None:
 
 
 def finish() -> None:
-    """At the command line's end: wait for the reader's helper, if one is still compiling (a
-    script that removes the environment right after the command must not find a process still
-    writing into it)."""
-    global _parser_helper
-    helper, _parser_helper = _parser_helper, None
-    if helper is None:
-        return
-    with contextlib.suppress(OSError, ChildProcessError):
-        helper.wait()
-    if helper.stdout is not None:
-        helper.stdout.close()
+    """At the command line's end: wait for the reader's helper and the lit resolve's, if one
+    is still compiling or not yet waited for (a script that removes the environment right
+    after the command must not find a process still writing into it)."""
+    global _parser_helper, _lit_helper
+    helpers = [h for h in (_parser_helper, _lit_helper) if h is not None]
+    _parser_helper = _lit_helper = None
+    for helper in helpers:
+        with contextlib.suppress(OSError, ChildProcessError):
+            helper.wait()
+        if helper.stdout is not None:
+            helper.stdout.close()
 
 
 def stop() -> None:
@@ -263,12 +213,12 @@ def stop() -> None:
     nothing more. Numba writes a cache file under a temporary name and renames it, so no
     cache file is left half-written (a helper stopped during those milliseconds leaves the
     temporary one in Numba's cache folder)."""
-    global _parser_helper
-    helpers = list(dict.fromkeys(_helpers.values())) + ([_parser_helper] if _parser_helper else [])
+    global _parser_helper, _lit_helper
+    helpers = list(dict.fromkeys(_helpers.values())) + [h for h in (_parser_helper, _lit_helper) if h]
     if _helpers:
         _threads.intercept(None)
     _helpers.clear()
-    _parser_helper = None
+    _parser_helper = _lit_helper = None
     for helper in helpers:
         try:
             helper.terminate()
@@ -299,7 +249,18 @@ def _wait_for_helper(worker, args):
         helper.stdout.close()
     if not _helpers:
         _threads.intercept(None)
+        finish_lit()
     return None
+
+
+def finish_lit() -> None:
+    """Wait for the lit resolve's helper (its band worker's helper has ended: it has ended or
+    is ending too)."""
+    global _lit_helper
+    helper, _lit_helper = _lit_helper, None
+    if helper is not None:
+        with contextlib.suppress(OSError, ChildProcessError):
+            helper.wait()
 
 
 def frame_call(worker, args) -> bool:
@@ -310,23 +271,43 @@ def frame_call(worker, args) -> bool:
         or args[-4] is not None
 
 
-def _compile_only(names: list[str], frame_only: bool = False):
+def _compile_only(names: list[str], frame_only: bool = False, lit_report: int | None = None):
     """In the helper: compile the workers ``names`` for the arguments they get, run nothing,
     and name each on standard output once it is in the cache.
 
     It compiles from the bottom of a fresh Python stack (:func:`rasterkit.runtime.jit.compile_apart`:
     started deep in a render's calls, the hidden-line band worker's compile takes about 1.7
-    times as long)."""
+    times as long). ``lit_report``: the lit resolve's helper's pipe, read before the frame's
+    band worker compiles (:func:`rasterkit.runtime.warm_lit.wait_for_report`)."""
+    waiting = [lit_report] if lit_report is not None else []
 
     def hook(worker, args):
         name = worker.py_func.__name__
         if name in names and (not frame_only or frame_call(worker, args)):
+            if waiting and is_lit_frame(worker, args):
+                wait_for_report(waiting.pop())
             _jit.compile_apart(worker, (0, *args))
             print(name, flush=True)
         _zero_writable(args)
         return [0]
 
     return hook
+
+
+class _Compiled(Exception):
+    """The lit resolve's helper has compiled what it is for: the render ends."""
+
+
+def _compile_lit_rows(worker, args):
+    """In the lit resolve's helper (:mod:`rasterkit.runtime.warm_lit`): at the frame's call of
+    the band worker, compile the lit resolve for the arguments that call passes it, name it on
+    standard output and end the render; run no other worker."""
+    if is_lit_frame(worker, args):
+        _jit.compile_apart(_kernel(LIT_ROWS), rows_args(args))
+        print(LIT_ROWS.split(":")[1], flush=True)
+        raise _Compiled
+    _zero_writable(args)
+    return [0]
 
 
 def _zero_writable(values) -> None:
@@ -351,7 +332,8 @@ def _run(order: dict) -> None:
     from rasterkit import Light, RenderOptions, render, shapes
     from rasterkit.camera import Camera
 
-    _threads.intercept(_compile_only(order["workers"], order.get("frame_only", False)))
+    _threads.intercept(_compile_lit_rows if order.get("lit_rows") else
+                       _compile_only(order["workers"], order.get("frame_only", False), order.get("lit_report")))
     camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
     mesh = shapes.icosphere(1)
     if not order.get("normals", True):  # another helper compiles the kernel: these are the same numbers
@@ -362,7 +344,10 @@ def _run(order: dict) -> None:
     settings = dict(order["options"])
     shadows = settings.pop("shadows", False)
     lights = (Light.directional(_HELPER_LIGHT, shadows=shadows),) if settings.pop("lights", False) else ()
-    fb = render(mesh, camera, options=RenderOptions(**settings, lights=lights))
+    try:
+        fb = render(mesh, camera, options=RenderOptions(**settings, lights=lights))
+    except _Compiled:
+        return
     if order["depth"]:
         fb.depth  # noqa: B018 - reading it runs the depth pass
 

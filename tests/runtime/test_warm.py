@@ -19,6 +19,7 @@ from PIL import Image
 
 import rasterkit
 from rasterkit.runtime import warm as _warm
+from rasterkit.runtime.forked import Forked
 from rasterkit.runtime.notice import MESSAGE
 from rasterkit.cli import _parser
 from rasterkit.cli.args import view_from_args
@@ -355,7 +356,7 @@ def test_a_forked_helper_can_be_waited_for_and_stopped():
     if pid == 0:  # the child only sleeps
         time.sleep(30)
         os._exit(0)
-    helper = _warm._Forked(pid, None)
+    helper = Forked(pid, None)
     with pytest.raises(subprocess.TimeoutExpired):
         helper.wait(timeout=0.05)
     helper.terminate()
@@ -367,8 +368,9 @@ def test_a_forked_helper_can_be_waited_for_and_stopped():
 FORKED_HELPER = """
 import json, sys
 from rasterkit.runtime import warm as _warm
+from rasterkit.runtime.forked import Forked
 helper = _warm._spawn({"options": json.loads(sys.argv[1]), "depth": False, "workers": ["bin_records"]}, report=True)
-print(json.dumps({"forked": isinstance(helper, _warm._Forked), "reports": helper.stdout.read().decode().split(),
+print(json.dumps({"forked": isinstance(helper, Forked), "reports": helper.stdout.read().decode().split(),
                   "code": helper.wait(timeout=120)}))
 """
 
@@ -384,6 +386,67 @@ def test_a_helper_is_forked_on_linux_and_reports_on_its_pipe(tmp_path):
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout) == {"forked": True, "reports": ["bin_records"], "code": 0}
     assert _kernel_indexes(tmp_path / "cache", "bands", "bin_records")
+
+
+LIT_HELPERS = """
+import json, os, sys
+from numba.core import event
+
+out = sys.argv[1]
+
+
+class Record(event.Listener):  # inherited by the forked helpers: each appends its own lines
+    def on_start(self, ev):
+        pass
+
+    def on_end(self, ev):
+        with open(out, "a") as f:
+            f.write(json.dumps([os.getpid(), ev.data["dispatcher"].py_func.__name__]) + "\\n")
+
+
+event.register("numba:compile", Record())
+from rasterkit.options import RenderOptions
+from rasterkit.runtime import warm
+
+warm.start(RenderOptions(mode="solid", shading="phong"), depth=False, loading=True)
+lit, band = warm._lit_helper, warm._helpers["draw_bands"]
+reports = band.stdout.read().decode().split()
+print(json.dumps({"lit": lit.pid, "band": band.pid, "reports": reports, "codes": [band.wait(), lit.wait()]}))
+"""
+
+
+def test_a_phong_frames_lit_resolve_compiles_in_a_helper_of_its_own_and_the_band_workers_loads_it(tmp_path):
+    """The lit resolve, the largest kernel, compiles in a helper of its own beside the band
+    worker's helper; the band worker's helper waits for it and loads it from the cache instead
+    of compiling it again, so it compiles exactly once (numba:compile fires only for a real
+    compile, after the on-disk cache was tried). The arguments the helper makes
+    (warm_lit.rows_args) are the band worker's records passed on as they are and slices of its
+    scratch: what this shows for a flat phong frame holds for the other lit variants."""
+    import pytest
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("forks only on Linux")
+    log = tmp_path / "compiled.jsonl"
+    done = _run([sys.executable, "-c", LIT_HELPERS, str(log)], _env(tmp_path / "cache"))
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert report["codes"] == [0, 0] and "draw_bands" in report["reports"]
+    compiled = [tuple(json.loads(line)) for line in log.read_text().splitlines()]
+    assert [pid for pid, name in compiled if name == "resolve_lit_rows"] == [report["lit"]]
+    assert [pid for pid, name in compiled if name == "draw_bands"] == [report["band"]]
+    assert _kernel_indexes(tmp_path / "cache", "phong_rows", "resolve_lit_rows")
+
+
+def test_only_frames_lit_per_pixel_get_the_lit_resolves_helper():
+    """Phong frames and frames with a light that casts shadows are lit per pixel (the lit
+    resolve); flat and smooth frames under lights without shadows are lit per face or corner."""
+    from rasterkit.runtime import warm_lit
+
+    light = rasterkit.Light.directional((-1, -2, -1))
+    assert warm_lit.lit_per_pixel(_warm.helper_style(RenderOptions(shading="phong")))
+    assert not warm_lit.lit_per_pixel(_warm.helper_style(RenderOptions(shading="smooth", lights=[light])))
+    assert warm_lit.lit_per_pixel(_warm.helper_style(RenderOptions(shading="flat", shadows=True, lights=[light])))
+    assert not warm_lit.lit_per_pixel(_warm.helper_style(RenderOptions(shading="flat", shadows=True)))
 
 
 def test_a_plain_python_worker_waits_for_no_helper():
