@@ -44,7 +44,7 @@ import numpy as np
 
 from rasterkit.runtime import jit as _jit
 from rasterkit.runtime.forked import can_fork, fork, prepare_numba
-from rasterkit.runtime.warm_lit import LIT_ROWS, is_lit_frame, lit_per_pixel, rows_args, wait_for_report
+from rasterkit.runtime.warm_lit import LIT_ROWS, is_lit_frame, lit_per_pixel, load_when_reported, rows_args
 from rasterkit.runtime import threads as _threads
 
 #: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
@@ -277,15 +277,14 @@ def _compile_only(names: list[str], frame_only: bool = False, lit_report: int | 
 
     It compiles from the bottom of a fresh Python stack (:func:`rasterkit.runtime.jit.compile_apart`:
     started deep in a render's calls, the hidden-line band worker's compile takes about 1.7
-    times as long). ``lit_report``: the lit resolve's helper's pipe, read before the frame's
-    band worker compiles (:func:`rasterkit.runtime.warm_lit.wait_for_report`)."""
-    waiting = [lit_report] if lit_report is not None else []
+    times as long). ``lit_report``: the lit resolve's helper's pipe, read before the lit
+    resolve's compile here (:func:`rasterkit.runtime.warm_lit.load_when_reported`)."""
+    if lit_report is not None:
+        load_when_reported(_kernel(LIT_ROWS), lit_report)
 
     def hook(worker, args):
         name = worker.py_func.__name__
         if name in names and (not frame_only or frame_call(worker, args)):
-            if waiting and is_lit_frame(worker, args):
-                wait_for_report(waiting.pop())
             _jit.compile_apart(worker, (0, *args))
             print(name, flush=True)
         _zero_writable(args)

@@ -5,8 +5,8 @@ The band worker of a frame lit per pixel calls
 and compiles it into its own code. A helper that compiles the band worker would compile the
 two one after the other; instead a second helper, forked first, compiles the lit resolve
 alone (for the arguments the band worker passes it, :func:`rows_args`) while the first
-compiles the rest of the band worker, and the first waits for it (:func:`wait_for_report`)
-only when its compile gets to the lit resolve's call, which then loads from Numba's cache.
+compiles the rest of the band worker, and the first waits for it only when its compile gets
+to the lit resolve (:func:`load_when_reported`), which then loads from Numba's cache.
 """
 
 from __future__ import annotations
@@ -44,3 +44,19 @@ def wait_for_report(fd: int) -> None:
     pipe (file descriptor ``fd``, inherited from the process that forked both) or has ended."""
     with os.fdopen(fd, "rb") as pipe:
         pipe.readline()
+
+
+def load_when_reported(kernel, fd: int) -> None:
+    """In the band worker's helper: the first compile of ``kernel`` (the lit resolve) here
+    waits for the lit helper (:func:`wait_for_report`) and then finds it in Numba's cache. Numba
+    compiles a callee when it types the call in its caller (``Dispatcher.compile``), so the
+    band worker's compile gets that far, the rest of its callees compiled, before it waits."""
+    compile_here = kernel.compile
+    pending = [fd]
+
+    def compile_after_report(sig):
+        if pending:
+            wait_for_report(pending.pop())
+        return compile_here(sig)
+
+    kernel.compile = compile_after_report

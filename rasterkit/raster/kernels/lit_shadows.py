@@ -6,8 +6,6 @@ each light's shadow factor of each pixel, into the scratch's SHADE column
 from __future__ import annotations
 
 import numpy as np
-from numba import types
-from numba.extending import overload
 
 from rasterkit.raster.kernels.lights import parallel_map, parallel_shadow, parallel_terms, shadow_factor
 from rasterkit.raster.kernels.lit_columns import (
@@ -22,7 +20,7 @@ def _shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows):
     return shadow_factor(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
 
 
-@kernel(refcounts=False)
+@kernel(inline="always")
 def _parallel_shadows(s, n, k, table, shadows):
     """:func:`_chunk_shadows` of a directional light with a parallel map: the terms of a face
     (:func:`~rasterkit.raster.kernels.lights.parallel_terms`) made once for each run of
@@ -81,18 +79,15 @@ def _unshadowed(s, n):
         s[SHADE + np.uint64(q)] = 1.0
 
 
+@kernel(refcounts=False)
 def light_reaches(s, n, k, table, shadows):
     """Light ``k``'s share of each of the chunk's ``n`` pixels that it reaches, into column
-    SHADE: its shadow factors where it has a shadow map (:func:`_chunk_shadows`), else 1. A frame
-    without shadow maps (``shadows`` None) compiles none of the lookups."""
-    if shadows is not None and table[k, 13] >= 0.0:
+    SHADE: its shadow factors where it has a shadow map (:func:`_chunk_shadows`), else 1.
+    Compiled on its own, once for frames with shadow maps and once for frames without
+    (``shadows`` None: none of the lookups is compiled)."""
+    if shadows is None:
+        _unshadowed(s, n)
+    elif table[k, 13] >= 0.0:
         _chunk_shadows(s, n, k, table, shadows)
     else:
         _unshadowed(s, n)
-
-
-@overload(light_reaches, inline="always")
-def _light_reaches(s, n, k, table, shadows):
-    if isinstance(shadows, types.NoneType):
-        return lambda s, n, k, table, shadows: _unshadowed(s, n)
-    return light_reaches
