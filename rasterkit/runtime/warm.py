@@ -328,19 +328,25 @@ def _run(order: dict) -> None:
 
         read_sample_obj()
         return
-    from rasterkit import Light, RenderOptions, render, shapes
+    from rasterkit import Light, Mesh, RenderOptions, render, shapes
     from rasterkit.camera import Camera
 
     _threads.intercept(_compile_lit_rows if order.get("lit_rows") else
                        _compile_only(order["workers"], order.get("frame_only", False), order.get("lit_report")))
     camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
     mesh = shapes.icosphere(1)
+    settings = dict(order["options"])
+    if settings["shading"] != "flat" and not settings["normals"]:
+        # a sphere's vertex normals are its unit vertices: the helpers need not compile the
+        # kernel that sums them (this process compiles it for its model; a vision render's
+        # normal map takes a mesh's own normals as another type, so not there)
+        mesh = Mesh(mesh.vertices, mesh.faces, normals=mesh.vertices / np.linalg.norm(mesh.vertices, axis=1,
+                                                                                    keepdims=True))
     if not order.get("normals", True):  # another helper compiles the kernel: these are the same numbers
         a, b, c = (mesh.vertices[mesh.faces[:, k]] for k in range(3))
         normals = np.cross(b - a, c - a)
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         mesh.__dict__["face_normals"] = _readonly(normals.astype(np.float32))
-    settings = dict(order["options"])
     shadows = settings.pop("shadows", False)
     lights = (Light.directional(_HELPER_LIGHT, shadows=shadows),) if settings.pop("lights", False) else ()
     try:
