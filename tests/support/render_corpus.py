@@ -1,5 +1,5 @@
 """A fixed set of renders whose images must never change: every mode, shaded and not, lit
-(lights, Blinn-Phong, shadows), built-in shapes and real models, several projections, 1 and 2
+(lights, Blinn-Phong, shadows), textured, built-in shapes and real models, several projections, 1 and 2
 threads, RGBA, ids, depth and the 2D line helpers. ``python tests/support/render_corpus.py``
 prints their SHA-256 digests as JSON (how ``tests/data/render_checksums.json`` was made, before
 the kernels were restructured; the lit renders' before the lit resolve was made one kernel);
@@ -20,6 +20,7 @@ from rasterkit import Camera, shapes, transform
 # a path of its own, not support.paths: this file also runs as a script
 MODELS = Path(__file__).resolve().parents[3] / "shared" / "models"
 REAL_MODELS = ("stanford-bunny.obj", "sportsCar.obj", "CornellBox-Original.obj")
+TEXTURED = "formats/obj/fuze/fuze.obj"  # its .mtl names its texture
 
 
 def _digest(*arrays) -> str:
@@ -98,6 +99,26 @@ def _lit_renders(mesh, name, size):
         yield f"{name}/lit/{label}", lambda kw=kw, digest=digest: digest(rasterkit.render(mesh, cam, mode="solid", **kw))
 
 
+def _textured_renders(mesh, name, size):
+    """A model drawn with its textures (issue 27's renders): filters, flat and smooth, lit per
+    pixel with and without shadow maps, samples, ids."""
+    cam = _frame(mesh, *size, azimuth=25, elevation=15)
+    Light = rasterkit.Light
+    renders = {
+        "smooth": dict(shading="smooth"),
+        "flat-nearest": dict(shading="flat", texture_filter="nearest"),
+        "bilinear": dict(shading="smooth", texture_filter="bilinear"),
+        "phong-two": dict(shading="phong", lights=[Light.directional((-1, -2, -1)), Light.ambient("#303030")]),
+        "phong-shadows": dict(shading="phong", lights=[Light.directional((-1, -2, -1), shadows=True)]),
+        "samples": dict(shading="smooth", samples=4),
+        "ids-depth": dict(shading="smooth", ids=True),
+    }
+    for label, kw in renders.items():
+        digest = _ids_depth if kw.get("ids") else _color
+        yield f"{name}/textured/{label}", lambda kw=kw, digest=digest: digest(
+            rasterkit.render(mesh, cam, mode="solid", **kw))
+
+
 def _color(fb):
     return _digest(fb.color)
 
@@ -144,6 +165,8 @@ def cases():
                 rasterkit.render(m, _frame(m, 1920, 1080), mode="solid"))
             if model == "stanford-bunny.obj":
                 yield from _lit_renders(mesh, model, (640, 360))
+    if (MODELS / TEXTURED).is_file():
+        yield from _textured_renders(rasterkit.load(MODELS / TEXTURED), TEXTURED, (480, 360))
 
 
 def digests(threads=(1, 2)) -> dict:
