@@ -213,7 +213,9 @@ def test_the_demos_helper_compiles_the_obj_reader_for_the_first_model(tmp_path):
     coordinates, normals and a line loads without compiling any of the reader's kernels."""
     cache = tmp_path / "cache"
     env = _env(cache)
-    helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps({"obj": True})], env)
+    # the helper runs at the lowest priority: on a machine whose cores the other tests keep busy
+    # it gets little time (CI: 66-164 s), hence the long timeout
+    helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps({"obj": True})], env, timeout=900)
     assert helper.returncode == 0, helper.stderr
     for module, function in _warm.PARSER:  # Numba names a cache file after the module's last part
         assert _kernel_indexes(cache, module.rsplit(".", 1)[-1], function), _indexes(cache)
