@@ -29,8 +29,9 @@ cores or more: while this process compiles the demo's kernels, it compiles the O
 (:data:`PARSER`, by reading a small triangle OBJ with every kind of statement), which the
 first real model would otherwise compile for about 4 seconds. Nothing waits for it while the
 demo renders; at its end the command line waits for it (:func:`finish`: it has usually ended
-by then, or ends within a few seconds, once it has the core to itself), so that no process of
-the command is left writing into Numba's cache after the command has returned.
+by then, or ends within a few seconds, once it has the core to itself; after 10 s it is
+stopped), so that no process of the command is left writing into Numba's cache after the
+command has returned.
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ import contextlib
 import json
 import subprocess
 import sys
+import time
 
 import numpy as np
 
@@ -55,6 +57,9 @@ _helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the hel
 _frame_only = False  # the helpers compile only the frame's own band worker call (frame_call)
 _parser_helper: subprocess.Popen | None = None
 _lit_helper = None  # the lit resolve's helper (warm_lit), until this process has waited for it
+
+#: How long the command line waits at its end for a helper still compiling (:func:`finish`).
+FINISH_SECONDS = 10.0
 
 
 #: The options that decide which variant of each helped kernel a render compiles (the others,
@@ -197,13 +202,23 @@ def _start_parser_helper() -> None:
 def finish() -> None:
     """At the command line's end: wait for the reader's helper and the lit resolve's, if one
     is still compiling or not yet waited for (a script that removes the environment right
-    after the command must not find a process still writing into it)."""
+    after the command must not find a process still writing into it), at most
+    :data:`FINISH_SECONDS`; then stop it (the reader's helper runs at the lowest priority: on a
+    machine whose cores other work keeps busy it may get little time; the next first run
+    compiles what it left)."""
     global _parser_helper, _lit_helper
     helpers = [h for h in (_parser_helper, _lit_helper) if h is not None]
     _parser_helper = _lit_helper = None
+    deadline = time.monotonic() + FINISH_SECONDS
     for helper in helpers:
-        with contextlib.suppress(OSError, ChildProcessError):
-            helper.wait()
+        try:
+            helper.wait(timeout=max(deadline - time.monotonic(), 0.0))
+        except subprocess.TimeoutExpired:
+            with contextlib.suppress(OSError, subprocess.TimeoutExpired):
+                helper.terminate()
+                helper.wait(timeout=5)
+        except (OSError, ChildProcessError):
+            pass
         if helper.stdout is not None:
             helper.stdout.close()
 

@@ -252,14 +252,18 @@ def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(mon
 
 
 class _Helper:
-    """A stand-in for the reader's helper process: records what is asked of it."""
+    """A stand-in for the reader's helper process: records what is asked of it; ``busy``: its
+    first wait with a timeout times out."""
     stdout = None
 
-    def __init__(self):
-        self.calls = []
+    def __init__(self, busy=False):
+        self.calls, self.busy = [], busy
 
     def wait(self, timeout=None):
         self.calls.append("wait")
+        if self.busy and timeout is not None:
+            self.busy = False
+            raise subprocess.TimeoutExpired("helper", timeout)
         return 0
 
     def terminate(self):
@@ -306,6 +310,16 @@ def test_the_command_line_returns_only_after_the_readers_helper_has_ended(monkey
     monkeypatch.setattr(plan, "render_jobs", escapes)  # an error out of the command itself
     assert main(["render", "--demo", "-o", str(tmp_path / "z.png"), "--size", "16x12"]) == 1
     assert helper.calls == ["terminate", "wait"] and _warm._parser_helper is None
+
+
+def test_the_command_line_stops_a_helper_that_has_not_ended_in_time(monkeypatch):
+    """The reader's helper runs at the lowest priority: where other work keeps the cores busy
+    it may not end soon, and the command does not wait for it longer than FINISH_SECONDS."""
+    helper = _Helper(busy=True)
+    monkeypatch.setattr(_warm, "_parser_helper", helper)
+    monkeypatch.setattr(_warm, "_lit_helper", None)
+    _warm.finish()
+    assert helper.calls == ["wait", "terminate", "wait"] and _warm._parser_helper is None
 
 
 @pytest.mark.parametrize("forks", [True, False])
