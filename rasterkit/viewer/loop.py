@@ -71,6 +71,11 @@ class FrameLoop:
         """The newest frame (None before the first)."""
         return self._frame
 
+    @property
+    def closed(self) -> bool:
+        """Whether :meth:`close` was called (no frame comes any more)."""
+        return self._closed
+
     def close(self) -> None:
         with self._changed:
             self._closed = True

@@ -1,27 +1,37 @@
 """``rasterkit view``'s web page: a small HTTP server on 127.0.0.1, built on the standard
-library's :mod:`http.server` (one thread per request; the page needs four kinds of request,
-none of them a WebSocket, so no framework is needed).
+library's :mod:`http.server` (one thread per connection) and the few parts of the WebSocket
+protocol the page uses (:mod:`rasterkit.viewer.websocket`), so no framework is needed.
 
 The page (``static/``) asks for ``GET state`` (the choices and the model's name) once, then
-for ``GET frame?after=N`` in a loop: the answer comes when there is a frame newer than N
-(within :data:`POLL_SECONDS`, else 204), the picture's bytes with its number, whether it is
-the full-quality one, the event it shows (``X-Event-Seq``) and its camera (``X-Camera``, JSON)
-in headers. The mouse's events go up as ``POST event`` (JSON, at most :data:`MAX_EVENT_BYTES`).
+opens a WebSocket at ``/socket``, on which it sends its mouse's events (JSON text messages,
+at most :data:`MAX_EVENT_BYTES`, :data:`rasterkit.viewer.session.EVENTS`) and ``{"ready": N}``
+when it can show a frame newer than N; the server answers each ``ready`` with the newest
+frame once there is one newer than N: a binary message of a 4-byte big-endian length, that
+many bytes of JSON (``number``, ``final``, ``seq``: the event it shows, ``mime``, ``camera``,
+``error``) and the picture's bytes. A bad event is answered with a text message
+``{"error": "..."}``. One frame at a time is on its way, so when the page is slower than the
+frames only the newest is sent. The same is there without a WebSocket, for scripts: ``GET
+frame?after=N`` (the answer comes when there is a frame newer than N, within
+:data:`POLL_SECONDS`, else 204; the picture's bytes with the same fields as ``X-Frame-Number``,
+``X-Frame-Final``, ``X-Event-Seq``, ``X-Camera`` and ``X-Error`` headers) and ``POST event``.
 
 Safe by default: the server listens on 127.0.0.1 only, answers only these paths, and refuses
-(403) any request whose ``Host`` is not its own address (a DNS-rebinding page) or whose
-``Origin``, when there is one, is not its own page (another site's script), so a page of
-another site cannot drive the viewer or read its frames.
+(403) any request, the WebSocket's opening one included, whose ``Host`` is not its own address
+(a DNS-rebinding page) or whose ``Origin``, when there is one, is not its own page (another
+site's script), so a page of another site cannot drive the viewer or read its frames.
 """
 
 from __future__ import annotations
 
 import json
+import struct
 import sys
 import threading
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
 from urllib.parse import parse_qs, urlsplit
+
+from rasterkit.viewer import websocket
 
 __all__ = ["POLL_SECONDS", "ViewerServer"]
 
@@ -108,6 +118,8 @@ class _Handler(BaseHTTPRequestHandler):
             self._answer(200, static_file(name), kind)
         elif url.path == "/state":
             self._answer(200, json.dumps(self.server.state).encode(), "application/json")
+        elif url.path == "/socket":
+            self._socket()
         elif url.path == "/frame":
             self._frame(parse_qs(url.query).get("after", ["0"])[0])
         else:
@@ -127,6 +139,22 @@ class _Handler(BaseHTTPRequestHandler):
             "X-Frame-Number": str(frame.number), "X-Frame-Final": "1" if frame.final else "0",
             "X-Event-Seq": str(frame.seq), "X-Camera": json.dumps(frame.camera),
             "X-Error": (self.server.loop.error or "").encode("ascii", "replace").decode()})
+
+    def _socket(self) -> None:
+        """The page's WebSocket: its events in, its frames out, until either side closes."""
+        key = self.headers.get("Sec-WebSocket-Key")
+        if "websocket" not in self.headers.get("Upgrade", "").lower() or not key \
+                or self.headers.get("Sec-WebSocket-Version") != "13":
+            self._answer(400, b"a WebSocket opening handshake is expected here\n", "text/plain; charset=utf-8")
+            return
+        self.send_response(101)
+        self.send_header("Upgrade", "websocket")
+        self.send_header("Connection", "Upgrade")
+        self.send_header("Sec-WebSocket-Accept", websocket.accept_key(key))
+        self.end_headers()
+        self.wfile.flush()
+        self.close_connection = True
+        _Channel(self.server.loop, self.rfile, self.wfile).run()
 
     def do_POST(self) -> None:
         if not self._allowed():
@@ -148,3 +176,88 @@ class _Handler(BaseHTTPRequestHandler):
             self._answer(400, f"{error}\n".splitlines()[0].encode() + b"\n", "text/plain; charset=utf-8")
             return
         self._answer(204, b"", "text/plain")
+
+
+class _Channel:
+    """One page's WebSocket (:mod:`rasterkit.viewer.websocket`): this thread reads its
+    messages; a thread of its own sends a frame each time the page is ready for one."""
+
+    def __init__(self, loop, rfile, wfile):
+        self.loop, self.rfile, self.wfile = loop, rfile, wfile
+        self._writing = threading.Lock()
+        self._ready = threading.Condition()
+        self._after: int | None = None  # the page is ready for a frame newer than this
+        self._closed = False
+
+    def run(self) -> None:
+        sender = threading.Thread(target=self._send_frames, name="rasterkit-view-frames", daemon=True)
+        sender.start()
+        try:
+            self._read_messages()
+        except websocket.ProtocolError as error:
+            self._send(websocket.CLOSE, struct.pack("!H", error.code) + str(error).encode()[:100])
+        except (EOFError, OSError):
+            pass
+        finally:
+            with self._ready:
+                self._closed = True
+                self._ready.notify_all()
+            sender.join(timeout=5)
+
+    def _read_messages(self) -> None:
+        while True:
+            kind, data = websocket.read_message(self.rfile, MAX_EVENT_BYTES, self._control)
+            if kind == websocket.CLOSE:
+                return
+            if kind != websocket.TEXT:
+                raise websocket.ProtocolError("the page's messages are JSON text", 1003)
+            try:
+                message = json.loads(data)
+                if isinstance(message, dict) and set(message) == {"ready"}:
+                    self._page_ready(message["ready"])
+                else:
+                    self.loop.post(message)
+            except (ValueError, TypeError, KeyError) as error:  # JSONDecodeError is a ValueError
+                self._send(websocket.TEXT, json.dumps({"error": str(error).splitlines()[0]}).encode())
+
+    def _page_ready(self, after) -> None:
+        if isinstance(after, bool) or not isinstance(after, int) or not 0 <= after < 2**53:
+            raise ValueError("ready must be a frame number")
+        with self._ready:
+            self._after = after
+            self._ready.notify_all()
+
+    def _control(self, kind: int, data: bytes) -> None:
+        if kind == websocket.PING:
+            self._send(websocket.PONG, data)
+        elif kind == websocket.CLOSE:
+            self._send(websocket.CLOSE, data[:2])
+
+    def _send(self, kind: int, payload: bytes) -> None:
+        with self._writing:
+            self.wfile.write(websocket.encode(kind, payload))
+            self.wfile.flush()
+
+    def _send_frames(self) -> None:
+        while True:
+            with self._ready:
+                while self._after is None and not self._closed:
+                    self._ready.wait()
+                if self._closed:
+                    return
+                after = self._after
+            frame = self.loop.wait_frame(after, 1.0)  # (then again: the page may have gone)
+            if frame is None:
+                if self.loop.closed:
+                    return
+                continue
+            meta = json.dumps({"number": frame.number, "final": frame.final, "seq": frame.seq, "mime": frame.mime,
+                               "camera": frame.camera, "error": self.loop.error or ""}).encode()
+            with self._ready:
+                if self._after != after:  # the page asked again meanwhile: answer that
+                    continue
+                self._after = None
+            try:
+                self._send(websocket.BINARY, struct.pack("!I", len(meta)) + meta + frame.data)
+            except OSError:
+                return

@@ -22,11 +22,14 @@ __all__ = ["EVENTS", "Frame", "ViewerSession", "choices"]
 EVENTS = ("drag", "wheel", "reframe", "release", "set")
 #: The largest move one event may carry, pixels or notches (a bigger one is refused).
 MAX_MOVE = 1e5
-#: While the user drags, a frame that takes longer than this (seconds) is drawn smaller next
-#: time: at the largest of :data:`PREVIEW_SCALES` (of each side) that fits. A few sizes, not
-#: any: the framebuffers' memory is recycled by size (:mod:`rasterkit.runtime.scratch`), so
-#: a few sizes keep the memory flat.
-PREVIEW_SECONDS = 0.035
+#: While the user drags, a frame that takes longer than this (seconds: drawn, made into a
+#: picture and encoded) is drawn smaller next time: at the largest of :data:`PREVIEW_SCALES`
+#: (of each side) that fits. A mouse event waits on average half a frame for the frame being
+#: drawn to end, then a whole frame for its own, and the page takes some milliseconds to show
+#: it: 20 ms keeps the time from the mouse to the page within 50 ms. A few sizes, not any:
+#: the framebuffers' memory is recycled by size (:mod:`rasterkit.runtime.scratch`), so a few
+#: sizes keep the memory flat.
+PREVIEW_SECONDS = 0.020
 PREVIEW_SCALES = (1.0, 0.8, 0.64, 0.5, 0.4, 0.32, 0.25)
 
 
@@ -152,7 +155,7 @@ class ViewerSession:
     def render(self, final: bool, number: int = 0) -> Frame:
         """Draw the current state: at full size when ``final`` (PNG, the pixels that
         ``rasterkit render`` with :meth:`flags` writes), else at the preview scale (JPEG, and
-        the scale adjusted to the time this frame took)."""
+        the scale adjusted to the time this frame took, :data:`PREVIEW_SECONDS`)."""
         from rasterkit.raster.render import render
 
         width, height = self.base.size
@@ -168,10 +171,10 @@ class ViewerSession:
         begin = time.perf_counter()
         fb = render(mesh, camera, options=options, **points)
         seconds = time.perf_counter() - begin
-        if not final:
-            fit = scale * math.sqrt(PREVIEW_SECONDS / max(seconds, 1e-6))
-            self.preview_scale = max([k for k in PREVIEW_SCALES if k <= fit], default=PREVIEW_SCALES[-1])
         data, mime = encode(picture(fb, self.shown), final)
+        if not final:
+            fit = scale * math.sqrt(PREVIEW_SECONDS / max(time.perf_counter() - begin, 1e-6))
+            self.preview_scale = max([k for k in PREVIEW_SCALES if k <= fit], default=PREVIEW_SCALES[-1])
         return Frame(number, data, mime, size[0], size[1], final, self.camera_record(), seconds)
 
 

@@ -1,50 +1,50 @@
-// The `rasterkit view` page: frames by long polling (GET frame?after=N answers with the next
-// frame as soon as there is one), events by POST (rasterkit/viewer/server.py).
+// The `rasterkit view` page: events up and frames down on one WebSocket (rasterkit/viewer/server.py
+// describes its messages). The page asks for the next frame only once it has shown the last,
+// so only the newest frame comes when the page or the connection is slower than the frames.
 import {attach, bar, sender} from './controls.js';
 
 const canvas = document.getElementById('frame');
 const stats = {frames: 0, latencies: [], arrivals: [], number: 0, camera: null, final: false};
 window.rasterkitViewer = stats;  // read by the browser test
+const error = text => { document.getElementById('error').textContent = text; };
 
-async function post(event) {
-  const answer = await fetch('event', {method: 'POST', headers: {'Content-Type': 'application/json'},
-                                      body: JSON.stringify(event)});
-  if (!answer.ok) document.getElementById('error').textContent = await answer.text();
-}
+const socket = new WebSocket(`ws://${location.host}/socket`);
+socket.binaryType = 'arraybuffer';
+const opened = new Promise(resolve => socket.addEventListener('open', resolve));
+const {send, sent} = sender(async event => { await opened; socket.send(JSON.stringify(event)); });
 
-const {send, sent} = sender(post);
-
-async function frames() {
-  for (;;) {
-    let answer;
-    try {
-      answer = await fetch('frame?after=' + stats.number);
-    } catch (e) {  // the server has stopped
-      document.getElementById('error').textContent = 'the viewer has stopped';
-      return;
-    }
-    if (answer.status !== 200) continue;  // no new frame yet
-    const arrived = performance.now();
-    const blob = await answer.blob();
-    const bitmap = await createImageBitmap(blob);  // decoded off the page's main thread
-    canvas.getContext('2d').drawImage(bitmap, 0, 0, canvas.width, canvas.height);
-    bitmap.close();
-    if (stats.url) URL.revokeObjectURL(stats.url);
-    stats.url = URL.createObjectURL(blob);  // the picture's bytes, for the browser test
-    const seq = Number(answer.headers.get('X-Event-Seq'));
-    if (sent.has(seq)) {
-      stats.latencies.push(performance.now() - sent.get(seq));
-      stats.arrivals.push(arrived - sent.get(seq));
-      for (const key of sent.keys()) if (key <= seq) sent.delete(key);
-    }
-    stats.number = Number(answer.headers.get('X-Frame-Number'));
-    stats.final = answer.headers.get('X-Frame-Final') === '1';
-    stats.camera = JSON.parse(answer.headers.get('X-Camera'));
-    stats.frames += 1;
-    document.getElementById('camera').textContent = 'rasterkit render ' + stats.camera.command.join(' ');
-    document.getElementById('error').textContent = answer.headers.get('X-Error') || '';
+async function show(buffer) {
+  const arrived = performance.now();
+  const length = new DataView(buffer).getUint32(0);
+  const meta = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, length)));
+  const blob = new Blob([new Uint8Array(buffer, 4 + length)], {type: meta.mime});
+  const bitmap = await createImageBitmap(blob);  // decoded off the page's main thread
+  canvas.getContext('2d').drawImage(bitmap, 0, 0, canvas.width, canvas.height);
+  bitmap.close();
+  if (stats.url) URL.revokeObjectURL(stats.url);
+  stats.url = URL.createObjectURL(blob);  // the picture's bytes, for the browser test
+  if (sent.has(meta.seq)) {
+    stats.latencies.push(performance.now() - sent.get(meta.seq));
+    stats.arrivals.push(arrived - sent.get(meta.seq));
+    for (const key of sent.keys()) if (key <= meta.seq) sent.delete(key);
   }
+  stats.number = meta.number;
+  stats.final = meta.final;
+  stats.camera = meta.camera;
+  stats.frames += 1;
+  document.getElementById('camera').textContent = 'rasterkit render ' + meta.camera.command.join(' ');
+  error(meta.error);
 }
+
+socket.addEventListener('message', async message => {
+  if (typeof message.data === 'string') {  // a bad event's answer
+    error(JSON.parse(message.data).error);
+    return;
+  }
+  await show(message.data);
+  socket.send(JSON.stringify({ready: stats.number}));
+});
+socket.addEventListener('close', () => error('the viewer has stopped'));
 
 const state = await (await fetch('state')).json();
 document.getElementById('model').textContent = state.model;
@@ -52,4 +52,5 @@ canvas.width = state.size[0];
 canvas.height = state.size[1];
 attach(canvas, send, () => state.size[1] / (canvas.clientHeight || state.size[1]));
 bar(document.getElementById('bar'), state.choices, state.current, send);
-frames();
+await opened;
+socket.send(JSON.stringify({ready: 0}));
