@@ -28,7 +28,7 @@ import re
 
 from rasterkit.runtime.files import FileError, read_head
 
-__all__ = ["FORMATS", "MODEL_SUFFIXES", "content_format", "detect", "load"]
+__all__ = ["FORMATS", "MODEL_SUFFIXES", "content_format", "detect", "load", "texture_maps"]
 
 #: Format names, as ``load(..., format=...)`` takes them (``glb`` is an alias of ``gltf``).
 FORMATS = ("obj", "stl", "ply", "off", "gltf")
@@ -82,6 +82,22 @@ def detect(path, head: bytes | None = None, size: int | None = None) -> str:
     if b"\0" not in head:
         return "obj"
     raise FileError(name, "not a model format rasterkit reads (OBJ, STL, PLY, OFF, glTF/GLB): name it with format=")
+
+
+def texture_maps(path) -> frozenset:
+    """A quick guess, before ``path`` is read, at the kinds of texture map its materials name
+    (``"diffuse"``, ``"alpha"``, ``"normal"``: :func:`rasterkit.obj.peek.map_kinds`), for the
+    command line's compiling helpers; for an OBJ file only (empty for the other formats, and
+    when the file cannot be read)."""
+    try:
+        kind = detect(path)
+    except (OSError, ValueError):
+        return frozenset()
+    if kind != "obj":
+        return frozenset()
+    from rasterkit.obj.peek import map_kinds
+
+    return map_kinds(path)
 
 
 def load(path, *, format: str | None = None, textures: bool = True):

@@ -67,6 +67,7 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
     line each; default: dropped). Every output is checked before the model is read, and
     the files of one render (image, depth, normals, ids) are written all or none."""
     from rasterkit.runtime import warm as _warm
+    from rasterkit.formats import texture_maps
     from rasterkit.image.atomic import all_or_none
     from rasterkit.image.files import save_animation
     from rasterkit.raster.modes import mode
@@ -80,12 +81,14 @@ def render_model(source: Path | None, output: Path, task, say=None) -> int:
     for _, path in named:
         check_writable(path)
     options = task.frame_options()
+    # textures are read only where they are drawn (shaded faces, into an image)
+    textured = options.textures and not svg and mode(options.mode).shaded
     if not svg:
-        _warm.start(options, depth=False, loading=source is not None)
+        _warm.start(options, depth=False, loading=source is not None,
+                    maps=(lambda: texture_maps(source)) if textured and source is not None else frozenset())
     elif options.mode == "hidden":  # the SVG's depth pass: the triangles' band worker, with face ids
         _warm.start(RenderOptions(mode="hidden", ids=True), depth=False, loading=source is not None)
-    # textures are read only where they are drawn (shaded faces, into an image)
-    drawn = load_drawn(source, options, options.textures and not svg and mode(options.mode).shaded, say)
+    drawn = load_drawn(source, options, textured, say)
     mesh, cloud, options = drawn.mesh, drawn.cloud, drawn.options
     camera, center = task.view.frame(drawn.framed)
     if cloud is not None and svg:

@@ -24,13 +24,13 @@ from rasterkit.material.mipmaps import mipmaps_bytes
 from rasterkit.obj.errors import Report, count
 from rasterkit.obj.mtl import MapStatement
 
-__all__ = ["TEXTURE_WARNINGS", "TextureFiles"]
+__all__ = ["TEXTURE_WARNINGS", "TextureFiles", "map_path"]
 
 #: Textures that cannot be read are named one warning each up to this many, then counted.
 TEXTURE_WARNINGS = 5
 
 
-def _path(folder: str, file: str) -> str:
+def map_path(folder: str, file: str) -> str:
     """The file a map statement names (see the module documentation)."""
     name = file.replace("\\", "/")
     path = os.path.join(folder, name)
@@ -55,7 +55,7 @@ class TextureFiles:
     def texture(self, library: str, statement: MapStatement, srgb: bool) -> Texture | None:
         """The texture that ``statement`` of the ``.mtl`` file ``library`` names, with its
         settings, or None when the file cannot be read."""
-        key = _path(os.path.dirname(library), statement.file)
+        key = map_path(os.path.dirname(library), statement.file)
         try:
             key = os.path.realpath(key)
         except ValueError:  # a NUL byte in the name: read_image says so

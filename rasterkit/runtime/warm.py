@@ -12,10 +12,12 @@ cores a first render takes about as long as the larger half of its compiling ins
 of it. A helper is this process forked (on Linux, when no other thread runs: everything it
 needs is imported already) or, elsewhere, a new interpreter (``python -m rasterkit.runtime.warm``).
 
-A frame lit per pixel gets one more forked helper, started first, that compiles only the lit
-resolve, the largest kernel, which the band worker compiles into itself
+A frame lit per pixel or textured gets one more forked helper, started first, that compiles
+only the frame's resolve, the largest kernel, which the band worker compiles into itself
 (:mod:`rasterkit.runtime.warm_lit`): the band worker's helper waits for it when its compile
-gets there and loads the resolve from the cache.
+gets there and loads the resolve from the cache. Whether the model will be drawn textured is
+guessed before it is read (:func:`rasterkit.formats.texture_maps`); the helpers then draw a
+textured sphere (:mod:`rasterkit.runtime.warm_mesh`).
 
 The helper renders a tiny mesh in the same mode through the ordinary drivers, with
 :func:`rasterkit.runtime.threads.run_parallel` intercepted: its workers are compiled for the argument
@@ -46,7 +48,7 @@ import numpy as np
 
 from rasterkit.runtime import jit as _jit
 from rasterkit.runtime.forked import can_fork, fork, prepare_numba
-from rasterkit.runtime.warm_lit import LIT_ROWS, is_lit_frame, lit_per_pixel, load_when_reported, rows_args
+from rasterkit.runtime.warm_lit import TEXTURED_ROWS, frame_resolve, is_lit_frame, load_when_reported, rows_args
 from rasterkit.runtime import threads as _threads
 
 #: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
@@ -56,7 +58,7 @@ PARSER = (("rasterkit.obj.kernels.chunk", "read_lines"),
 _helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the helper compiling it
 _frame_only = False  # the helpers compile only the frame's own band worker call (frame_call)
 _parser_helper: subprocess.Popen | None = None
-_lit_helper = None  # the lit resolve's helper (warm_lit), until this process has waited for it
+_lit_helper = None  # the resolve's helper (warm_lit), until this process has waited for it
 
 #: How long the command line waits at its end for a helper still compiling (:func:`finish`).
 FINISH_SECONDS = 10.0
@@ -74,12 +76,15 @@ HELPED_OPTIONS = ("mode", "cull", "shading", "background", "aa", "ids", "normals
 _HELPER_LIGHT = (-1.0, -2.0, -1.0)  # a directional light's direction
 
 
-def helper_style(options) -> dict:
+def helper_style(options, maps=frozenset()) -> dict:
     """What a helper renders with for a render with ``options`` (JSON: :data:`HELPED_OPTIONS`,
-    ``lights``: whether it has any, and ``shadows``: whether one of them casts shadows)."""
+    ``lights``: whether it has any, ``shadows``: whether one of them casts shadows, and
+    ``maps``: the kinds of texture map the model's materials name, sorted,
+    :func:`rasterkit.formats.texture_maps`: a textured frame has a band worker of its own)."""
     style = {name: getattr(options, name) for name in HELPED_OPTIONS}
     style["lights"] = bool(options.lights)
     style["shadows"] = any(light.kind != "ambient" and (options.shadows or light.shadows) for light in options.lights)
+    style["maps"] = sorted(maps) if options.textures else []
     return style
 
 _cached = _jit.cached  # (a name of this module: tests replace it)
@@ -111,14 +116,19 @@ def band_worker_cached(options) -> bool:
     return _cached(_kernel(mode(options.mode).band_worker(options.aa)))
 
 
-def start(options, depth: bool, loading: bool) -> None:
+def start(options, depth: bool, loading: bool, maps=frozenset()) -> None:
     """Start the helpers for a render with ``options`` (a :class:`rasterkit.RenderOptions`, of
     which :data:`HELPED_OPTIONS` matter: the vision maps asked for are made by the band worker
     too) for the kernels of :func:`helped_workers` that are not cached (any variant: a first
     vision render after plain ones compiles its variant here); ``depth``: the depth buffer is
     read too; ``loading``: a model file is read (its parser compiles here meanwhile;
     otherwise, for the built-in model, a helper of low priority compiles the parser for the
-    next run). A wireframe of the built-in model leaves too little to do here while a helper
+    next run); ``maps``: the kinds of texture map the model will be drawn with, or a function
+    that guesses them before the model is read (:func:`rasterkit.formats.texture_maps`; called
+    only when the textured kernels are not cached; the helpers then draw a textured sphere). A
+    band worker whose frame's resolve (:func:`rasterkit.runtime.warm_lit.frame_resolve`) is not
+    cached is not either, whatever variants of it are: a first textured or lit render after
+    plain ones gets its helpers too. A wireframe of the built-in model leaves too little to do here while a helper
     works to make up for starting a new interpreter: no band worker helper then, unless it is
     forked. Once per process."""
     global _frame_only
@@ -126,10 +136,16 @@ def start(options, depth: bool, loading: bool) -> None:
         return
     from rasterkit.raster.modes import mode
 
-    style = helper_style(options)
+    if callable(maps):
+        maps = maps() if options.textures and not (_cached(_kernel(TEXTURED_ROWS)) and band_worker_cached(options)) \
+            else frozenset()
+    style = helper_style(options, maps)
     _frame_only = style["shadows"]
+    resolve = frame_resolve(style)
+    fresh = resolve is not None and not _cached(_kernel(resolve))  # the frame's band worker is not cached
     lists = [] if not mode(options.mode).faces and not loading and not _forks() else [
-        names for names in ([w.py_func.__name__ for w in workers if not _cached(w)]
+        names for names in ([w.py_func.__name__ for w in workers
+                             if not _cached(w) or fresh and w.py_func.__name__ == "draw_bands"]
                             for workers in helped_workers(options)) if names]
     if lists and _forks():
         prepare_numba()
@@ -141,6 +157,7 @@ def start(options, depth: bool, loading: bool) -> None:
                  "frame_only": _frame_only}
         if lit is not None and "draw_bands" in names:
             order["lit_report"] = lit.stdout.fileno()
+            order["resolve"] = frame_resolve(style)
         helper = _spawn(order, report=True)
         if helper is not None:
             _helpers.update(dict.fromkeys(names, helper))
@@ -154,14 +171,15 @@ def start(options, depth: bool, loading: bool) -> None:
 
 
 def _start_lit_helper(style: dict, depth: bool, lists: list):
-    """For a frame lit per pixel whose band worker a helper compiles: a helper forked first
-    that compiles the lit resolve meanwhile (:mod:`rasterkit.runtime.warm_lit`), when it is
-    not cached; the helper, or None."""
+    """For a frame lit per pixel or textured whose band worker a helper compiles: a helper
+    forked first that compiles the frame's resolve meanwhile (:mod:`rasterkit.runtime.warm_lit`),
+    when it is not cached; the helper, or None."""
     global _lit_helper
-    if not (_forks() and lit_per_pixel(style) and any("draw_bands" in names for names in lists)) \
-            or _cached(_kernel(LIT_ROWS)):
+    resolve = frame_resolve(style)
+    if not (_forks() and resolve is not None and any("draw_bands" in names for names in lists)) \
+            or _cached(_kernel(resolve)):
         return None
-    _lit_helper = _spawn({"options": style, "depth": depth, "lit_rows": True, "normals": False}, report=True)
+    _lit_helper = _spawn({"options": style, "depth": depth, "lit_rows": resolve, "normals": False}, report=True)
     return _lit_helper
 
 
@@ -286,16 +304,17 @@ def frame_call(worker, args) -> bool:
         or args[-4] is not None
 
 
-def _compile_only(names: list[str], frame_only: bool = False, lit_report: int | None = None):
+def _compile_only(names: list[str], frame_only: bool = False, lit_report: int | None = None,
+                  resolve: str | None = None):
     """In the helper: compile the workers ``names`` for the arguments they get, run nothing,
     and name each on standard output once it is in the cache.
 
     It compiles from the bottom of a fresh Python stack (:func:`rasterkit.runtime.jit.compile_apart`:
     started deep in a render's calls, the hidden-line band worker's compile takes about 1.7
-    times as long). ``lit_report``: the lit resolve's helper's pipe, read before the lit
-    resolve's compile here (:func:`rasterkit.runtime.warm_lit.load_when_reported`)."""
+    times as long). ``lit_report``: the resolve's helper's pipe, read before the compile of
+    its kernel ``resolve`` here (:func:`rasterkit.runtime.warm_lit.load_when_reported`)."""
     if lit_report is not None:
-        load_when_reported(_kernel(LIT_ROWS), lit_report)
+        load_when_reported(_kernel(resolve), lit_report)
 
     def hook(worker, args):
         name = worker.py_func.__name__
@@ -309,19 +328,22 @@ def _compile_only(names: list[str], frame_only: bool = False, lit_report: int | 
 
 
 class _Compiled(Exception):
-    """The lit resolve's helper has compiled what it is for: the render ends."""
+    """The resolve's helper has compiled what it is for: the render ends."""
 
 
-def _compile_lit_rows(worker, args):
-    """In the lit resolve's helper (:mod:`rasterkit.runtime.warm_lit`): at the frame's call of
-    the band worker, compile the lit resolve for the arguments that call passes it, name it on
+def _compile_rows(resolve: str):
+    """In the resolve's helper (:mod:`rasterkit.runtime.warm_lit`): at the frame's call of the
+    band worker, compile ``resolve`` for the arguments that call passes it, name it on
     standard output and end the render; run no other worker."""
-    if is_lit_frame(worker, args):
-        _jit.compile_apart(_kernel(LIT_ROWS), rows_args(args))
-        print(LIT_ROWS.split(":")[1], flush=True)
-        raise _Compiled
-    _zero_writable(args)
-    return [0]
+    def hook(worker, args):
+        if is_lit_frame(worker, args):
+            _jit.compile_apart(_kernel(resolve), rows_args(args))
+            print(resolve.split(":")[1], flush=True)
+            raise _Compiled
+        _zero_writable(args)
+        return [0]
+
+    return hook
 
 
 def _zero_writable(values) -> None:
@@ -343,25 +365,17 @@ def _run(order: dict) -> None:
 
         read_sample_obj()
         return
-    from rasterkit import Light, Mesh, RenderOptions, render, shapes
+    from rasterkit import Light, RenderOptions, render
     from rasterkit.camera import Camera
+    from rasterkit.runtime.warm_mesh import helper_mesh
 
-    _threads.intercept(_compile_lit_rows if order.get("lit_rows") else
-                       _compile_only(order["workers"], order.get("frame_only", False), order.get("lit_report")))
+    _threads.intercept(_compile_rows(order["lit_rows"]) if order.get("lit_rows") else
+                       _compile_only(order["workers"], order.get("frame_only", False), order.get("lit_report"),
+                                     order.get("resolve")))
     camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
-    mesh = shapes.icosphere(1)
     settings = dict(order["options"])
-    if settings["shading"] != "flat" and not settings["normals"]:
-        # a sphere's vertex normals are its unit vertices: the helpers need not compile the
-        # kernel that sums them (this process compiles it for its model; a vision render's
-        # normal map takes a mesh's own normals as another type, so not there)
-        mesh = Mesh(mesh.vertices, mesh.faces, normals=mesh.vertices / np.linalg.norm(mesh.vertices, axis=1,
-                                                                                    keepdims=True))
-    if not order.get("normals", True):  # another helper compiles the kernel: these are the same numbers
-        a, b, c = (mesh.vertices[mesh.faces[:, k]] for k in range(3))
-        normals = np.cross(b - a, c - a)
-        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-        mesh.__dict__["face_normals"] = _readonly(normals.astype(np.float32))
+    mesh = helper_mesh(settings.pop("maps", ()), settings["shading"] != "flat" and not settings["normals"],
+                       order.get("normals", True))
     shadows = settings.pop("shadows", False)
     lights = (Light.directional(_HELPER_LIGHT, shadows=shadows),) if settings.pop("lights", False) else ()
     try:
@@ -370,11 +384,6 @@ def _run(order: dict) -> None:
         return
     if order["depth"]:
         fb.depth  # noqa: B018 - reading it runs the depth pass
-
-
-def _readonly(a: np.ndarray) -> np.ndarray:
-    a.flags.writeable = False
-    return a
 
 
 if __name__ == "__main__":

@@ -292,7 +292,7 @@ def draw_bands(slot, counter, band_start, items, records, shading, target, clear
             fragments += _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, band_lid,
                                     band_depth, row_lo, row_hi, cutouts, textures is None and lights is None)
             if textures is not None:
-                _resolve_textured(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, textures, mapped)
+                resolve_textured_rows(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, textures, mapped)
             elif lights is not None:
                 resolve_lit_rows(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, lights)
         if maps is not None:
@@ -339,7 +339,7 @@ def _draw_band(b, y0, y1, band_start, items, records, shading, target, sample, b
 
 
 @kernel(refcounts=False)
-def _resolve_textured(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, textures, mapped):
+def resolve_textured_rows(y0, y1, shading, target, sample, band_lid, row_lo, row_hi, textures, mapped):
     """Resolve rows ``y0 .. y1 - 1`` of a textured frame
     (:func:`rasterkit.raster.kernels.texture_shade.resolve_textured_row`)."""
     mode, _, _, packed, vertex_colors, _, bary, corners = shading
