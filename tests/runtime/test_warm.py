@@ -25,7 +25,7 @@ from rasterkit.cli import _parser
 from rasterkit.cli.args import view_from_args
 from rasterkit.obj import load_obj
 from rasterkit.options import RenderOptions
-from support.startup import ENV
+from support.startup import COMPILE_LOG, ENV
 
 SOLID_ORDER = {
     "options": {"mode": "solid", "cull": "back", "shading": "flat", "background": "white", "aa": False},
@@ -208,14 +208,23 @@ print(json.dumps({"compiled": sorted(set(compiled)), "faces": len(mesh.faces)}))
 """
 
 
+READER_HELPER = """
+import sys
+from rasterkit.runtime import warm, warm_obj
+
+warm_obj._lower_priority = lambda: None
+warm._helper_main(sys.argv[1])
+"""
+
+
 def test_the_demos_helper_compiles_the_obj_reader_for_the_first_model(tmp_path):
     """The demo's helper reads its sample OBJ: afterwards a triangle model with texture
     coordinates, normals and a line loads without compiling any of the reader's kernels."""
     cache = tmp_path / "cache"
     env = _env(cache)
-    # the helper runs at the lowest priority: on a machine whose cores the other tests keep busy
-    # it gets little time (CI: 66-164 s), hence the long timeout
-    helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps({"obj": True})], env, timeout=900)
+    # the helper's own entry, at this test's priority: at the lowest, which the helper takes,
+    # the other tests on both cores left it so little time that it took 66-210 s in CI
+    helper = _run([sys.executable, "-c", READER_HELPER, json.dumps({"obj": True})], env, timeout=900)
     assert helper.returncode == 0, helper.stderr
     for module, function in _warm.PARSER:  # Numba names a cache file after the module's last part
         assert _kernel_indexes(cache, module.rsplit(".", 1)[-1], function), _indexes(cache)
@@ -227,6 +236,20 @@ def test_the_demos_helper_compiles_the_obj_reader_for_the_first_model(tmp_path):
     report = json.loads(loaded.stdout.splitlines()[-1])
     assert report["faces"] == 3
     assert not [name for name in report["compiled"] if name.startswith("rasterkit.")], report["compiled"]
+
+
+def test_the_readers_helper_reads_its_sample_at_the_lowest_priority(monkeypatch):
+    """Nothing waits for the demo's reader helper: it yields the cores to anything that does
+    (the test above runs its work at the test's own priority)."""
+    from rasterkit import obj
+    from rasterkit.runtime import warm_obj
+
+    calls = []
+    monkeypatch.setattr(warm_obj.os, "nice", lambda step: calls.append(("nice", step)) or 19)
+    monkeypatch.setattr(obj, "load_obj", lambda path, textures=True: calls.append(
+        ("read", Path(path).read_text() == warm_obj.SAMPLE_OBJ, textures)))
+    warm_obj.read_sample_obj()
+    assert calls == [("nice", 19), ("read", True, False)]
 
 
 def test_only_the_demo_starts_the_readers_helper_and_only_with_a_second_core(monkeypatch):
@@ -404,23 +427,7 @@ def test_a_helper_is_forked_on_linux_and_reports_on_its_pipe(tmp_path):
     assert _kernel_indexes(tmp_path / "cache", "bands", "bin_records")
 
 
-LIT_HELPERS = """
-import json, os, sys
-from numba.core import event
-
-out = sys.argv[1]
-
-
-class Record(event.Listener):  # inherited by the forked helpers: each appends its own lines
-    def on_start(self, ev):
-        pass
-
-    def on_end(self, ev):
-        with open(out, "a") as f:
-            f.write(json.dumps([os.getpid(), ev.data["dispatcher"].py_func.__name__]) + "\\n")
-
-
-event.register("numba:compile", Record())
+LIT_HELPERS = COMPILE_LOG + """
 from rasterkit.options import RenderOptions
 from rasterkit.runtime import warm
 

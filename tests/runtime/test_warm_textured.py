@@ -19,7 +19,7 @@ from rasterkit.obj.peek import HEAD_BYTES, map_kinds
 from rasterkit.runtime.warm import helper_style
 from rasterkit.runtime.warm_lit import LIT_ROWS, TEXTURED_ROWS, frame_resolve
 from rasterkit.runtime.warm_mesh import helper_mesh
-from support.startup import ENV
+from support.startup import COMPILE_LOG, ENV
 
 QUAD_OBJ = """\
 mtllib {library}
@@ -91,23 +91,7 @@ def test_a_helpers_sphere_has_the_kinds_of_map_the_model_has():
 
 # A cold command-line render in this interpreter, Numba's compile events recorded with the
 # process that compiled (forked helpers inherit the listener and append their own lines).
-FIRST_TEXTURED = """
-import json, os, sys
-from numba.core import event
-
-out = sys.argv[1]
-
-
-class Record(event.Listener):
-    def on_start(self, ev):
-        pass
-
-    def on_end(self, ev):
-        with open(out, "a") as f:
-            f.write(json.dumps([os.getpid(), ev.data["dispatcher"].py_func.__name__]) + "\\n")
-
-
-event.register("numba:compile", Record())
+FIRST_TEXTURED = COMPILE_LOG + """
 from rasterkit.cli import main
 
 code = main(sys.argv[2:])

@@ -22,6 +22,29 @@ except SystemExit as e:
 print(code, [m for m in ("numba", "llvmlite", "numpy") if m in sys.modules])
 """
 
+#: The start of a script that records Numba's compiles: each function compiled, with the
+#: process that compiled it, appended as a JSON line to the file ``sys.argv[1]`` (forked
+#: helpers inherit the listener and append their own lines). numba:compile fires only for a
+#: real compile, after the on-disk cache was tried.
+COMPILE_LOG = """
+import json, os, sys
+from numba.core import event
+
+out = sys.argv[1]
+
+
+class Record(event.Listener):
+    def on_start(self, ev):
+        pass
+
+    def on_end(self, ev):
+        with open(out, "a") as f:
+            f.write(json.dumps([os.getpid(), ev.data["dispatcher"].py_func.__name__]) + "\\n")
+
+
+event.register("numba:compile", Record())
+"""
+
 
 def fresh(code: str, *argv: str) -> subprocess.CompletedProcess:
     """Run the Python source ``code`` with ``argv`` in a fresh interpreter (two minutes at most)."""
