@@ -55,6 +55,9 @@ from rasterkit.runtime import threads as _threads
 PARSER = (("rasterkit.obj.kernels.chunk", "read_lines"),
           ("rasterkit.obj.kernels.corners", "resolve_corners"))
 
+#: The ambient occlusion's passes, in the order a frame runs them (:func:`helped_workers`).
+AO_KERNELS = tuple(f"rasterkit.raster.kernels.ao:{name}" for name in ("ao_grid", "ao_raw", "ao_blur", "ao_shade"))
+
 _helpers: dict[str, subprocess.Popen] = {}  # a worker not yet reported: the helper compiling it
 _frame_only = False  # the helpers compile only the frame's own band worker call (frame_call)
 _parser_helper: subprocess.Popen | None = None
@@ -103,10 +106,16 @@ def helped_workers(options) -> list[list]:
     :class:`rasterkit.RenderOptions`): a list per helper process, each in the order the render
     runs them, as the mode's row of :data:`rasterkit.raster.modes.MODE_TABLE` names them
     (:meth:`~rasterkit.raster.modes.Mode.helped_kernels`). With two helpers (faces and
-    edges), three processes share two cores."""
+    edges), three processes share two cores. A frame with ambient occlusion has the AO's
+    passes (:data:`AO_KERNELS`, run after the frame) compiled by the band worker's helper
+    too, which has the least to do otherwise."""
     from rasterkit.raster.modes import mode
 
-    return [[_kernel(name) for name in names] for names in mode(options.mode).helped_kernels(options.aa)]
+    row = mode(options.mode)
+    lists = [[_kernel(name) for name in names] for names in row.helped_kernels(options.aa)]
+    if options.ao and row.faces:
+        lists[0] += [_kernel(name) for name in AO_KERNELS]
+    return lists
 
 
 def band_worker_cached(options) -> bool:

@@ -545,3 +545,22 @@ def test_a_shadowed_frames_helper_compiles_the_frames_own_band_worker_and_leaves
     finally:
         warm._helpers.clear()
         warm._helpers.update(saved)
+
+
+def test_an_ao_frames_band_worker_helper_compiles_the_occlusion_passes_too(monkeypatch):
+    """The AO's passes run after the frame: the band worker's helper, which has the least to
+    compile otherwise, compiles them too, in the order the frame runs them (a helper's render
+    reaches each, on the zeroed buffers of the workers it does not run)."""
+    from rasterkit.runtime import warm
+
+    names = [worker.py_func.__name__ for worker in warm.helped_workers(RenderOptions(mode="solid", ao=True))[0]]
+    assert names == ["bin_records", "draw_bands", "ao_grid", "ao_raw", "ao_blur", "ao_shade"]
+    for mode in ("wire", "solid"):  # no AO asked, or none drawn (a wireframe has no surface)
+        workers = warm.helped_workers(RenderOptions(mode=mode, ao=mode == "wire"))
+        assert not [w for helper in workers for w in helper if w.py_func.__name__.startswith("ao_")]
+    compiled = []
+    monkeypatch.setattr(warm._jit, "compile_apart", lambda worker, args: compiled.append(worker.py_func.__name__))
+    monkeypatch.setattr(warm._threads, "_intercept", warm._compile_only(names))
+    camera = rasterkit.Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
+    rasterkit.render(rasterkit.shapes.icosphere(1), camera, "solid", ao=True)
+    assert compiled == names
