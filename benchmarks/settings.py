@@ -116,6 +116,8 @@ class Settings:
         Their image size.
     viewer_model, viewer_size
         The ``viewer`` family's model and picture size (:mod:`benchmarks.viewer`).
+    viewer_moves, viewer_memory_drags
+        Its timed mouse moves, and the drag events over which its memory is watched.
     """
 
     name: str
@@ -160,6 +162,8 @@ class Settings:
     lighting_size: tuple = TARGET_SIZE
     viewer_model: str = "sportsCar"
     viewer_size: tuple = (960, 720)
+    viewer_moves: int = 120
+    viewer_memory_drags: int = 1000
 
 
 FULL = Settings(
@@ -220,6 +224,7 @@ TINY = Settings(
     svg_models=("suzanne",), svg_size=(64, 48), batch_size=(64, 48), batch_models=("suzanne",),
     texture_models=("spot", "fuze"), texture_size=(64, 48), textured_cold_runs=0, lit_cold_runs=0,
     lighting_models=("demo",), lighting_size=(64, 48), viewer_model="suzanne", viewer_size=(64, 48),
+    viewer_moves=20, viewer_memory_drags=100,
 )
 
 
