@@ -151,14 +151,14 @@ def start(options, depth: bool, loading: bool, maps=frozenset()) -> None:
     style = helper_style(options, maps)
     _frame_only = style["shadows"]
     resolve = frame_resolve(style)
-    fresh = resolve is not None and not _cached(_kernel(resolve))  # the frame's band worker is not cached
+    fresh = resolve is not None and not _cached(_kernel(resolve))  # then neither is the frame's band worker
     lists = [] if not mode(options.mode).faces and not loading and not _forks() else [
         names for names in ([w.py_func.__name__ for w in workers
                              if not _cached(w) or fresh and w.py_func.__name__ == "draw_bands"]
                             for workers in helped_workers(options)) if names]
     if lists and _forks():
         prepare_numba()
-    lit = _start_lit_helper(style, depth, lists)
+    lit = _start_lit_helper(style, depth, lists, resolve if fresh else None)
     for names in lists:
         # a lone helper compiles the face normals' kernel (before the binning it compiles);
         # with two, this process does (it has the least to compile), the helpers need not
@@ -166,7 +166,7 @@ def start(options, depth: bool, loading: bool, maps=frozenset()) -> None:
                  "frame_only": _frame_only}
         if lit is not None and "draw_bands" in names:
             order["lit_report"] = lit.stdout.fileno()
-            order["resolve"] = frame_resolve(style)
+            order["resolve"] = resolve
         helper = _spawn(order, report=True)
         if helper is not None:
             _helpers.update(dict.fromkeys(names, helper))
@@ -179,14 +179,12 @@ def start(options, depth: bool, loading: bool, maps=frozenset()) -> None:
         _threads.intercept(_wait_for_helper)
 
 
-def _start_lit_helper(style: dict, depth: bool, lists: list):
+def _start_lit_helper(style: dict, depth: bool, lists: list, resolve: str | None):
     """For a frame lit per pixel or textured whose band worker a helper compiles: a helper
-    forked first that compiles the frame's resolve meanwhile (:mod:`rasterkit.runtime.warm_lit`),
-    when it is not cached; the helper, or None."""
+    forked first that compiles the frame's resolve (``resolve``: None when there is none or it
+    is cached) meanwhile (:mod:`rasterkit.runtime.warm_lit`); the helper, or None."""
     global _lit_helper
-    resolve = frame_resolve(style)
-    if not (_forks() and resolve is not None and any("draw_bands" in names for names in lists)) \
-            or _cached(_kernel(resolve)):
+    if not (_forks() and resolve is not None and any("draw_bands" in names for names in lists)):
         return None
     _lit_helper = _spawn({"options": style, "depth": depth, "lit_rows": resolve, "normals": False}, report=True)
     return _lit_helper
@@ -309,8 +307,7 @@ def frame_call(worker, args) -> bool:
     """Whether a helper of a frame with shadow maps (``frame_only``) compiles this call (``args``
     after the slot): not the band worker's first calls, for the maps (another variant, which
     this process compiles meanwhile), only the frame's own, lit per pixel (lights or textures)."""
-    return getattr(worker, "py_func", worker).__name__ != "draw_bands" or args[-1] is not None \
-        or args[-4] is not None
+    return getattr(worker, "py_func", worker).__name__ != "draw_bands" or is_lit_frame(worker, args)
 
 
 def _compile_only(names: list[str], frame_only: bool = False, lit_report: int | None = None,

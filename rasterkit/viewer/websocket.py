@@ -84,7 +84,9 @@ def read_message(stream, limit: int, control) -> tuple[int, bytes]:
     when the connection ends."""
     opcode, parts, size = None, [], 0
     while True:
-        final, kind, data = _frame(stream, limit - size if opcode is not None else limit)
+        final, kind, data = _frame(stream, max(limit - size, 125))  # (a control frame may be 125 bytes)
+        if kind < 0x8 and size + len(data) > limit:
+            raise ProtocolError(f"a message is at most {limit} bytes", 1009)
         if kind >= 0x8:  # control frames: short, never fragmented, may come between fragments
             if not final or len(data) > 125:
                 raise ProtocolError("a control frame is final and at most 125 bytes")

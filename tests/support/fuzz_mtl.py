@@ -7,7 +7,9 @@ that are real PNG, JPEG, TGA and BMP files with random mutations (bits flipped, 
 deleted, inserted or overwritten with large numbers, truncated), plus intact ones.
 
 The oracle: :func:`rasterkit.obj.materials.read_libraries` and ``make_materials`` never raise (a texture or
-statement it cannot read is a warning) and every warning is one line; no Python warning
+statement it cannot read is a warning) and every warning is one line; the command line's guess
+at the maps before reading (:func:`rasterkit.obj.peek.map_kinds`) never raises and names every
+kind of map the reader opened; no Python warning
 escapes; each texture it opens samples finite values in [0, 1] at hostile coordinates;
 :meth:`rasterkit.Texture.open` of each mutated file gives a texture or raises
 :class:`rasterkit.material.TextureError`, one line naming the file. Anything else (another
@@ -139,6 +141,7 @@ def check(folder: Path) -> dict:
     from rasterkit.obj.document import Document
     from rasterkit.obj.errors import Report
     from rasterkit.obj import materials as reader
+    from rasterkit.obj.peek import map_kinds
 
     counts = {"materials": 0, "textures": 0, "warnings": 0, "opened": 0, "refused": 0}
     hostile = np.array([[0.3, 0.7], [1e300, -1e300], [np.nan, np.inf], [-np.inf, 5e-324], [2.0**62, -0.5]])
@@ -153,6 +156,15 @@ def check(folder: Path) -> dict:
         for text in report.warnings:
             if "\n" in text or "\r" in text:
                 raise Failure(f"warning of several lines: {text!r}")
+        try:  # the command line's guess before reading: never an error, and every map opened in it
+            guess = map_kinds(folder / "model.obj")
+        except Exception as e:  # noqa: BLE001
+            raise Failure(f"map_kinds: {type(e).__name__}: {e}") from e
+        opened = {kind for material in materials.values()
+                  for kind, texture in (("diffuse", material.diffuse_map), ("alpha", material.opacity_map),
+                                        ("normal", material.normal_map)) if texture is not None}
+        if not opened <= guess <= {"diffuse", "alpha", "normal"}:
+            raise Failure(f"map_kinds guessed {sorted(guess)}, the reader opened {sorted(opened)}")
         counts["materials"] += len(materials)
         counts["warnings"] += len(report.warnings)
         for material in materials.values():

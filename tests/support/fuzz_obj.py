@@ -61,6 +61,7 @@ def check(path: Path) -> str:
     import numpy as np
 
     import rasterkit
+    from rasterkit.formats import texture_maps
     from rasterkit.limits import LimitError
 
     def clean(error: BaseException, what: str, name_needed: bool) -> str:
@@ -75,6 +76,12 @@ def check(path: Path) -> str:
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
+        try:  # the command line's guess at the maps, before it reads the file: never an error
+            guess = texture_maps(path)
+        except Exception as e:  # noqa: BLE001
+            raise Failure(f"texture_maps: {type(e).__name__}: {e}") from e
+        if not guess <= {"diffuse", "alpha", "normal"}:
+            raise Failure(f"texture_maps: {sorted(guess)}")
         try:
             mesh = rasterkit.load_obj(path)
         except Exception as e:  # noqa: BLE001 - the oracle judges every exception

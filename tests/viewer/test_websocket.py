@@ -63,6 +63,10 @@ def test_fragments_are_joined_and_a_ping_between_them_is_answered():
     data = (_masked(websocket.TEXT, b"Hel", final=False) + _masked(websocket.PING, b"are you there")
             + _masked(0x0, b"lo", final=True, mask=b"\x01\x02\x03\x04"))
     assert _read(data) == ((websocket.TEXT, b"Hello"), [(websocket.PING, b"are you there")])
+    # a control frame between fragments may be as long as control frames may, whatever is left
+    data = _masked(websocket.TEXT, b"x" * 990, final=False) + _masked(websocket.PING, b"p" * 125) \
+        + _masked(0x0, b"y" * 10)
+    assert _read(data) == ((websocket.TEXT, b"x" * 990 + b"y" * 10), [(websocket.PING, b"p" * 125)])
     close = _masked(websocket.CLOSE, struct.pack("!H", 1000))
     assert _read(close) == ((websocket.CLOSE, struct.pack("!H", 1000)), [(websocket.CLOSE, struct.pack("!H", 1000))])
 

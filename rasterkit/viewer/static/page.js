@@ -41,8 +41,11 @@ socket.addEventListener('message', async message => {
     error(JSON.parse(message.data).error);
     return;
   }
-  await show(message.data);
-  socket.send(JSON.stringify({ready: stats.number}));
+  try {
+    await show(message.data);
+  } finally {  // a frame that cannot be shown stops none after it
+    socket.send(JSON.stringify({ready: stats.number}));
+  }
 });
 socket.addEventListener('close', () => error('the viewer has stopped'));
 
