@@ -1,5 +1,6 @@
-"""A first use of the command line: help and usage errors come at once, without Numba, and
-the first render says that the kernels are compiling (and a cached run says nothing)."""
+"""A first use of the command line: help and usage errors come at once, without Numba. (The
+first render's notice that the kernels are compiling, and a cached run's silence:
+``tests/runtime/test_warm.py``.)"""
 
 import argparse
 import importlib
@@ -11,11 +12,9 @@ import pytest
 
 import rasterkit
 from rasterkit import options
-from rasterkit.runtime.notice import MESSAGE
 from rasterkit.cli import _parser
-from rasterkit.obj.chunks import CHUNK_BYTES
 from support.paths import ROOT
-from support.startup import ENV, MAIN, fresh
+from support.startup import MAIN, fresh
 
 
 def _main(*argv: str) -> tuple[str, subprocess.CompletedProcess]:
@@ -95,29 +94,3 @@ def test_each_list_of_choices_has_one_home(monkeypatch):
     assert svg_module.SVG_MODES is options.SVG_MODES and svg_module.HIDDEN is options.HIDDEN
     assert importlib.import_module("rasterkit.raster.features").EDGES is options.EDGES
     assert importlib.import_module("rasterkit.material.texture").FILTERS is options.TEXTURE_FILTERS
-
-
-def _quad_grid(n: int) -> str:
-    """An OBJ of n x n quads over a wavy sheet: more than two of the reader's chunks."""
-    lines = [f"v {i / n:.6f} {j / n:.6f} {((i * 7 + j * 3) % 11) / 50:.6f}"
-             for j in range(n + 1) for i in range(n + 1)]
-    lines += [f"f {j * (n + 1) + i + 1} {j * (n + 1) + i + 2} {(j + 1) * (n + 1) + i + 2} {(j + 1) * (n + 1) + i + 1}"
-              for j in range(n) for i in range(n)]
-    return "\n".join(lines) + "\n"
-
-
-def test_first_render_announces_the_compile_once_and_a_cached_run_is_silent(tmp_path):
-    # The one test here that compiles kernels (the OBJ reader and the wire path: 15-30 s): an
-    # empty cache, as a user's first `rasterkit render model.obj` has, with its warm helpers.
-    env = {**ENV, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
-    model = tmp_path / "grid.obj"
-    model.write_text(_quad_grid(300))
-    assert model.stat().st_size > 2 * CHUNK_BYTES  # read in chunks on the threads
-    argv = [sys.executable, "-m", "rasterkit", "render", str(model), "-o", str(tmp_path / "d.png"),
-            "--size", "32x24"]
-    first = subprocess.run(argv, capture_output=True, text=True, env=env, timeout=600)
-    assert first.returncode == 0, first.stderr
-    assert first.stderr == MESSAGE + "\n"
-    second = subprocess.run(argv, capture_output=True, text=True, env=env, timeout=600)
-    assert second.returncode == 0, second.stderr
-    assert second.stderr == ""

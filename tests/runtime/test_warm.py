@@ -24,6 +24,7 @@ from rasterkit.runtime.notice import MESSAGE
 from rasterkit.cli import _parser
 from rasterkit.cli.args import view_from_args
 from rasterkit.obj import load_obj
+from rasterkit.obj.chunks import CHUNK_BYTES
 from rasterkit.options import RenderOptions
 from support.startup import COMPILE_LOG, ENV
 
@@ -98,7 +99,20 @@ print(json.dumps({"compiled": sorted(set(compiled)), "colours": len({tuple(p) fo
 """
 
 
-def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path):
+def test_helpers_compile_only_their_workers_in_order_and_the_render_loads_them(tmp_path):
+    """A helper compiles only the workers it is given, in the render's order, naming each as it
+    is cached; a second helper adds to the same cache; the render's own process then compiles
+    none of them. (One cache for both helpers: each cold compile of a render costs 10-20 s.)"""
+    def names(style):
+        return [[w.py_func.__name__ for w in workers] for workers in _warm.helped_workers(RenderOptions(**style))]
+
+    assert names(SOLID_ORDER["options"]) == [["bin_records", "draw_bands"]]
+    hidden = {**SOLID_ORDER["options"], "mode": "hidden"}
+    assert names(hidden) == [["bin_records", "offset_depths", "draw_bands"],
+                             ["setup_faces", "project_vertices", "plain_setup", "draw_edge_bands"]]
+    assert names({**hidden, "mode": "wire"}) == [["draw_wire_bands"]]
+    assert names({**hidden, "aa": True})[1][-1] == "draw_antialiased_bands"
+
     cache = tmp_path / "cache"
     env = _env(cache)
     helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(SOLID_ORDER)], env)
@@ -112,42 +126,21 @@ def test_helper_compiles_only_its_worker_and_the_next_process_loads_it(tmp_path)
         assert not _kernel_indexes(cache, module, function), _indexes(cache)
     assert not [name for name in _indexes(cache) if "setup_" in name], _indexes(cache)
 
-    main = _run([sys.executable, "-c", textwrap.dedent(SOLID_RENDER)], env)
-    assert main.returncode == 0, main.stderr
-    report = json.loads(main.stdout.splitlines()[-1])
-    assert "draw_bands" not in report["compiled"]  # loaded from the helper's cache entry
-    assert "setup_faces" in report["compiled"]  # the listener does see this process's compiles
-    assert report["colours"] > 2  # background and some shades: the loaded worker drew
-    assert len(_kernel_indexes(cache, "bands", "draw_bands")) == 1
-
-
-def test_a_helper_of_several_workers_names_each_and_the_render_loads_them(tmp_path):
-    """A helper given several workers compiles them in the render's order, naming each as it
-    is cached, and the render's own process compiles none of them."""
-    def names(style):
-        return [[w.py_func.__name__ for w in workers] for workers in _warm.helped_workers(RenderOptions(**style))]
-
-    assert names(SOLID_ORDER["options"]) == [["bin_records", "draw_bands"]]
-    hidden = {**SOLID_ORDER["options"], "mode": "hidden"}
-    assert names(hidden) == [["bin_records", "offset_depths", "draw_bands"],
-                             ["setup_faces", "project_vertices", "plain_setup", "draw_edge_bands"]]
-    assert names({**hidden, "mode": "wire"}) == [["draw_wire_bands"]]
-    assert names({**hidden, "aa": True})[1][-1] == "draw_antialiased_bands"
-    cache = tmp_path / "cache"
-    env = _env(cache)
     # without "normals" the helper takes the face normals from NumPy: the face pass it
     # compiles with them is the one the render (normals from the kernel) loads
-    workers = ["setup_vertices", "setup_faces", "bin_records", "draw_bands"]
+    workers = ["setup_vertices", "setup_faces", "bin_records"]
     order = {**SOLID_ORDER, "workers": workers, "normals": False}
     helper = _run([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(order)], env)
     assert helper.returncode == 0, helper.stderr
     assert helper.stdout.split() == workers
+
     main = _run([sys.executable, "-c", textwrap.dedent(SOLID_RENDER)], env)
     assert main.returncode == 0, main.stderr
     report = json.loads(main.stdout.splitlines()[-1])
-    assert not set(workers) & set(report["compiled"])
-    assert "face_normals" in report["compiled"]
-    assert report["colours"] > 2
+    assert not {"draw_bands", *workers} & set(report["compiled"])  # loaded from the helpers' cache entries
+    assert report["compiled"]  # the listener does see this process's compiles (the hand-off's small kernels)
+    assert report["colours"] > 2  # background and some shades: the loaded workers drew
+    assert len(_kernel_indexes(cache, "bands", "draw_bands")) == 1
 
 
 def _png(path: Path) -> np.ndarray:
@@ -155,15 +148,29 @@ def _png(path: Path) -> np.ndarray:
         return np.asarray(image.convert("RGB"))
 
 
-def test_first_cli_render_with_the_helper_equals_a_cached_one_and_the_api(tmp_path):
-    model = tmp_path / "cube.obj"
-    model.write_text(CUBE_OBJ)
+def _quad_grid(n: int) -> str:
+    """An OBJ of n x n quads over a wavy sheet: more than two of the reader's chunks."""
+    lines = [f"v {i / n:.6f} {j / n:.6f} {((i * 7 + j * 3) % 11) / 50:.6f}"
+             for j in range(n + 1) for i in range(n + 1)]
+    lines += [f"f {j * (n + 1) + i + 1} {j * (n + 1) + i + 2} {(j + 1) * (n + 1) + i + 2} {(j + 1) * (n + 1) + i + 1}"
+              for j in range(n) for i in range(n)]
+    return "\n".join(lines) + "\n"
+
+
+def test_first_cli_render_announces_its_compile_once_and_equals_a_cached_one_and_the_api(tmp_path):
+    """A user's first ``rasterkit render model.obj`` (an empty cache, its warm helpers, a model
+    read in chunks on the threads) prints the one notice, draws what the cached run draws
+    silently, and what the API draws."""
+    model = tmp_path / "grid.obj"
+    model.write_text(_quad_grid(300))
+    assert model.stat().st_size > 2 * CHUNK_BYTES
     env = _env(tmp_path / "cache")
     options = ["--mode", "solid", "--size", "64x48"]
     images = []
     for k in range(2):
         out = tmp_path / f"out{k}.png"
-        done = _run([sys.executable, "-m", "rasterkit", "render", str(model), "-o", str(out), *options], env)
+        done = _run([sys.executable, "-m", "rasterkit", "render", str(model), "-o", str(out), *options], env,
+                    timeout=600)
         assert done.returncode == 0, done.stderr
         assert done.stderr == (MESSAGE + "\n" if k == 0 else "")  # the notice on the first run only
         images.append(_png(out))
@@ -184,7 +191,6 @@ def test_first_cli_render_with_the_helper_equals_a_cached_one_and_the_api(tmp_pa
     np.testing.assert_array_equal(fb.color, first)
 
 
-
 # Loads an OBJ file and prints, as JSON, the names of the functions Numba compiled.
 LOAD_OBJ = """
 import json, sys
@@ -202,6 +208,7 @@ class Record(event.Listener):
 event.register("numba:compile", Record())
 
 from rasterkit.obj import load_obj
+from rasterkit.obj.chunks import CHUNK_BYTES
 
 mesh = load_obj(sys.argv[1])
 print(json.dumps({"compiled": sorted(set(compiled)), "faces": len(mesh.faces)}))
