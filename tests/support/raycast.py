@@ -8,6 +8,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from support.unchecked import as_written
+
 
 def surface_points(mesh, camera, ids):
     """(points (K, 3), weights (K, 3)) where the ray through the centre of each pixel with a
@@ -72,6 +74,7 @@ def in_shadow(mesh, points, normals, towards_light, lengths):
     a = mesh.vertices[mesh.faces[:, 0]]
     e1 = mesh.vertices[mesh.faces[:, 1]] - a
     e2 = mesh.vertices[mesh.faces[:, 2]] - a
-    return _blocked(np.ascontiguousarray(origins), np.ascontiguousarray(towards_light, np.float64),
-                    np.ascontiguousarray(lengths, np.float64), np.ascontiguousarray(a), np.ascontiguousarray(e1),
-                    np.ascontiguousarray(e2))
+    with as_written():
+        return _blocked(np.ascontiguousarray(origins), np.ascontiguousarray(towards_light, np.float64),
+                        np.ascontiguousarray(lengths, np.float64), np.ascontiguousarray(a),
+                        np.ascontiguousarray(e1), np.ascontiguousarray(e2))

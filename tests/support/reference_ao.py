@@ -13,6 +13,7 @@ import numba
 import numpy as np
 
 from support.raycast import ray_hits, surface_points
+from support.unchecked import as_written
 
 
 def hemisphere(count: int, seed: int = 7) -> np.ndarray:
@@ -106,9 +107,10 @@ def ray_traced_ao(mesh, camera, ids, radius: float, rays: int = 256, pixels: int
     e2 = mesh.vertices[mesh.faces[:, 2]] - a
     origin, shape, start, owners = _cells(mesh, radius)
     values = np.empty(len(points))
-    _occlusion(np.ascontiguousarray(points), np.ascontiguousarray(normals), hemisphere(rays), float(radius),
-               np.ascontiguousarray(a), np.ascontiguousarray(e1), np.ascontiguousarray(e2), origin, shape, start,
-               owners, values)
+    with as_written():
+        _occlusion(np.ascontiguousarray(points), np.ascontiguousarray(normals), hemisphere(rays), float(radius),
+                   np.ascontiguousarray(a), np.ascontiguousarray(e1), np.ascontiguousarray(e2), origin, shape,
+                   start, owners, values)
     out = np.full(ids.shape, np.nan)
     out[j, i] = values
     return out
