@@ -22,6 +22,8 @@ the same everywhere:
   runs every kernel with bounds checking on. That pass needs a cache of its own
   (``NUMBA_CACHE_DIR``): the on-disk cache does not tell checked from unchecked code, so a
   warm cache would hand back the unchecked kernels.
+- The on-disk cache is patched (:mod:`rasterkit.runtime.numba_cache`) so that processes
+  compiling different specializations of one kernel at once cannot mix up their entries.
 
 The threads that run kernels in parallel are :mod:`rasterkit.runtime.threads`.
 """
@@ -33,11 +35,13 @@ import threading
 
 import numba
 
+from rasterkit.runtime import numba_cache as _numba_cache
 from rasterkit.runtime import numba_inline as _numba_inline
 
 FASTMATH = frozenset({"nsz", "arcp", "contract", "afn", "reassoc"})
 
 _numba_inline.install()  # before anything compiles: Numba's inliner does each piece of work once
+_numba_cache.install()  # and its cache's entries cannot be mixed up by processes saving at once
 
 # no_cfunc_wrapper: no kernel is ever passed as a first-class function, so none needs the C
 # wrapper Numba otherwise builds and optimises for each (about 4 % of a first render's compiling)
