@@ -206,5 +206,8 @@ def stride(width: int, height: int) -> int:
 
 #: Entries of the linear -> sRGB table (linear steps of 1/4095: within one level of 255).
 _ENCODE_SIZE = 4096
-_DECODE = DECODE[SRGB_ROW].astype(np.float32)
-_ENCODE = encode_srgb8(np.arange(_ENCODE_SIZE) / (_ENCODE_SIZE - 1))
+# read-only, as every table kept between frames: a warm helper's compile-only run zeroes the
+# writable arrays it is handed (rasterkit.runtime.warm), and a test that runs that hook in its
+# own process left these zeroed for its later renders (AO then blackened whole grid cells)
+_DECODE = _frozen(DECODE[SRGB_ROW].astype(np.float32))
+_ENCODE = _frozen(encode_srgb8(np.arange(_ENCODE_SIZE) / (_ENCODE_SIZE - 1)))
