@@ -5,7 +5,7 @@ not use, and writes the index before the data. Two processes that compile differ
 specializations of one kernel at once (two test workers, a batch's workers, a render and its
 warm helpers on a cold cache) can both take the same number: one's index entry can then name
 the other's data, and a later process loads machine code compiled for other argument types
-(wrong pixels or a crash; seen once in CI, as a turntable frame without its shadows).
+(wrong pixels or a crash): Numba checks nothing on load.
 
 Patched here (once, before anything compiles, from :mod:`rasterkit.runtime.jit`): a data file
 is named by a hash of its own key (signature, target, and the function's code), so two keys
