@@ -198,7 +198,9 @@ def _average(prepared: Prepared, color, background, offsets, *, threads, exact=T
     samples = Samples(np.ascontiguousarray(offsets, np.int64), np.uint32(rgb), 1.0 / n, (n // 2 + 0.5) / n, sums,
                       bool(exact), first, state, prepared.corners, readonly(neighbours))
     spans = ws.reserve("spans", (threads, 2, BAND_HEIGHT), np.int64)
+    textures, cutouts, mapped = texture_arguments(prepared.textures)
+    if prepared.textures is not None and prepared.textures.lit_only:
+        textures = None  # every face lit per pixel, none textured: the lighting alone is compiled
     return int(sum(run_workers(draw_sample_bands, prepared.band_start, prepared.items, prepared.records,
                                shading, band_depth, color, clear_spec(background, color), samples,
-                               ws.visibility(threads, width), spans, *texture_arguments(prepared.textures),
-                               threads=threads)))
+                               ws.visibility(threads, width), spans, textures, cutouts, mapped, threads=threads)))

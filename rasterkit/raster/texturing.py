@@ -74,6 +74,7 @@ class FrameTextures(NamedTuple):
     cutouts: Textured | None
     mapped: Textured | None
     lights: PixelLights | None = None
+    lit_only: bool = False  # no face textured and every face lit per pixel (the record's lights and phong)
 
 
 def mesh_textures(mesh) -> MeshTextures | None:
@@ -200,6 +201,7 @@ def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided, smooth: b
     layout = mesh.textured if textured else None
     if layout is None and not (phong and lit is not None):
         return None
+    untextured = layout is None
     layout = layout or _untextured(len(mesh.faces))
     args = _arguments(layout.textures, texture_filter)
     light = np.ascontiguousarray(light, np.float64)
@@ -224,7 +226,8 @@ def frame_textures(mesh, light: np.ndarray, ambient: float, two_sided, smooth: b
     # every array read-only: one record type (and one compiled band worker) whatever the frame
     record = Textured(*(readonly(v) if isinstance(v, np.ndarray) else v for v in fields))
     mapped = layout.normal_mapped or lit is not None
-    return FrameTextures(record, record if layout.cutout else None, record if mapped else None)
+    lit_only = untextured and bool(record.phong) and record.lights.shape[0] > 0
+    return FrameTextures(record, record if layout.cutout else None, record if mapped else None, lit_only=lit_only)
 
 
 def _lighting(mesh, lit, phong: bool) -> tuple:

@@ -271,3 +271,37 @@ def test_shared_renders_match_a_frame_per_sample_at_the_same_offsets(monkeypatch
     differ = np.abs(shared.astype(int) - frames).max(axis=2)
     assert np.mean(differ > 0) < 1e-3 and differ.max() <= 16
     assert len(np.unique(shared)) > 4
+
+
+
+def _sample_band_textures(**kwargs):
+    """``(textures, cutouts, mapped)`` that a 4-sample solid render of a ball hands its band
+    worker (the worker runs as usual)."""
+    from rasterkit.runtime import threads
+
+    calls = []
+    threads.intercept(lambda worker, args: calls.append(args[-3:]) if worker.py_func.__name__ == "draw_sample_bands"
+                      else None)
+    try:
+        camera = Camera.look_at((0.5, 0.8, 3.2), (0, 0, 0), width=48, height=40, fov_y=45)
+        rasterkit.render(shapes.icosphere(2), camera, "solid", samples=4, **kwargs)
+    finally:
+        threads.intercept(None)
+    (arguments,) = calls
+    return arguments
+
+
+def test_a_multi_sample_frame_without_textures_is_lit_without_the_textured_rows():
+    """Every face of an untextured phong frame is lit per pixel: its samples call the lighting
+    alone (``sample_rows.add_lit_row`` and ``lit_shade.lit_untextured_rgba``; ``textures``
+    None, ``mapped`` the lights' record), not the textured rows, whose texture and normal-map
+    code took as long again to compile; to the bit the textured rows' colours (the render
+    checksums' ``phong-samples`` row); also under the default headlight and in a flat frame lit
+    per pixel for its shadows. A frame not lit per pixel has neither."""
+    light = rasterkit.Light.directional((-1, -2, -1))
+    for flags, lights in (({"shading": "phong", "lights": [light]}, 1), ({"shading": "phong"}, 2),
+                          ({"shading": "flat", "lights": [light], "shadows": True}, 1)):
+        textures, cutouts, mapped = _sample_band_textures(**flags)
+        assert textures is None and cutouts is None and mapped is not None
+        assert mapped.lights.shape[0] == lights and mapped.phong  # the headlight and its ambient term: 2 rows
+    assert _sample_band_textures(shading="smooth", lights=[light]) == (None, None, None)

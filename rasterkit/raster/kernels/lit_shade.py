@@ -100,21 +100,35 @@ def _base(mode, f, t, w, px, py, packed, vertex_colors, corners, bary, fields):
         if m >= 0:
             normal = bent_normal(m, normal_terms(f, terms[0], fields), px, py, inv, u, v, derivatives, fields)
         return (r * decode(tint[0] / 255.0), g * decode(tint[1] / 255.0), b * decode(tint[2] / 255.0)), normal
+    return _own_base(mode, f, w, packed, vertex_colors, corners, fields), normal
+
+
+@kernel(inline="always")
+def _own_base(mode, f, w, packed, vertex_colors, corners, fields):
+    """The linear base colour of an untextured face ``f`` at weights ``w``: its flat or
+    interpolated own colour."""
     if mode == SHADE_SMOOTH:
         rows = (corners[f, 0], corners[f, 1], corners[f, 2])
         return (decode(_mix(rows, vertex_colors, w, 0) / 255.0), decode(_mix(rows, vertex_colors, w, 1) / 255.0),
-                decode(_mix(rows, vertex_colors, w, 2) / 255.0)), normal
+                decode(_mix(rows, vertex_colors, w, 2) / 255.0))
     table = fields[4]  # the 8-bit codes' linear values: row 1, sRGB
     rgba = packed[f]
-    return (table[1, rgba & 0xFF], table[1, (rgba >> 8) & 0xFF], table[1, (rgba >> 16) & 0xFF]), normal
+    return table[1, rgba & 0xFF], table[1, (rgba >> 8) & 0xFF], table[1, (rgba >> 16) & 0xFF]
 
 
 @kernel(inline="always")
 def _lit_pixel(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields):
     """:func:`lit_rgba`'s colour, inlined into it and into :func:`lit_run`."""
-    lights, eye, perspective, view, positions, faces, specular, shininess, emission, _ = lit_fields(fields)
     w = _weights(bary, f, px, py)
     base, normal = _base(mode, f, t, w, px, py, packed, vertex_colors, corners, bary, fields)
+    return _lit_point(f, w, base, normal, fields)
+
+
+@kernel(inline="always")
+def _lit_point(f, w, base, normal, fields):
+    """The packed colour of face ``f`` at weights ``w`` with the linear colour ``base`` and
+    the unit ``normal`` there, lit."""
+    lights, eye, perspective, view, positions, faces, specular, shininess, emission, _ = lit_fields(fields)
     rows = (faces[f, 0], faces[f, 1], faces[f, 2])
     x, y, z = _mix(rows, positions, w, 0), _mix(rows, positions, w, 1), _mix(rows, positions, w, 2)
     vx, vy, vz = toward_viewer(x, y, z, eye, perspective, view)
@@ -138,8 +152,17 @@ def lit_rgba(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields):
     """The packed colour of face ``f`` (texture ``t``) at raster point (px, py), lit per pixel;
     ``mode`` SHADE_FLAT (its own colour ``packed[f]``) or SHADE_SMOOTH (``vertex_colors``
     through ``corners``) for an untextured face. Compiled once, called from the multi-sample
-    resolves (their rows and outlines), not inlined into each."""
+    resolves of textured frames (their rows and outlines), not inlined into each."""
     return _lit_pixel(mode, f, t, px, py, packed, vertex_colors, corners, bary, fields)
+
+
+@kernel(refcounts=False)
+def lit_untextured_rgba(mode, f, px, py, packed, vertex_colors, corners, bary, fields):
+    """:func:`lit_rgba` of an untextured face, in a frame without textures (none of the
+    textured faces' code compiled): the same colour, to the bit."""
+    w = _weights(bary, f, px, py)
+    return _lit_point(f, w, _own_base(mode, f, w, packed, vertex_colors, corners, fields), _normal(f, w, fields),
+                      fields)
 
 
 @kernel(refcounts=False)

@@ -49,7 +49,7 @@ Sample = namedtuple("Sample", "x y")
 #: ``sums`` (n_slots, rows, W, 3) uint16, each slot's band of sums in its last BAND_HEIGHT rows;
 #: ``exact``: the pixels whose samples saw one face and the background made exact, with
 #: ``first`` and ``state`` (n_slots, rows, W) int32 the same way per slot (each pixel's first
-#: face, and its samples and flags: :func:`rasterkit.raster.kernels.sample_bands._note_face`), and
+#: face, and its samples and flags: :func:`rasterkit.raster.kernels.sample_rows.note_face`), and
 #: ``corners`` (N, 4) int32 the vertex pass's rows and ``neighbours`` (M, 3) int32 the faces'
 #: :func:`rasterkit.mesh.side_neighbours` for finding the outlines.
 Samples = namedtuple("Samples", "offsets background scale bias sums exact first state corners neighbours")

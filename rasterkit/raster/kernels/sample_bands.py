@@ -5,9 +5,10 @@ they differ only in where each pixel is sampled. :func:`draw_sample_bands` draws
 one pass over the bands: each band (claimed by one thread, as in
 :func:`rasterkit.raster.kernels.bands.draw_bands`) is rasterized at each sample point in turn
 (:func:`rasterkit.raster.kernels.triangle_samples.raster_band_at`), and each sample's colours are added at
-once into a band of 16-bit sums. The sums start at the background times the number of
-samples, and a sample adds its colour minus the background where a face won, visiting only
-the columns it may have written (which it also resets for the next sample). After the last
+once into a band of 16-bit sums (:mod:`rasterkit.raster.kernels.sample_rows`). The sums start
+at the background times the number of samples, and a sample adds its colour minus the
+background where a face won, visiting only the columns it may have written (which it also
+resets for the next sample). After the last
 sample the band's average, rounded as :func:`rasterkit.raster.kernels.accumulate.average_samples`
 rounds it, is written into the image. The band's depth, visibility and sum rows stay in the
 thread's cache from one sample to the next, where a frame per sample writes a whole image
@@ -26,115 +27,14 @@ from rasterkit.raster.kernels.coverage import pixel_area
 from rasterkit.runtime.intrinsics import fetch_add
 from rasterkit.raster.kernels.records import Sample
 from rasterkit.raster.kernels.face_setup import ONE
-from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_SMOOTH, SHADE_TAGGED, smooth_rgba
+from rasterkit.raster.kernels.shade import SHADE_SMOOTH, SHADE_TAGGED, smooth_rgba
 from rasterkit.raster.kernels.bands import BAND_HEIGHT, PREFETCH_AHEAD, clear_depth, prefetch_record
-from rasterkit.raster.kernels.texture_shade import mapped_rgba, pixel_rgba, texture_fields
+from rasterkit.raster.kernels.lit_shade import lit_untextured_rgba
+from rasterkit.raster.kernels.sample_rows import (
+    ALL, EDGE, HITS, OTHER, add_lit_row, add_row, add_textured_row, fill_sums, note_face)
+from rasterkit.raster.kernels.texture_shade import texture_fields
 from rasterkit.raster.kernels.triangle_samples import raster_band_at
 from rasterkit.raster.kernels.cutout import cutout_band_at
-
-
-@kernel(inline="always")
-def _fill_sums(sums, rows, n, background):
-    """The first ``rows`` rows of ``sums`` to ``n`` times the background, channel by
-    channel: what ``n`` samples that no face covers add up to."""
-    for c in range(3):
-        value = np.uint16(n * ((background >> (8 * c)) & 0xFF))
-        for r in range(rows):
-            ru = np.uint64(r)
-            for i in range(sums.shape[1]):
-                sums[ru, np.uint64(i), c] = value
-
-
-@kernel(inline="always")
-def _channel(sum_value, rgb, shift, background):
-    """``sum_value`` plus channel ``shift`` of ``rgb`` minus that of ``background``, modulo
-    2**16 (the sums end in 0 .. 256 * 255, whatever the order of the terms)."""
-    change = np.int64((rgb >> shift) & 0xFF) - np.int64((background >> shift) & 0xFF)
-    return np.uint16((np.int64(sum_value) + change) & 0xFFFF)
-
-
-@kernel(inline="always")
-def _add_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, background, sums, exact, first, state):
-    """Add one sample's colours minus the background at the pixels ``lo .. hi`` of band row
-    ``r`` (image row ``y``) into ``sums[r]``, resetting the visibility row to -1 and the
-    depth row to +inf there (nothing else of them was written): ready for the next sample.
-    With ``exact``, also note each pixel's faces (:func:`_note_face`; ``lid`` holds faces).
-
-    The sums start at ``n`` backgrounds (:func:`_fill_sums`): a pixel no face covers adds
-    nothing, and the loop visits only the columns the sample may have written. Flat colours
-    without branches (LLVM vectorises the tagged loop)."""
-    mode, _, _, packed, vertex_colors, _, bary, corners = shading
-    ru = np.uint64(r)
-    px, py = lo + 0.5 + sample_x, y + 0.5 + sample_y
-    for k in range(hi - lo + 1):
-        iu = np.uint64(lo) + np.uint64(k)
-        f = lid[ru, iu]
-        lid[ru, iu] = -1
-        depth[ru, iu] = np.inf
-        if exact and f >= 0:
-            _note_face(first, state, ru, iu, f, 1)
-        if mode == SHADE_TAGGED:
-            rgb = np.uint32(f)
-        elif mode == SHADE_FLAT:
-            rgb = packed[np.uint64(max(f, 0))]  # packed has a row: a band with records has faces
-        elif f >= 0:
-            rgb = smooth_rgba(f, px + k, py, vertex_colors, corners, bary)
-        else:
-            rgb = background
-        rgb = rgb if f >= 0 else background
-        sums[ru, iu, 0] = _channel(sums[ru, iu, 0], rgb, 0, background)
-        sums[ru, iu, 1] = _channel(sums[ru, iu, 1], rgb, 8, background)
-        sums[ru, iu, 2] = _channel(sums[ru, iu, 2], rgb, 16, background)
-
-
-@kernel(refcounts=False)
-def _add_textured_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, background, sums, exact, first, state,
-                      textures, mapped):
-    """:func:`_add_row` of a textured frame (``shading.mode`` SHADE_FLAT or SHADE_SMOOTH),
-    each face's colour by :func:`rasterkit.raster.kernels.texture_shade.pixel_rgba` (``mapped``
-    None) or ``mapped_rgba``."""
-    mode, _, _, packed, vertex_colors, _, bary, corners = shading
-    fields = texture_fields(textures)
-    ru = np.uint64(r)
-    px, py = lo + 0.5 + sample_x, y + 0.5 + sample_y
-    for k in range(hi - lo + 1):
-        iu = np.uint64(lo) + np.uint64(k)
-        f = lid[ru, iu]
-        if f < 0:
-            continue
-        lid[ru, iu] = -1
-        depth[ru, iu] = np.inf
-        if exact:
-            _note_face(first, state, ru, iu, f, 1)
-        if mapped is None:
-            rgb = pixel_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields)
-        else:
-            rgb = mapped_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields)
-        sums[ru, iu, 0] = _channel(sums[ru, iu, 0], rgb, 0, background)
-        sums[ru, iu, 1] = _channel(sums[ru, iu, 1], rgb, 8, background)
-        sums[ru, iu, 2] = _channel(sums[ru, iu, 2], rgb, 16, background)
-
-
-#: A pixel's ``state`` (:func:`_note_face`): the samples that saw its first face (bits 0-8),
-#: the samples that saw any face (bits 9-17); a sample saw another face, or another face's
-#: edge crosses the pixel; an edge of its first face crosses the pixel.
-_HITS, _ALL, _OTHER, _EDGE = 0x1FF, 9, 1 << 18, 1 << 19
-
-
-@kernel(inline="always")
-def _note_face(first, state, ru, iu, f, hit):
-    """Note face ``f`` at a pixel: seen by a sample (``hit`` 1) or crossed by an edge (0).
-    The first face noted is kept in ``first``; ``state`` counts the samples and flags."""
-    g = first[ru, iu]
-    if g < 0:
-        first[ru, iu] = f
-        g = f
-    if hit:
-        state[ru, iu] += (1 << _ALL) + (f == g)
-    if f != g:
-        state[ru, iu] |= _OTHER
-    elif not hit:
-        state[ru, iu] |= _EDGE
 
 
 @kernel(inline="always")
@@ -153,7 +53,7 @@ def _note_edge(xa, ya, xb, yb, t, y0, y1, width, first, state):
         lo = max(np.int64(np.floor((min(xs, xe) - 1.0) / 256.0)), 0)
         hi = min(np.int64(np.floor((max(xs, xe) + 1.0) / 256.0)), width - 1)
         for i in range(lo, hi + 1):
-            _note_face(first, state, np.uint64(j - y0), np.uint64(i), t, 0)
+            note_face(first, state, np.uint64(j - y0), np.uint64(i), t, 0)
 
 
 @kernel(refcounts=False)
@@ -202,6 +102,9 @@ def _unseen_rgb(f, i, j, background, records, shading, textures, mapped):
         x, y = np.int64(tri_xy[f, 2 * k]), np.int64(tri_xy[f, 2 * k + 1])
         if (x >> 8) == i and (y >> 8) == j:
             cx, cy = x, y
+    if textures is None and mapped is not None:  # every face lit per pixel, none textured
+        return lit_untextured_rgba(mode, f, cx / 256.0, cy / 256.0, packed, vertex_colors, corners, bary,
+                                   texture_fields(mapped))
     if textures is None:
         return smooth_rgba(f, cx / 256.0, cy / 256.0, vertex_colors, corners, bary)
     return _textured_point(f, cx / 256.0, cy / 256.0, background, shading, textures, mapped)
@@ -210,7 +113,7 @@ def _unseen_rgb(f, i, j, background, records, shading, textures, mapped):
 @kernel(inline="always")
 def _textured_point(f, x, y, background, shading, textures, mapped):
     """The packed colour of face ``f`` of a textured frame at raster point ``(x, y)``, worked
-    out by :func:`_add_textured_row` on a band of one pixel (its sample point placed at ``(x,
+    out by :func:`add_textured_row` on a band of one pixel (its sample point placed at ``(x,
     y)``: exact, the offsets are multiples of 1/256): the band rows' own compiled kernel, not
     a second copy of the texture and lighting code (it took 13 s to compile). The scratch
     arrays are made and sliced as :func:`draw_sample_bands` makes its bands, so that the call
@@ -223,7 +126,7 @@ def _textured_point(f, x, y, background, shading, textures, mapped):
     marks = np.zeros((1, 1, 1), np.int32)
     band_sums = sums[0, 0:]
     zero = np.int64(0)
-    _add_textured_row(lid[0, 0:], depth[0:1], zero, zero, zero, zero, x - 0.5, y - 0.5, shading, background,
+    add_textured_row(lid[0, 0:], depth[0:1], zero, zero, zero, zero, x - 0.5, y - 0.5, shading, background,
                       band_sums, marks.shape[0] < 0, marks[0, 0:], marks[0, 0:], textures, mapped)
     return np.uint32(255 << 24) | np.uint32(band_sums[0, 0, 0]) | (np.uint32(band_sums[0, 0, 1]) << 8) | \
         (np.uint32(band_sums[0, 0, 2]) << 16)
@@ -269,8 +172,8 @@ def _average_exact_rows(sums, y0, y1, color, scale, bias, n, background, first, 
         for i in range(color.shape[1]):
             iu = np.uint64(i)
             f, st = first[ru, iu], state[ru, iu]
-            hits, seen = st & _HITS, (st >> _ALL) & _HITS
-            if f >= 0 and not st & _OTHER and (hits < n or st & _EDGE) and tri_box[f, 2] <= tri_box[f, 3]:
+            hits, seen = st & HITS, (st >> ALL) & HITS
+            if f >= 0 and not st & OTHER and (hits < n or st & EDGE) and tri_box[f, 2] <= tri_box[f, 3]:
                 _exact_pixel(color, sums, ru, np.int64(i), np.int64(y0 + r), f, hits, n, background, records,
                              shading, textures, mapped)
             elif rgba:
@@ -331,7 +234,9 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
         pixel (``shading.mode`` then not SHADE_TAGGED: the visibility rows hold faces).
     lid, spans, textures, cutouts, mapped
         As for ``draw_bands`` (``lid`` all -1 on entry and on return; None for a frame without
-        textures, cut-outs or normal maps, which compiles none of that code).
+        textures, cut-outs or normal maps, which compiles none of that code). ``mapped``
+        without ``textures``: a frame without textures whose every face is lit per pixel
+        (:func:`add_lit_row`).
     """
     offsets, background, scale, bias, sums, exact, first, state, corners, neighbours = samples
     tri_xy, tri_z, _ = records
@@ -358,8 +263,8 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
             continue
         band_depth = depth[scratch_row: scratch_row + y1 - y0]
         end = band_start[b + 1]
-        _fill_sums(band_sums, y1 - y0, n, background)
-        clear_depth(band_depth)  # once: each sample resets what it wrote (_add_row)
+        fill_sums(band_sums, y1 - y0, n, background)
+        clear_depth(band_depth)  # once: each sample resets what it wrote (add_row)
         if exact:
             band_first[: y1 - y0] = -1
             band_state[: y1 - y0] = 0
@@ -381,11 +286,14 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
                                                 row_hi)
             sample_x, sample_y = offsets[s, 0] / ONE, offsets[s, 1] / ONE
             for r in range(y1 - y0):
-                if textures is None:
-                    _add_row(band_lid, band_depth, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, shading,
+                if textures is None and mapped is not None:
+                    add_lit_row(band_lid, band_depth, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, shading,
+                                 background, band_sums, exact, band_first, band_state, mapped)
+                elif textures is None:
+                    add_row(band_lid, band_depth, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, shading,
                              background, band_sums, exact, band_first, band_state)
                 else:
-                    _add_textured_row(band_lid, band_depth, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y,
+                    add_textured_row(band_lid, band_depth, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y,
                                       shading, background, band_sums, exact, band_first, band_state, textures,
                                       mapped)
         if exact:
