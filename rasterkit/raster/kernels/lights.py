@@ -151,6 +151,13 @@ def shadow_factor(k, table, px, py, pz, nx, ny, nz, sx, sy, sz, shadows):
     return _filtered(maps, m, x, y, z, gi, gj, cap, leeway, reach)
 
 
+@kernel(refcounts=False)
+def shadow_at(k, table, px, py, pz, nx, ny, nz, sx, sy, sz, shadows):
+    """:func:`shadow_factor`, compiled once on its own: not into each kernel that lights
+    pixels (:func:`light_sum` calls it for a light with a shadow map)."""
+    return shadow_factor(k, table, px, py, pz, nx, ny, nz, sx, sy, sz, shadows)
+
+
 @kernel(inline="always")
 def parallel_map(k, table, shadows):
     """Whether light ``k`` (with a shadow map) is directional and its map parallel: then
@@ -285,9 +292,10 @@ def light_sum(px, py, pz, nx, ny, nz, vx, vy, vz, base, specular, shininess, tab
         ndl = nx * lx + ny * ly + nz * lz
         if not ndl > 0.0 or a == 0.0:
             continue
-        a *= shadow_factor(k, table, px, py, pz, plane[0], plane[1], plane[2], nx, ny, nz, shadows)
-        if a == 0.0:
-            continue
+        if table[k, 13] >= 0.0:  # the light has a shadow map
+            a *= shadow_at(k, table, px, py, pz, plane[0], plane[1], plane[2], nx, ny, nz, shadows)
+            if a == 0.0:
+                continue
         hx, hy, hz = lx + vx, ly + vy, lz + vz
         hl = np.sqrt(hx * hx + hy * hy + hz * hz)
         highlight = 0.0

@@ -7,17 +7,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from rasterkit.raster.kernels.lights import parallel_map, parallel_shadow, parallel_terms, shadow_factor
+from rasterkit.raster.kernels.lights import parallel_map, parallel_shadow, parallel_terms, shadow_at
 from rasterkit.raster.kernels.lit_columns import (
     DIRECTIONAL, HEADLIGHT, NX, NY, NZ, PX, PY, PZ, SHADE, X, Y, Z, unit)
 from rasterkit.runtime.jit import kernel
-
-
-@kernel(refcounts=False)
-def _shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows):
-    """:func:`~rasterkit.raster.kernels.lights.shadow_factor`, compiled once on its own (not
-    into each loop that looks shadows up)."""
-    return shadow_factor(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
 
 
 @kernel(inline="always")
@@ -25,7 +18,8 @@ def _parallel_shadows(s, n, k, table, shadows):
     """:func:`_chunk_shadows` of a directional light with a parallel map: the terms of a face
     (:func:`~rasterkit.raster.kernels.lights.parallel_terms`) made once for each run of
     pixels with the same plane (the chunk's pixels come run by run), only the point's own
-    lookup per pixel; a degenerate face's pixels through :func:`_shadow_at`."""
+    lookup per pixel; a degenerate face's pixels through
+    :func:`~rasterkit.raster.kernels.lights.shadow_at`."""
     lx, ly, lz = -table[k, 4], -table[k, 5], -table[k, 6]
     last_x, last_y, last_z = np.nan, np.nan, np.nan
     fx, fy, fz = 0.0, 0.0, 0.0
@@ -41,7 +35,7 @@ def _parallel_shadows(s, n, k, table, shadows):
                 fx, fy, fz = unit(ax, ay, az)
                 terms = parallel_terms(k, table, fx, fy, fz, shadows)
             if fx == 0.0 and fy == 0.0 and fz == 0.0:
-                factor = _shadow_at(k, table, x, y, z, nx, ny, nz, nx, ny, nz, shadows)
+                factor = shadow_at(k, table, x, y, z, nx, ny, nz, nx, ny, nz, shadows)
             else:
                 towards = -terms[0] if fx * nx + fy * ny + fz * nz < 0.0 else terms[0]  # noqa: FURB136
                 factor = parallel_shadow(k, table, x, y, z, towards, terms, shadows)
@@ -68,7 +62,7 @@ def _chunk_shadows(s, n, k, table, shadows):
             fx, fy, fz = unit(s[PX + np.uint64(q)], s[PY + np.uint64(q)], s[PZ + np.uint64(q)])
             if fx == 0.0 and fy == 0.0 and fz == 0.0:
                 fx, fy, fz = nx, ny, nz
-            factor = _shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
+            factor = shadow_at(k, table, x, y, z, fx, fy, fz, nx, ny, nz, shadows)
         s[SHADE + np.uint64(q)] = factor
 
 
