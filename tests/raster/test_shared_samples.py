@@ -293,9 +293,9 @@ def _sample_band_textures(**kwargs):
 
 def test_a_multi_sample_frame_without_textures_is_lit_without_the_textured_rows():
     """Every face of an untextured phong frame is lit per pixel: its samples call the lighting
-    alone (``sample_rows.add_lit_row`` and ``lit_shade.lit_untextured_rgba``; ``textures``
-    None, ``mapped`` the lights' record), not the textured rows, whose texture and normal-map
-    code took as long again to compile; to the bit the textured rows' colours (the render
+    alone (``lit_shade.lit_untextured_rgba`` from ``sample_rows.add_textured_row``; ``textures``
+    None, ``mapped`` the lights' record), not the texture and normal-map code of the textured
+    faces, which took as long again to compile; to the bit the textured rows' colours (the render
     checksums' ``phong-samples`` row); also under the default headlight and in a flat frame lit
     per pixel for its shadows. A frame not lit per pixel has neither."""
     light = rasterkit.Light.directional((-1, -2, -1))

@@ -31,7 +31,7 @@ from rasterkit.raster.kernels.shade import SHADE_SMOOTH, SHADE_TAGGED, smooth_rg
 from rasterkit.raster.kernels.bands import BAND_HEIGHT, PREFETCH_AHEAD, clear_depth, prefetch_record
 from rasterkit.raster.kernels.lit_shade import lit_untextured_rgba
 from rasterkit.raster.kernels.sample_rows import (
-    ALL, EDGE, HITS, OTHER, add_lit_row, add_row, add_textured_row, fill_sums, note_face)
+    ALL, EDGE, HITS, OTHER, add_row, add_textured_row, fill_sums, note_face)
 from rasterkit.raster.kernels.texture_shade import texture_fields
 from rasterkit.raster.kernels.triangle_samples import raster_band_at
 from rasterkit.raster.kernels.cutout import cutout_band_at
@@ -236,7 +236,7 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
         As for ``draw_bands`` (``lid`` all -1 on entry and on return; None for a frame without
         textures, cut-outs or normal maps, which compiles none of that code). ``mapped``
         without ``textures``: a frame without textures whose every face is lit per pixel
-        (:func:`add_lit_row`).
+        (:func:`~rasterkit.raster.kernels.sample_rows.add_textured_row`).
     """
     offsets, background, scale, bias, sums, exact, first, state, corners, neighbours = samples
     tri_xy, tri_z, _ = records
@@ -286,10 +286,7 @@ def draw_sample_bands(slot, counter, band_start, items, records, shading, depth,
                                                 row_hi)
             sample_x, sample_y = offsets[s, 0] / ONE, offsets[s, 1] / ONE
             for r in range(y1 - y0):
-                if textures is None and mapped is not None:
-                    add_lit_row(band_lid, band_depth, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, shading,
-                                 background, band_sums, exact, band_first, band_state, mapped)
-                elif textures is None:
+                if textures is None and mapped is None:
                     add_row(band_lid, band_depth, r, y0 + r, row_lo[r], row_hi[r], sample_x, sample_y, shading,
                              background, band_sums, exact, band_first, band_state)
                 else:

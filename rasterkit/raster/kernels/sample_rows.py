@@ -13,7 +13,7 @@ from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_TAGGED, smooth_rgba
 from rasterkit.raster.kernels.texture_shade import mapped_rgba, pixel_rgba, texture_fields
 from rasterkit.runtime.jit import kernel
 
-__all__ = ["ALL", "EDGE", "HITS", "OTHER", "add_lit_row", "add_row", "add_textured_row", "fill_sums", "note_face"]
+__all__ = ["ALL", "EDGE", "HITS", "OTHER", "add_row", "add_textured_row", "fill_sums", "note_face"]
 
 
 #: A pixel's ``state`` (:func:`note_face`): the samples that saw its first face (bits 0-8),
@@ -116,9 +116,13 @@ def add_textured_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, back
                       textures, mapped):
     """:func:`add_row` of a textured frame (``shading.mode`` SHADE_FLAT or SHADE_SMOOTH),
     each face's colour by :func:`rasterkit.raster.kernels.texture_shade.pixel_rgba` (``mapped``
-    None) or ``mapped_rgba``."""
+    None) or ``mapped_rgba``; or, ``textures`` None, of a frame without textures whose every
+    face is lit per pixel (``mapped``: its record, lights and ``phong`` set), by
+    :func:`rasterkit.raster.kernels.lit_shade.lit_untextured_rgba`: the colour ``mapped_rgba``
+    gives such a face, to the bit, without compiling the textured faces' code (Numba drops the
+    branches of an argument typed None)."""
     mode, _, _, packed, vertex_colors, _, bary, corners = shading
-    fields = texture_fields(textures)
+    fields = texture_fields(mapped if textures is None else textures)
     ru = np.uint64(r)
     px, py = lo + 0.5 + sample_x, y + 0.5 + sample_y
     for k in range(hi - lo + 1):
@@ -126,28 +130,11 @@ def add_textured_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, back
         f = _taken(lid, depth, ru, iu, exact, first, state)
         if f < 0:
             continue
-        if mapped is None:
+        if textures is None:
+            rgb = lit_untextured_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields)
+        elif mapped is None:
             rgb = pixel_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields)
         else:
             rgb = mapped_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields)
         _add(sums, ru, iu, rgb, background)
 
-
-@kernel(refcounts=False)
-def add_lit_row(lid, depth, r, y, lo, hi, sample_x, sample_y, shading, background, sums, exact, first, state,
-                 lit):
-    """:func:`add_row` of a frame without textures whose every face is lit per pixel
-    (``lit``: its :class:`rasterkit.raster.kernels.records.Textured`, lights and ``phong``
-    set), each face's colour by :func:`rasterkit.raster.kernels.lit_shade.lit_untextured_rgba`:
-    the colour :func:`add_textured_row` gives such a frame, to the bit, without compiling
-    the textured faces' code."""
-    mode, _, _, packed, vertex_colors, _, bary, corners = shading
-    fields = texture_fields(lit)
-    ru = np.uint64(r)
-    px, py = lo + 0.5 + sample_x, y + 0.5 + sample_y
-    for k in range(hi - lo + 1):
-        iu = np.uint64(lo) + np.uint64(k)
-        f = _taken(lid, depth, ru, iu, exact, first, state)
-        if f >= 0:
-            _add(sums, ru, iu, lit_untextured_rgba(mode, f, px + k, py, packed, vertex_colors, corners, bary, fields),
-                 background)
