@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.raster.kernels.powers import power
+from rasterkit.raster.kernels.surface import ENCODE_STEPS
 from rasterkit.runtime.jit import kernel
 
 #: Pixels lit at a time.
@@ -73,3 +74,39 @@ def highlights(s, n, whole):
         if e > 0:
             for q in range(n):
                 s[NDH + np.uint64(q)] *= s[NDH + np.uint64(q)]
+
+
+@kernel(inline="always")
+def encode_chunk(s, n, table):
+    """The chunk's linear sums (columns AR, AG, AB) encoded to sRGB and packed into one RGBA
+    (opaque) per pixel, into column SHADE: ``to_u8(255 encode(x))`` per channel, as
+    :func:`rasterkit.raster.kernels.surface.encode` and
+    :func:`rasterkit.raster.kernels.shade.to_u8` compute it, in passes a channel at a time.
+    Only the table lookups go one value at a time; the clamps, the splits of the table
+    position and the rounding run without branches, so LLVM turns them into vector
+    instructions (one loop doing it all per pixel does not vectorise: its table lookups
+    make it scalar throughout). Overwrites columns X .. Z and NX .. NZ."""
+    for q in range(n):
+        s[SHADE + np.uint64(q)] = 4278190080.0  # alpha 255
+    for channel in range(3):
+        at, index = AR + np.uint64(channel * CHUNK), X + np.uint64(channel * CHUNK)
+        low = NX + np.uint64(channel * CHUNK)
+        for q in range(n):  # the table position: its entry (int32: a vector conversion) and fraction
+            x = s[at + np.uint64(q)]
+            x = x if x > 0.0 else 0.0  # noqa: FURB136 - the select sends NaN to 0
+            x = x if x < 1.0 else 1.0  # noqa: FURB136
+            pos = x * ENCODE_STEPS
+            k = np.int32(pos)
+            s[at + np.uint64(q)] = pos - k
+            s[index + np.uint64(q)] = k
+        for q in range(n):  # the lookups
+            k = np.uint64(np.int64(s[index + np.uint64(q)]))
+            first = table[k]
+            s[low + np.uint64(q)] = first
+            s[index + np.uint64(q)] = table[k + np.uint64(1)] - first
+        shift = np.float64(1 << (8 * channel))
+        for q in range(n):  # interpolated, rounded half up, clamped, shifted into place
+            value = (s[low + np.uint64(q)] + s[index + np.uint64(q)] * s[at + np.uint64(q)]) * 255.0
+            value = value if value > 0.0 else 0.0  # noqa: FURB136
+            value = value if value < 255.0 else 255.0  # noqa: FURB136
+            s[SHADE + np.uint64(q)] += np.floor(value + 0.5) * shift

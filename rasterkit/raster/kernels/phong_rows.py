@@ -30,12 +30,12 @@ import numpy as np
 
 from rasterkit.raster.kernels.cull import per_face
 from rasterkit.raster.kernels.face_setup import ONE
-from rasterkit.raster.kernels.shade import SHADE_SMOOTH, put_rgba, to_u8
+from rasterkit.raster.kernels.shade import SHADE_SMOOTH, put_rgba
 from rasterkit.raster.kernels.lit_columns import (
     AB, AG, AMBIENT, AR, BB, BG, BR, CHUNK, COLUMN, CONSTANT, DIRECTIONAL, HEADLIGHT, INTERPOLATED, NDH, NDL, NX,
-    NY, NZ, POWER, SB, SCRATCH, SG, SHADE, SPOT, SR, TWO, VX, VY, VZ, X, Y, Z, highlights, unit, whole_exponent)
+    NY, NZ, POWER, SB, SCRATCH, SG, SHADE, SPOT, SR, TWO, VX, VY, VZ, X, Y, Z, encode_chunk, highlights, unit,
+    whole_exponent)
 from rasterkit.raster.kernels.lit_shadows import light_reaches
-from rasterkit.raster.kernels.surface import encode
 from rasterkit.runtime.intrinsics import stack_floats
 from rasterkit.runtime.jit import kernel
 
@@ -208,12 +208,10 @@ def _shade_chunk(s, n, color, j, lit, shadows):
             continue
         light_reaches(s, n, k, table, shadows)
         _add_light(s, n, k, table, whole)
+    encode_chunk(s, n, encode_table)
     ju = np.uint64(j)
     for q in range(n):
-        rgba = 255 << 24
-        for channel in range(3):  # one copy of the encoding to compile, not three
-            rgba |= to_u8(encode(encode_table, s[AR + np.uint64(channel * CHUNK + q)]) * 255.0) << (8 * channel)
-        put_rgba(color, ju, np.uint64(np.int64(s[COLUMN + np.uint64(q)])), np.uint32(rgba))
+        put_rgba(color, ju, np.uint64(np.int64(s[COLUMN + np.uint64(q)])), np.uint32(np.int64(s[SHADE + np.uint64(q)])))
 
 
 @kernel(inline="always")

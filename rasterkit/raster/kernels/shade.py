@@ -332,6 +332,10 @@ def resolve_row(mode, lid, r, j, lo, hi, sample_x, sample_y, packed, vertex_colo
         Whether to write the face index into ``ids (H, W) int32``.
     """
     ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
+    if mode == SHADE_NONE and not write_ids:  # a depth pass: only the reset, every column
+        for k in range(hi - lo + 1):  # (a full store: LLVM would mask one for f >= 0 only)
+            lid[ru, base + np.uint64(k)] = -1
+        return
     px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
     for k in range(hi - lo + 1):
         i = base + np.uint64(k)

@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from rasterkit.runtime.jit import kernel
-from rasterkit.runtime.intrinsics import fetch_add
+from rasterkit.runtime.intrinsics import fetch_add, kept
 from rasterkit.raster.kernels.face_setup import HALF, N_CHUNKS, ONE, chunk_range, pixel_bounds, signed_area2, snap
 
 
@@ -162,11 +162,11 @@ def _depth_test_span(depth, lid, r, lo, hi, zs, gx, t):
     ru, base = np.uint64(r), np.uint64(lo)
     for k in range(hi - lo + 1):
         i = base + np.uint64(k)
-        z = zs + gx * np.float32(k)
-        old = depth[ru, i]
+        z = zs + gx * np.float32(np.int32(k))  # through int32: AVX2 converts those 8 at a time
+        old, was = depth[ru, i], lid[ru, i]
         closer = z < old
-        depth[ru, i] = z if closer else old
-        lid[ru, i] = t if closer else lid[ru, i]
+        depth[ru, i] = z if closer else kept(old)  # a blend and a store, not a masked store
+        lid[ru, i] = t if closer else was
     return hi - lo + 1
 
 
@@ -191,10 +191,10 @@ def _depth_test_block(depth, lid, r, start, c0, s0, c1, s1, c2, s2, zs, gx, t):
         inside = (c0 + s0 * i >= 0) & (c1 + s1 * i >= 0) & (c2 + s2 * i >= 0)
         u = base + np.uint64(k)
         z = np.float32(zs + gx * k)
-        old = depth[ru, u]
+        old, was = depth[ru, u], lid[ru, u]
         win = inside & (z < old)
-        depth[ru, u] = z if win else old
-        lid[ru, u] = t if win else lid[ru, u]
+        depth[ru, u] = z if win else kept(old)
+        lid[ru, u] = t if win else was
         covered += inside
     return covered
 
