@@ -31,6 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from rasterkit.camera import Camera
+from rasterkit.raster.kernels.shadow_fit import visible_points
 from rasterkit.raster.vertex import transform_points
 
 __all__ = ["AXES_WIDTH", "ShadowMaps", "default_map_size", "shadow_maps"]
@@ -235,24 +236,13 @@ def _visible(mesh, camera: Camera) -> np.ndarray:
     matrix = small.world_to_raster()
     clip = transform_points(np.ascontiguousarray(mesh.vertices, np.float64), np.ascontiguousarray(matrix))
     rasterize_checked(None, depth, clip, mesh.faces, None, None, ids, "none", (), (0.0, 0.0), None, trusted=True)
-    j, i = np.nonzero(np.isfinite(depth) & (ids >= 0))
-    raster = (i + 0.5, j + 0.5, depth[j, i].astype(np.float64))
-    inverse = np.linalg.inv(matrix)
-    world = [inverse[r, 0] * raster[0] + inverse[r, 1] * raster[1] + inverse[r, 2] * raster[2] + inverse[r, 3]
-             for r in range(4)]
-    out = np.empty((7, len(i)))
-    out[0:3] = world[0:3]
-    out[0:3] /= world[3]
-    out[3:6] = mesh.face_normals[ids[j, i]].T
-    if small.kind == "perspective":  # a pixel's footprint: the window's height over the rows, where the point is
-        towards = np.asarray(small.eye)[:, None] - out[0:3]
-        out[6] = _dot(np.asarray(small.backward()), towards) * 2.0 * math.tan(math.radians(small.fov_y) / 2.0) \
-            / small.height
-    else:
-        towards = np.asarray(small.backward())[:, None]
-        out[6] = small.view_height / small.height
-    out[3:6] *= np.where((out[3:6] * towards).sum(axis=0) < 0.0, -1.0, 1.0)
-    return out[:, np.isfinite(out).all(axis=0)]
+    out = np.empty((7, int(np.count_nonzero(ids >= 0))))
+    perspective = small.kind == "perspective"
+    tangent = math.tan(math.radians(small.fov_y) / 2.0) if perspective else 0.0
+    count = visible_points(depth, ids, np.linalg.inv(matrix), mesh.face_normals, np.asarray(small.eye, np.float64),
+                           np.asarray(small.backward(), np.float64), perspective, tangent,
+                           0.0 if perspective else float(small.view_height), out)
+    return out[:, :count]
 
 
 def _dot(vector, rows) -> np.ndarray:

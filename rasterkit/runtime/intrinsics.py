@@ -36,7 +36,7 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 __all__ = ["bits_float", "fetch_add", "float_bits", "kept", "load_acquire", "load_word", "pause", "prefetch_row",
-           "stack_floats", "store_word"]
+           "prefetch_texel", "stack_floats", "store_word"]
 
 
 @intrinsic
@@ -67,6 +67,34 @@ def prefetch_row(typingctx, array, row):
         return context.get_dummy_value()
 
     return types.void(array, row), codegen
+
+
+@intrinsic
+def prefetch_texel(typingctx, array, m, j, i):
+    """Prefetch the cache line of ``array[m, j, i]`` (a 3-D C-contiguous array) for reading,
+    as :func:`prefetch_row` does (indices not checked: a prefetch outside the array is
+    harmless)."""
+    if not isinstance(array, types.Array) or array.layout != "C" or array.ndim != 3:
+        return None
+    if not all(isinstance(index, types.Integer) for index in (m, j, i)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        array_type = signature.args[0]
+        data = context.make_array(array_type)(context, builder, args[0])
+        strides = cgutils.unpack_tuple(builder, data.strides)
+        offset = context.get_constant(types.intp, 0)
+        for value, kind, stride in zip(args[1:], signature.args[1:], strides):
+            offset = builder.add(offset, builder.mul(context.cast(builder, value, kind, types.intp), stride))
+        byte_pointer = ir.IntType(8).as_pointer()
+        address = builder.gep(builder.bitcast(data.data, byte_pointer), [offset])
+        i32 = ir.IntType(32)
+        function_type = ir.FunctionType(ir.VoidType(), [byte_pointer, i32, i32, i32])
+        function = cgutils.get_or_insert_function(builder.module, function_type, "llvm.prefetch.p0")
+        builder.call(function, [address, ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)])
+        return context.get_dummy_value()
+
+    return types.void(array, m, j, i), codegen
 
 
 @intrinsic

@@ -148,7 +148,7 @@ def shadow_factor(k, table, px, py, pz, nx, ny, nz, sx, sy, sz, shadows):
     slope = min(np.sqrt(across) / towards, 20.0)
     leeway = texel * (1.0 + slope * (0.25 + reach)) * scale
     cap = z + 100.0 * texel * scale
-    return _filtered(maps, m, x, y, z, gi, gj, cap, leeway, reach)
+    return filtered(maps, m, x, y, z, gi, gj, cap, leeway, reach)
 
 
 @kernel(refcounts=False)
@@ -161,8 +161,9 @@ def shadow_at(k, table, px, py, pz, nx, ny, nz, sx, sy, sz, shadows):
 @kernel(inline="always")
 def parallel_map(k, table, shadows):
     """Whether light ``k`` (with a shadow map) is directional and its map parallel: then
-    :func:`shadow_factor` splits into terms of the face (:func:`parallel_terms`) and of the
-    point (:func:`parallel_shadow`)."""
+    :func:`shadow_factor` splits into terms of the face (:func:`parallel_terms`) and a
+    lookup of the point (:func:`filtered`; its map position by the map's matrix alone: a
+    parallel map's w is 1)."""
     kind = np.int64(table[k, 0])
     if not (kind == _DIRECTIONAL or kind == _HEADLIGHT) or table[k, 14] >= 2.0:
         return False
@@ -192,30 +193,7 @@ def parallel_terms(k, table, nx, ny, nz, shadows):
 
 
 @kernel(inline="always")
-def parallel_shadow(k, table, px, py, pz, towards, terms, shadows):
-    """:func:`shadow_factor` of light ``k`` under a parallel map at the point (px, py, pz) of
-    a face whose :func:`parallel_terms` are ``terms``, ``towards`` their first with the sign of
-    the face's side that is lit."""
-    if not towards > 0.0:
-        return 0.0  # the light is behind the face
-    _, gi, gj, leeway, above = terms
-    maps, matrices, _, softness = shadows
-    m = np.int64(table[k, 13])
-    mu = np.uint64(m)
-    w = matrices[mu, 3, 0] * px + matrices[mu, 3, 1] * py + matrices[mu, 3, 2] * pz + matrices[mu, 3, 3]
-    if not w > 0.0:
-        return 1.0
-    x = (matrices[mu, 0, 0] * px + matrices[mu, 0, 1] * py + matrices[mu, 0, 2] * pz + matrices[mu, 0, 3]) * 1.0
-    y = (matrices[mu, 1, 0] * px + matrices[mu, 1, 1] * py + matrices[mu, 1, 2] * pz + matrices[mu, 1, 3]) * 1.0
-    size = maps.shape[1]
-    if not (x >= 0.0 and y >= 0.0 and x < size and y < size):
-        return 1.0  # outside the map: nothing there casts a shadow
-    z = (matrices[mu, 2, 0] * px + matrices[mu, 2, 1] * py + matrices[mu, 2, 2] * pz + matrices[mu, 2, 3]) * 1.0
-    return _filtered(maps, m, x, y, z, gi, gj, z + above, leeway, np.int64(np.ceil(softness)))
-
-
-@kernel(inline="always")
-def _filtered(maps, m, x, y, z, gi, gj, cap, leeway, reach):
+def filtered(maps, m, x, y, z, gi, gj, cap, leeway, reach):
     """The share of the ``2 reach + 1`` texels square of map ``m`` around the point's (x, y)
     (raster, its depth ``z``) whose depth is at least the plane's there (``z`` stepped by
     ``gi``, ``gj`` per texel; at most ``cap``) less ``leeway``, all in the map's units. The

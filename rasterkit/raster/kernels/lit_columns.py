@@ -16,14 +16,16 @@ CHUNK = 64
 #: Columns of the scratch, CHUNK values each: first the values interpolated across a face
 #: (position, normal, base colour), then those a face has one of (specular colour,
 #: shininess, emission, its plane's normal, two-sided or not), then the pixel's own.
-FIELDS = 28
+FIELDS = 32
 INTERPOLATED = 9
 CONSTANT = 11
 SCRATCH = FIELDS * CHUNK  # a literal for stack_floats
 
-#: Where each column starts in the scratch (unsigned: no negative-index arithmetic).
+#: Where each column starts in the scratch (unsigned: no negative-index arithmetic). The
+#: last four hold a shadow lookup's terms of each pixel's face
+#: (:mod:`rasterkit.raster.kernels.lit_shadows`).
 (X, Y, Z, NX, NY, NZ, BR, BG, BB, SR, SG, SB, SHINE, AR, AG, AB, PX, PY, PZ, TWO,
- COLUMN, VX, VY, VZ, SHADE, NDL, NDH, POWER) = (np.uint64(k * CHUNK) for k in range(FIELDS))
+ COLUMN, VX, VY, VZ, SHADE, NDL, NDH, POWER, GI, GJ, LEEWAY, ABOVE) = (np.uint64(k * CHUNK) for k in range(FIELDS))
 
 #: Shininess raised by squarings when every pixel of a chunk has the same whole one below
 #: this (:func:`highlights`); other exponents through :func:`~rasterkit.raster.kernels.powers.power`.
