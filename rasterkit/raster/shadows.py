@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from rasterkit.camera import Camera
-from rasterkit.raster.kernels.shadow_fit import visible_points
+from rasterkit.raster.kernels.shadow_fit import shadowed_extent, visible_points
 from rasterkit.raster.vertex import transform_points
 
 __all__ = ["AXES_WIDTH", "ShadowMaps", "default_map_size", "shadow_maps"]
@@ -242,12 +242,7 @@ def _visible(mesh, camera: Camera) -> np.ndarray:
     count = visible_points(depth, ids, np.linalg.inv(matrix), mesh.face_normals, np.asarray(small.eye, np.float64),
                            np.asarray(small.backward(), np.float64), perspective, tangent,
                            0.0 if perspective else float(small.view_height), out)
-    return out[:, :count]
-
-
-def _dot(vector, rows) -> np.ndarray:
-    """The dot products of the 3-vector ``vector`` with the columns of ``rows`` (3, N)."""
-    return vector[0] * rows[0] + vector[1] * rows[1] + vector[2] * rows[2]
+    return out if count == out.shape[1] else np.ascontiguousarray(out[:, :count])
 
 
 def _refit(view: ParallelView, depth: np.ndarray, visible: np.ndarray, corners: np.ndarray, softness: float,
@@ -261,33 +256,15 @@ def _refit(view: ParallelView, depth: np.ndarray, visible: np.ndarray, corners: 
     part is not much smaller than the window (or is empty: no shadow in view)."""
     size = depth.shape[0]
     basis = view.frame
-    span = view.far - view.near  # the depth buffer's units (a parallel camera's): (d - near) / span
     texel = view.view_height / size
-    matrix = view.world_to_raster()
-    x = _dot(matrix[0, :3], visible) + matrix[0, 3]
-    y = _dot(matrix[1, :3], visible) + matrix[1, 3]
-    facing = -_dot(basis[2], visible[3:6])
-    keep = np.nonzero((x >= 0) & (y >= 0) & (x < size) & (y < size) & (facing > 0.0))[0]
-    if len(keep) == 0:
+    count, low0, low1, high0, high1 = shadowed_extent(
+        visible, view.world_to_raster(), np.ascontiguousarray(basis, np.float64),
+        float(basis[2] @ np.asarray(view.eye)), depth, texel, float(view.near),
+        view.far - view.near,  # the depth buffer's units (a parallel camera's): (d - near) / span
+        (math.ceil(softness) + 4.0) * texel)
+    if count == 0:
         return None
-    points, facing = visible[:, keep], facing[keep]
-    i, j = x[keep].astype(np.int64), y[keep].astype(np.int64)
-    along = _dot(basis[2], points) - float(basis[2] @ np.asarray(view.eye))
-    slope = np.minimum(np.sqrt(np.maximum(1.0 - facing * facing, 0.0)) / facing, 20.0)
-    flat, columns = depth.reshape(-1), [np.clip(i + d, 0, size - 1) for d in (-1, 0, 1)]
-    nearest = np.full(len(i), np.inf, np.float32)
-    for d in (-1, 0, 1):
-        row = np.clip(j + d, 0, size - 1) * size
-        for column in columns:
-            np.minimum(nearest, flat[row + column], out=nearest)
-    shadowed = nearest < (along - texel * (2.0 + 1.5 * slope) - view.near) / span
-    if not shadowed.any():
-        return None
-    points = points[:, shadowed]
-    margin = points[6] + (math.ceil(softness) + 4.0) * texel
-    across = [_dot(basis[0], points), _dot(basis[1], points)]
-    low = np.array([(a - margin).min() for a in across])
-    high = np.array([(a + margin).max() for a in across])
+    low, high = np.array([low0, low1]), np.array([high0, high1])
     centre = basis[:2] @ np.asarray(view.eye)
     half = view.view_height / 2.0
     low, high = np.maximum(low, centre - half), np.minimum(high, centre + half)

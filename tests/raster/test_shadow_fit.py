@@ -68,3 +68,62 @@ def test_points_with_a_value_that_is_not_finite_are_left_out():
     expected = numpy_visible(mesh, camera)
     assert np.isfinite(points).all()
     np.testing.assert_array_equal(points, expected)
+
+
+def numpy_extent(view, depth, visible, softness):
+    """The extent (low, high) across the light of the points that may be in shadow
+    (rasterkit.raster.shadows._refit's), with NumPy; None when there are none."""
+    size = depth.shape[0]
+    basis = view.frame
+    span = view.far - view.near
+    texel = view.view_height / size
+    matrix = view.world_to_raster()
+
+    def dot(vector, rows):
+        return vector[0] * rows[0] + vector[1] * rows[1] + vector[2] * rows[2]
+
+    x = dot(matrix[0, :3], visible) + matrix[0, 3]
+    y = dot(matrix[1, :3], visible) + matrix[1, 3]
+    facing = -dot(basis[2], visible[3:6])
+    keep = np.nonzero((x >= 0) & (y >= 0) & (x < size) & (y < size) & (facing > 0.0))[0]
+    points, facing = visible[:, keep], facing[keep]
+    i, j = x[keep].astype(np.int64), y[keep].astype(np.int64)
+    along = dot(basis[2], points) - float(basis[2] @ np.asarray(view.eye))
+    slope = np.minimum(np.sqrt(np.maximum(1.0 - facing * facing, 0.0)) / facing, 20.0)
+    flat, columns = depth.reshape(-1), [np.clip(i + d, 0, size - 1) for d in (-1, 0, 1)]
+    nearest = np.full(len(i), np.inf, np.float32)
+    for d in (-1, 0, 1):
+        row = np.clip(j + d, 0, size - 1) * size
+        for column in columns:
+            np.minimum(nearest, flat[row + column], out=nearest)
+    shadowed = nearest < (along - texel * (2.0 + 1.5 * slope) - view.near) / span
+    if not shadowed.any():
+        return None
+    points = points[:, shadowed]
+    margin = points[6] + (math.ceil(softness) + 4.0) * texel
+    across = [dot(basis[0], points), dot(basis[1], points)]
+    return (np.array([(a - margin).min() for a in across]), np.array([(a + margin).max() for a in across]),
+            int(shadowed.sum()))
+
+
+@pytest.mark.parametrize("direction", [(-0.5, -0.85, 0.13), (0.3, -1.0, -0.6), (0.0, -1.0, 0.0)])
+def test_the_shadowed_extent_a_map_is_fitted_to_is_what_numpy_works_out(direction):
+    from rasterkit.raster.kernels.shadow_fit import shadowed_extent
+
+    mesh = rk.shapes.demo()
+    camera = rk.Camera.look_at((2.5, 1.5, 3.0), (0, 0, 0), width=640, height=360, fov_y=40)
+    low, high = mesh.vertices.min(axis=0), mesh.vertices.max(axis=0)
+    corners = shadows._box_corners(np.stack([low, high]))
+    centre, radius = (low + high) / 2.0, float(np.linalg.norm(high - low)) / 2.0
+    view = shadows._parallel(corners, shadows._seen(camera, centre, radius), np.asarray(direction), 2048)
+    coarse = view.with_size(512, 512)
+    depth = shadows._depth(mesh.vertices, mesh.faces, coarse)
+    visible = shadows._visible(mesh, camera)
+    expected = numpy_extent(coarse, depth, visible, 1.0)
+    texel = coarse.view_height / 512
+    count, low0, low1, high0, high1 = shadowed_extent(
+        visible, coarse.world_to_raster(), np.ascontiguousarray(coarse.frame), float(coarse.frame[2] @ coarse.eye),
+        depth, texel, float(coarse.near), coarse.far - coarse.near, (1.0 + 4.0) * texel)
+    assert expected is not None and count == expected[2] > 20
+    np.testing.assert_array_equal([low0, low1], expected[0])
+    np.testing.assert_array_equal([high0, high1], expected[1])

@@ -56,3 +56,46 @@ def visible_points(depth, ids, inverse, normals, eye, backward, perspective, tan
                     out[k, n] = values[k]
                 n += 1
     return n
+
+
+@kernel(fastmath=False)
+def shadowed_extent(visible, matrix, basis, offset, depth, texel, near, span, margin):
+    """Where across a directional light the frame's ``visible`` points (:func:`visible_points`'
+    rows) may be in shadow, from a first map of the light (``depth`` (S, S) float32, its
+    camera's world -> raster ``matrix`` (4, 4) and axes ``basis`` (3, 3): right, up,
+    forward; ``offset`` the forward axis' product with its eye; ``texel`` its texel's size,
+    ``near``, ``span`` its depth range): the points in the map facing the light with
+    something nearer to it than their face's plane (by two texels and the slope's share) in
+    their texel or the next ones. Returns ``(count, low0, low1, high0, high1)``: how many,
+    and the extent along the right and up axes of those points widened by their footprint
+    (row 6) plus ``margin``.
+
+    Compiled without fast-math: NumPy's arithmetic in the same order, so the fit is what the
+    array expressions it replaces gave."""
+    size = depth.shape[0]
+    count = 0
+    low0, low1, high0, high1 = np.inf, np.inf, -np.inf, -np.inf
+    for p in range(visible.shape[1]):
+        px, py, pz = visible[0, p], visible[1, p], visible[2, p]
+        x = matrix[0, 0] * px + matrix[0, 1] * py + matrix[0, 2] * pz + matrix[0, 3]
+        y = matrix[1, 0] * px + matrix[1, 1] * py + matrix[1, 2] * pz + matrix[1, 3]
+        facing = -(basis[2, 0] * visible[3, p] + basis[2, 1] * visible[4, p] + basis[2, 2] * visible[5, p])
+        if not (x >= 0 and y >= 0 and x < size and y < size and facing > 0.0):
+            continue
+        i, j = np.int64(x), np.int64(y)
+        along = basis[2, 0] * px + basis[2, 1] * py + basis[2, 2] * pz - offset
+        slope = min(np.sqrt(max(1.0 - facing * facing, 0.0)) / facing, 20.0)
+        nearest = np.float32(np.inf)
+        for dj in range(-1, 2):
+            row = min(max(j + dj, 0), size - 1)
+            for di in range(-1, 2):
+                nearest = min(nearest, depth[row, min(max(i + di, 0), size - 1)])
+        if not np.float64(nearest) < (along - texel * (2.0 + 1.5 * slope) - near) / span:
+            continue
+        count += 1
+        reach = visible[6, p] + margin
+        a = basis[0, 0] * px + basis[0, 1] * py + basis[0, 2] * pz
+        b = basis[1, 0] * px + basis[1, 1] * py + basis[1, 2] * pz
+        low0, high0 = min(low0, a - reach), max(high0, a + reach)
+        low1, high1 = min(low1, b - reach), max(high1, b + reach)
+    return count, low0, low1, high0, high1
