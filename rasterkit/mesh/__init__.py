@@ -24,6 +24,7 @@ from functools import cached_property
 
 import numpy as np
 
+from rasterkit._arrays import finite_bounds
 from rasterkit.limits import check_memory
 from rasterkit.mesh.checks import (
     check_unit_colors, checked_array, corner_attributes, face_labels, immutable, seal, side_flags, vertex_indices,
@@ -321,10 +322,8 @@ class Mesh:
     @property
     def bounds(self) -> np.ndarray:
         """(2, 3) float64: minimum and maximum corner of the finite vertices' bounding box."""
-        finite = self.vertices[np.all(np.isfinite(self.vertices), axis=1)]
-        if len(finite) == 0:
-            return np.zeros((2, 3))
-        return np.stack([finite.min(axis=0), finite.max(axis=0)])
+        bounds = finite_bounds(self.vertices)
+        return np.zeros((2, 3)) if bounds is None else np.stack(bounds)
 
     def bounding_sphere(self) -> tuple[np.ndarray, float]:
         """Centre (3,) and radius of a sphere holding every finite vertex (box centre based).

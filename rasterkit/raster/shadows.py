@@ -30,6 +30,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from rasterkit._arrays import finite_bounds
 from rasterkit.camera import Camera
 from rasterkit.raster.kernels.shadow_fit import shadowed_extent, visible_points
 from rasterkit.raster.vertex import transform_points
@@ -73,10 +74,7 @@ def shadow_maps(mesh, lights: tuple, camera: Camera, size: int, softness: float,
     are fitted to the casters: a point outside a map has nothing between it and the light."""
     vertices = mesh.vertices if casters is None else mesh.vertices[:casters[0]]
     faces = mesh.faces if casters is None else mesh.faces[:casters[1]]
-    finite = vertices[np.isfinite(vertices).all(axis=1)]
-    if len(finite) == 0:
-        finite = np.zeros((1, 3))
-    low, high = finite.min(axis=0), finite.max(axis=0)
+    low, high = finite_bounds(vertices) or (np.zeros(3), np.zeros(3))
     centre = low / 2.0 + high / 2.0
     radius = max(float(np.linalg.norm(high - low)) / 2.0, 1e-9 * max(1.0, float(np.abs(centre).max())))
     corners = _box_corners(np.stack([low, high]))
