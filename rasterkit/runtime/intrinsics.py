@@ -57,16 +57,21 @@ def prefetch_row(typingctx, array, row):
             stride = cgutils.unpack_tuple(builder, data.strides)[0]
         else:
             stride = context.get_constant(types.intp, context.get_abi_sizeof(context.get_data_type(array_type.dtype)))
-        byte_pointer = ir.IntType(8).as_pointer()
-        address = builder.gep(builder.bitcast(data.data, byte_pointer), [builder.mul(index, stride)])
-        i32 = ir.IntType(32)
-        function_type = ir.FunctionType(ir.VoidType(), [byte_pointer, i32, i32, i32])
-        function = cgutils.get_or_insert_function(builder.module, function_type, "llvm.prefetch.p0")
-        # read (0), high temporal locality (3), data cache (1)
-        builder.call(function, [address, ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)])
+        _prefetch(builder, data.data, builder.mul(index, stride))
         return context.get_dummy_value()
 
     return types.void(array, row), codegen
+
+
+def _prefetch(builder, data, offset):
+    """Emit ``llvm.prefetch`` of the byte ``offset`` from the pointer ``data``: for reading
+    (0), high temporal locality (3), the data cache (1)."""
+    byte_pointer = ir.IntType(8).as_pointer()
+    address = builder.gep(builder.bitcast(data, byte_pointer), [offset])
+    i32 = ir.IntType(32)
+    function_type = ir.FunctionType(ir.VoidType(), [byte_pointer, i32, i32, i32])
+    function = cgutils.get_or_insert_function(builder.module, function_type, "llvm.prefetch.p0")
+    builder.call(function, [address, ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)])
 
 
 @intrinsic
@@ -86,12 +91,7 @@ def prefetch_texel(typingctx, array, m, j, i):
         offset = context.get_constant(types.intp, 0)
         for value, kind, stride in zip(args[1:], signature.args[1:], strides):
             offset = builder.add(offset, builder.mul(context.cast(builder, value, kind, types.intp), stride))
-        byte_pointer = ir.IntType(8).as_pointer()
-        address = builder.gep(builder.bitcast(data.data, byte_pointer), [offset])
-        i32 = ir.IntType(32)
-        function_type = ir.FunctionType(ir.VoidType(), [byte_pointer, i32, i32, i32])
-        function = cgutils.get_or_insert_function(builder.module, function_type, "llvm.prefetch.p0")
-        builder.call(function, [address, ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)])
+        _prefetch(builder, data.data, offset)
         return context.get_dummy_value()
 
     return types.void(array, m, j, i), codegen
