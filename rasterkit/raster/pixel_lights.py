@@ -45,4 +45,6 @@ def pixel_lights(mesh, lit, two_sided, smooth: bool) -> PixelLights:
     # every array read-only: one record type (and one compiled band worker) for frames with
     # shadow maps, one for frames without
     shadows = tuple(readonly(v) if isinstance(v, np.ndarray) else v for v in shadows) if lit.shadowed else None
-    return PixelLights(*(readonly(v) if isinstance(v, np.ndarray) else v for v in fields), shadows)
+    # a spot's or point light's map (a perspective one, column 7 of its axes): another resolve
+    perspective_maps = True if shadows is not None and bool(np.any(shadows[2][:, 7] > 0.0)) else None
+    return PixelLights(*(readonly(v) if isinstance(v, np.ndarray) else v for v in fields), shadows, perspective_maps)

@@ -48,7 +48,8 @@ import numpy as np
 
 from rasterkit.runtime import jit as _jit
 from rasterkit.runtime.forked import can_fork, fork, prepare_numba
-from rasterkit.runtime.warm_lit import TEXTURED_ROWS, frame_resolve, is_lit_frame, load_when_reported, rows_args
+from rasterkit.runtime.warm_lit import (
+    TEXTURED_ROWS, frame_resolve, interpret_kernels, is_lit_frame, load_when_reported, rows_args)
 from rasterkit.runtime import threads as _threads
 
 #: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
@@ -77,16 +78,21 @@ HELPED_OPTIONS = ("mode", "cull", "shading", "background", "aa", "ids", "normals
 #: The light a helper's frame has when the render has any: which lights (and how many) a frame
 #: has changes no kernel's argument types, only whether it has some.
 _HELPER_LIGHT = (-1.0, -2.0, -1.0)  # a directional light's direction
+_HELPER_SPOT = (1.0, 3.0, 2.0)  # a spot light's position, shining at the sphere (when a spot or point casts shadows)
 
 
 def helper_style(options, maps=frozenset()) -> dict:
     """What a helper renders with for a render with ``options`` (JSON: :data:`HELPED_OPTIONS`,
-    ``lights``: whether it has any, ``shadows``: whether one of them casts shadows, and
+    ``lights``: whether it has any, ``shadows``: whether one of them casts shadows,
+    ``perspective_shadows``: whether a spot or point light does (a frame with only parallel
+    maps has a resolve of its own, :class:`~rasterkit.raster.kernels.records.PixelLights`), and
     ``maps``: the kinds of texture map the model's materials name, sorted,
     :func:`rasterkit.formats.texture_maps`: a textured frame has a band worker of its own)."""
     style = {name: getattr(options, name) for name in HELPED_OPTIONS}
     style["lights"] = bool(options.lights)
     style["shadows"] = any(light.kind != "ambient" and (options.shadows or light.shadows) for light in options.lights)
+    style["perspective_shadows"] = any(light.kind in ("spot", "point") and (options.shadows or light.shadows)
+                                       for light in options.lights)
     style["maps"] = sorted(maps) if options.textures else []
     return style
 
@@ -375,6 +381,8 @@ def _run(order: dict) -> None:
     from rasterkit.camera import Camera
     from rasterkit.runtime.warm_mesh import helper_mesh
 
+    if order.get("lit_rows"):
+        interpret_kernels()
     _threads.intercept(_compile_rows(order["lit_rows"]) if order.get("lit_rows") else
                        _compile_only(order["workers"], order.get("frame_only", False), order.get("lit_report"),
                                      order.get("resolve")))
@@ -384,6 +392,8 @@ def _run(order: dict) -> None:
                        order.get("normals", True))
     shadows = settings.pop("shadows", False)
     lights = (Light.directional(_HELPER_LIGHT, shadows=shadows),) if settings.pop("lights", False) else ()
+    if settings.pop("perspective_shadows", False):
+        lights += (Light.spot(_HELPER_SPOT, tuple(-c for c in _HELPER_SPOT), shadows=True),)
     try:
         fb = render(mesh, camera, options=RenderOptions(**settings, lights=lights))
     except _Compiled:

@@ -77,3 +77,21 @@ def load_when_reported(kernel, fd: int) -> None:
         return compile_here(sig)
 
     kernel.compile = compile_after_report
+
+
+def interpret_kernels() -> None:
+    """In the resolve's helper, before it renders: a kernel not yet compiled runs as plain
+    Python (its ``py_func``) instead of compiling (the tiny frame's setup kernels before the
+    band worker, which the band worker's helper compiles meanwhile): the resolve's compile
+    starts seconds sooner and no two helpers compile the same kernels. Only the types of
+    what they return reach the resolve: a kernel returns arrays of the dtypes it makes in
+    Python too. Numba's dispatcher calls ``_compile_for_args`` on a call whose types it has
+    no code for, and calls what that returns (the compiled function: here the Python one); a
+    compile for given types (``compile``, as a caller's compile asks for its callees) is
+    untouched."""
+    from numba.core.dispatcher import Dispatcher
+
+    def python_function(self, *args, **kws):
+        return self.py_func
+
+    Dispatcher._compile_for_args = python_function

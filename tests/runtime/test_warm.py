@@ -451,7 +451,10 @@ def test_a_phong_frames_lit_resolve_compiles_in_a_helper_of_its_own_and_the_band
     of compiling it again, so it compiles exactly once (numba:compile fires only for a real
     compile, after the on-disk cache was tried). The arguments the helper makes
     (warm_lit.rows_args) are the band worker's records passed on as they are and slices of its
-    scratch: what this shows for a flat phong frame holds for the other lit variants."""
+    scratch: what this shows for a flat phong frame holds for the other lit variants. The
+    resolve's helper runs the kernels before the band worker as plain Python instead of
+    compiling them (warm_lit.interpret_kernels): it compiles none that the band worker's
+    helper compiles."""
     import pytest
 
     if not sys.platform.startswith("linux"):
@@ -465,6 +468,10 @@ def test_a_phong_frames_lit_resolve_compiles_in_a_helper_of_its_own_and_the_band
     assert [pid for pid, name in compiled if name == "resolve_lit_rows"] == [report["lit"]]
     assert [pid for pid, name in compiled if name == "draw_bands"] == [report["band"]]
     assert _kernel_indexes(tmp_path / "cache", "phong_rows", "resolve_lit_rows")
+    numba_own = {"impl", "<lambda>"}  # Numba's implementations of NumPy functions, compiled in each process
+    by_lit = {name for pid, name in compiled if pid == report["lit"]} - numba_own
+    by_band = {name for pid, name in compiled if pid == report["band"]} - numba_own
+    assert "bary_matrices" in by_band and not by_lit & by_band
 
 
 def test_only_frames_lit_per_pixel_get_the_lit_resolves_helper():
@@ -499,28 +506,38 @@ def test_a_plain_python_worker_waits_for_no_helper():
 
 def test_a_lit_renders_helper_draws_with_a_light_the_same_variant_of_every_kernel(monkeypatch):
     """Which lights a frame has changes no kernel's argument types, only whether it has some
-    (and has ambient occlusion, and whether some light casts shadows): the helper's order says
+    (and has ambient occlusion, whether some light casts shadows, and whether a spot or
+    point light does: their maps are perspective, another resolve): the helper's order says
     so in JSON, and the helper lights its frame with one directional light, shadowed when one
-    of the render's lights is."""
+    of the render's lights is, and a shadowed spot light when a spot or point casts shadows."""
     lit = RenderOptions(mode="solid", shading="phong", ao=True, shadows=True,
                         lights=[rasterkit.Light.point((1, 2, 3)), rasterkit.Light.ambient()])
     style = _warm.helper_style(lit)
     assert json.loads(json.dumps(style)) == style
     assert style["lights"] is True and style["ao"] is True and style["shadows"] is True
+    assert style["perspective_shadows"] is True
     assert _warm.helper_style(RenderOptions(mode="solid"))["lights"] is False
     unshadowed = RenderOptions(shading="phong", lights=[rasterkit.Light.point((1, 2, 3))])
     assert _warm.helper_style(unshadowed)["shadows"] is False
+    assert _warm.helper_style(unshadowed)["perspective_shadows"] is False
     one = RenderOptions(shading="phong", lights=[rasterkit.Light.ambient(), rasterkit.Light.spot(
         (0, 2, 0), (0, -1, 0), 30, 0.2, shadows=True)])
-    assert _warm.helper_style(one)["shadows"] is True
+    assert _warm.helper_style(one)["shadows"] is True and _warm.helper_style(one)["perspective_shadows"] is True
+    parallel = RenderOptions(shading="phong", lights=[rasterkit.Light.directional((0, -1, 0), shadows=True),
+                                                      rasterkit.Light.point((1, 2, 3))])
+    assert _warm.helper_style(parallel)["shadows"] is True
+    assert _warm.helper_style(parallel)["perspective_shadows"] is False
     seen = []
     monkeypatch.setattr(rasterkit, "render", lambda mesh, camera, options: seen.append(options) or
                         rasterkit.Framebuffer(4, 4))
     monkeypatch.setattr(_warm._threads, "intercept", lambda hook: None)
-    _warm._run({"options": style, "depth": False, "workers": ["draw_bands"]})
-    (options,) = seen
-    assert [light.kind for light in options.lights] == ["directional"]
-    assert (options.shading, options.ao) == ("phong", True) and options.lights[0].shadows
+    for options, kinds in ((lit, ["directional", "spot"]), (parallel, ["directional"])):
+        seen.clear()
+        _warm._run({"options": _warm.helper_style(options), "depth": False, "workers": ["draw_bands"]})
+        (drawn,) = seen
+        assert [light.kind for light in drawn.lights] == kinds
+        assert all(light.shadows for light in drawn.lights)
+        assert (drawn.shading, drawn.ao) == ("phong", options.ao)
 
 
 def test_a_shadowed_frames_helper_compiles_the_frames_own_band_worker_and_leaves_the_maps(monkeypatch):

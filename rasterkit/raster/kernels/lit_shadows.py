@@ -17,10 +17,11 @@ from rasterkit.runtime.jit import kernel
 @kernel(inline="always")
 def _face_terms(s, n, k, table, shadows):
     """Pass 1 of :func:`_parallel_shadows`: each pixel's factor where it needs no lookup (0:
-    its shading normal or its face turned from the light; a degenerate face's pixels through
-    :func:`~rasterkit.raster.kernels.lights.shadow_at`), else -1 and its face's
+    its shading normal or its face turned from the light), else -1 and its face's
     :func:`~rasterkit.raster.kernels.lights.parallel_terms` (made once for each run of pixels
-    with the same plane: the chunk's pixels come run by run) into columns GI .. ABOVE."""
+    with the same plane: the chunk's pixels come run by run) into columns GI .. ABOVE. A
+    degenerate face (no plane) is looked up in the plane of each pixel's shading normal, as
+    :func:`~rasterkit.raster.kernels.lights.shadow_factor` does."""
     lx, ly, lz = -table[k, 4], -table[k, 5], -table[k, 6]
     last_x, last_y, last_z = np.nan, np.nan, np.nan
     fx, fy, fz = 0.0, 0.0, 0.0
@@ -34,10 +35,10 @@ def _face_terms(s, n, k, table, shadows):
             if not (ax == last_x and ay == last_y and az == last_z):
                 last_x, last_y, last_z = ax, ay, az
                 fx, fy, fz = unit(ax, ay, az)
+                if fx == 0.0 and fy == 0.0 and fz == 0.0:  # made again for the next pixel
+                    fx, fy, fz, last_x = nx, ny, nz, np.nan
                 terms = parallel_terms(k, table, fx, fy, fz, shadows)
-            if fx == 0.0 and fy == 0.0 and fz == 0.0:
-                factor = shadow_at(k, table, s[X + u], s[Y + u], s[Z + u], nx, ny, nz, nx, ny, nz, shadows)
-            elif (-terms[0] if fx * nx + fy * ny + fz * nz < 0.0 else terms[0]) > 0.0:  # noqa: FURB136
+            if (-terms[0] if fx * nx + fy * ny + fz * nz < 0.0 else terms[0]) > 0.0:  # noqa: FURB136
                 factor = -1.0  # the light is in front of the face: look it up
                 s[GI + u], s[GJ + u], s[LEEWAY + u], s[ABOVE + u] = terms[1], terms[2], terms[3], terms[4]
         s[SHADE + u] = factor
@@ -132,14 +133,19 @@ def _unshadowed(s, n):
 
 
 @kernel(refcounts=False)
-def light_reaches(s, n, k, table, shadows):
+def light_reaches(s, n, k, table, shadows, perspective_maps):
     """Light ``k``'s share of each of the chunk's ``n`` pixels that it reaches, into column
-    SHADE: its shadow factors where it has a shadow map (:func:`_chunk_shadows`), else 1.
-    Compiled on its own, once for frames with shadow maps and once for frames without
-    (``shadows`` None: none of the lookups is compiled)."""
+    SHADE: its shadow factors where it has a shadow map, else 1. Compiled on its own, once
+    for each kind of frame: without shadow maps (``shadows`` None: none of the lookups is
+    compiled), with parallel maps only (``perspective_maps`` None: directional lights, whose
+    lookups run in passes, :func:`_parallel_shadows`) and with a spot's or a point light's
+    maps too (:func:`_chunk_shadows`, which looks up the others one point at a time through
+    :func:`~rasterkit.raster.kernels.lights.shadow_at`)."""
     if shadows is None:
         _unshadowed(s, n)
-    elif table[k, 13] >= 0.0:
-        _chunk_shadows(s, n, k, table, shadows)
-    else:
+    elif table[k, 13] < 0.0:
         _unshadowed(s, n)
+    elif perspective_maps is None:
+        _parallel_shadows(s, n, k, table, shadows)
+    else:
+        _chunk_shadows(s, n, k, table, shadows)

@@ -192,9 +192,9 @@ def _add_light(s, n, k, table, whole):
 
 
 @kernel(inline="always")
-def _shade_chunk(s, n, color, j, lit, shadows):
-    """Steps 2-4 for the chunk's ``n`` pixels of image row ``j``; ``shadows`` the record's
-    (None: no light has a shadow map)."""
+def _shade_chunk(s, n, color, j, lit, shadows, perspective_maps):
+    """Steps 2-4 for the chunk's ``n`` pixels of image row ``j``; ``shadows`` and
+    ``perspective_maps`` the record's (None: no light has a shadow map; only parallel ones)."""
     table, eye, perspective, view, encode_table = lit[0], lit[1], lit[2], lit[3], lit[14]
     _orient(s, n, eye, perspective, view)
     whole = whole_exponent(s, n)
@@ -206,7 +206,7 @@ def _shade_chunk(s, n, color, j, lit, shadows):
                 s[AG + np.uint64(q)] += s[BG + np.uint64(q)] * cg
                 s[AB + np.uint64(q)] += s[BB + np.uint64(q)] * cb
             continue
-        light_reaches(s, n, k, table, shadows)
+        light_reaches(s, n, k, table, shadows, perspective_maps)
         _add_light(s, n, k, table, whole)
     encode_chunk(s, n, encode_table)
     ju = np.uint64(j)
@@ -219,7 +219,7 @@ def lit_fields(lit):
     """The record's fields as a tuple, unpacked once per band."""
     return (lit.lights, lit.eye, lit.perspective, lit.toward_viewer, lit.positions, lit.faces, lit.specular,
             lit.shininess, lit.emission, lit.smooth, lit.corner_normals, lit.normal_corners, lit.face_normals,
-            lit.two_sided, lit.encode, lit.decode, lit.shadows)
+            lit.two_sided, lit.encode, lit.decode, lit.shadows, lit.perspective_maps)
 
 
 @kernel(refcounts=False)
@@ -271,5 +271,5 @@ def resolve_lit_rows(y0, y1, shading, target, sample, lid, row_lo, row_hi, light
                 k += count
             if n == 0:
                 break
-            _shade_chunk(s, n, color, j, lit, lit[16])
+            _shade_chunk(s, n, color, j, lit, lit[16], lit[17])
             n = 0

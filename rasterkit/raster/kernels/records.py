@@ -117,7 +117,9 @@ Textured = namedtuple("Textured", "texels levels samplers transforms decode face
 #: ``encode`` the sRGB table of :func:`rasterkit.raster.kernels.surface.encode_table` and
 #: ``decode`` (256,) float64 the linear light of each 8-bit sRGB code; ``shadows`` the lights'
 #: shadow maps ``(maps, matrices, axes, softness)`` (:class:`rasterkit.raster.shadows.ShadowMaps`),
-#: or None when no light has one (then the resolve compiles without the shadow lookups).
+#: or None when no light has one (then the resolve compiles without the shadow lookups);
+#: ``perspective_maps`` True when some of the maps are a spot's or a point light's, None when
+#: all are parallel (a directional light's: the resolve then compiles only their lookups).
 PixelLights = namedtuple("PixelLights", "lights eye perspective toward_viewer positions faces specular shininess emission "
                                         "smooth corner_normals normal_corners face_normals two_sided encode decode "
-                                        "shadows")
+                                        "shadows perspective_maps")
