@@ -44,7 +44,7 @@ from rasterkit.raster.kernels.face_setup import (
     setup_faces,
     setup_vertices,
 )
-from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, SHADE_TAGGED, bary_matrices, pack_colors
+from rasterkit.raster.kernels.shade import SHADE_FLAT, SHADE_NONE, SHADE_SMOOTH, SHADE_TAGGED, bary_chunks, pack_colors
 from rasterkit.raster.kernels.bands import (
     BAND_HEIGHT,
     BAND_SHIFT,
@@ -314,7 +314,10 @@ def prepare(clip, faces, face_colors, vertex_colors, cull, offset, *, width, hei
                 threads=setup_threads)
     if offset != (0.0, 0.0):
         run_workers(offset_depths, *records, records.xy.shape[0], *offset, threads=setup_threads)
-    bary = bary_matrices(clip, faces) if mode == SHADE_SMOOTH or textures is not None else np.empty((0, 9))
+    bary = np.empty((0, 9))
+    if mode == SHADE_SMOOTH or textures is not None:
+        bary = ws.reserve("bary", (m, 9), np.float64)
+        run_workers(bary_chunks, clip, faces, bary, threads=setup_threads)
     # Flat colours without ids or textures: the visibility buffer carries the colour itself.
     resolve = SHADE_TAGGED if mode == SHADE_FLAT and not ids and textures is None else mode
     colors = vertex_colors if vertex_colors is not None else np.zeros((0, 3), np.float32)

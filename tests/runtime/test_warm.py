@@ -471,7 +471,7 @@ def test_a_phong_frames_lit_resolve_compiles_in_a_helper_of_its_own_and_the_band
     numba_own = {"impl", "<lambda>"}  # Numba's implementations of NumPy functions, compiled in each process
     by_lit = {name for pid, name in compiled if pid == report["lit"]} - numba_own
     by_band = {name for pid, name in compiled if pid == report["band"]} - numba_own
-    assert "bary_matrices" in by_band and not by_lit & by_band
+    assert "pack_colors" in by_band and not by_lit & by_band
 
 
 def test_only_frames_lit_per_pixel_get_the_lit_resolves_helper():

@@ -25,6 +25,7 @@ import numpy as np
 
 from rasterkit.raster.kernels.cull import per_face
 from rasterkit.raster.kernels.normals import cross, face_normals
+from rasterkit.runtime.intrinsics import fetch_add
 from rasterkit.runtime.jit import kernel
 
 # How resolve_row colours a pixel; chosen once per draw.
@@ -180,36 +181,17 @@ def _intensity(cos, back, ambient):
     return ambient + (1.0 - ambient) * cos
 
 
-@kernel
-def bary_matrices(clip, faces):
-    """Per face, the rows that turn a pixel into perspective-correct barycentrics.
-
-    With ``h_k = (xh, yh, w)`` of vertex ``k`` (homogeneous raster space), a pixel
-    ``q = (x, y, 1)`` sees the surface point ``sum_k b_k h_k`` (true 3D barycentrics
-    ``b``, since ``h`` is linear in the 3D point) with ``M b ∝ q`` for ``M = [h0 h1 h2]``,
-    hence ``b ∝ adj(M) q``: row ``k`` of ``adj(M)`` is ``h_{k+1} x h_{k+2}``. This holds for
-    any part of the face that is visible, even when other vertices are behind the eye.
-    The ``h`` are scaled by their largest magnitude first (the ratios do not change), so
-    huge coordinates do not overflow.
-
-    Parameters
-    ----------
-    clip : (N, 4) float64
-    faces : (M, 3) int64
-
-    Returns
-    -------
-    (M, 9) float64
-        ``[a0, b0, c0, a1, b1, c1, a2, b2, c2]``: ``b_k ∝ a_k x + b_k y + c_k``.
-    """
-    m = faces.shape[0]
-    out = np.zeros((m, 9))
-    for f in range(m):
+@kernel(inline="always")
+def _bary_rows(clip, faces, out, start, stop):
+    """Rows ``start .. stop - 1`` of :func:`bary_matrices` into ``out`` (M, 9) float64."""
+    for f in range(start, stop):
         scale = 0.0
         for k in range(3):
             v = faces[f, k]
             scale = max(scale, abs(clip[v, 0]), abs(clip[v, 1]), abs(clip[v, 3]))
         if not (scale > 0.0 and np.isfinite(scale)):
+            for k in range(9):
+                out[f, k] = 0.0
             continue
         for k in range(3):
             p, q = faces[f, (k + 1) % 3], faces[f, (k + 2) % 3]
@@ -221,7 +203,50 @@ def bary_matrices(clip, faces):
                 clip[q, 1] / scale,
                 clip[q, 3] / scale,
             )
+
+
+@kernel
+def bary_matrices(clip, faces):
+    """Per face, the rows that turn a pixel into perspective-correct barycentrics.
+
+    With ``h_k = (xh, yh, w)`` of vertex ``k`` (homogeneous raster space), a pixel
+    ``q = (x, y, 1)`` sees the surface point ``sum_k b_k h_k`` (true 3D barycentrics
+    ``b``, since ``h`` is linear in the 3D point) with ``M b ∝ q`` for ``M = [h0 h1 h2]``,
+    hence ``b ∝ adj(M) q``: row ``k`` of ``adj(M)`` is ``h_{k+1} x h_{k+2}``. This holds for
+    any part of the face that is visible, even when other vertices are behind the eye.
+    The ``h`` are scaled by their largest magnitude first (the ratios do not change), so
+    huge coordinates do not overflow; a face without a finite, non-zero one gets zeros.
+
+    Parameters
+    ----------
+    clip : (N, 4) float64
+    faces : (M, 3) int64
+
+    Returns
+    -------
+    (M, 9) float64
+        ``[a0, b0, c0, a1, b1, c1, a2, b2, c2]``: ``b_k ∝ a_k x + b_k y + c_k``.
+    """
+    out = np.empty((faces.shape[0], 9))
+    _bary_rows(clip, faces, out, 0, faces.shape[0])
     return out
+
+
+#: The pieces :func:`bary_chunks` claims.
+BARY_CHUNKS = 64
+
+
+@kernel(refcounts=False)
+def bary_chunks(slot, counter, clip, faces, out):
+    """:func:`bary_matrices` into ``out`` (M, 9) float64, a worker of
+    :func:`rasterkit.runtime.threads.run_workers` (``slot`` unused; chunks of faces claimed
+    through ``counter``)."""
+    m = faces.shape[0]
+    while True:
+        chunk = fetch_add(counter, 0, 1)
+        if chunk >= BARY_CHUNKS:
+            break
+        _bary_rows(clip, faces, out, (m * chunk) // BARY_CHUNKS, (m * (chunk + 1)) // BARY_CHUNKS)
 
 
 @kernel
