@@ -98,6 +98,29 @@ def prefetch_texel(typingctx, array, m, j, i):
 
 
 @intrinsic
+def prefetch_item(typingctx, array, row, column):
+    """Prefetch the cache line of ``array[row, column]`` (a 2-D C-contiguous array) for
+    reading, as :func:`prefetch_row` does (indices not checked: a prefetch outside the
+    array is harmless)."""
+    if not isinstance(array, types.Array) or array.layout != "C" or array.ndim != 2:
+        return None
+    if not all(isinstance(index, types.Integer) for index in (row, column)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        array_type = signature.args[0]
+        data = context.make_array(array_type)(context, builder, args[0])
+        strides = cgutils.unpack_tuple(builder, data.strides)
+        offset = context.get_constant(types.intp, 0)
+        for value, kind, stride in zip(args[1:], signature.args[1:], strides):
+            offset = builder.add(offset, builder.mul(context.cast(builder, value, kind, types.intp), stride))
+        _prefetch(builder, data.data, offset)
+        return context.get_dummy_value()
+
+    return types.void(array, row, column), codegen
+
+
+@intrinsic
 def fetch_add(typingctx, array, index, value):
     """Atomically add ``value`` to ``array[index]`` (a 1-D C-contiguous int64 array) and
     return the value it held before (sequentially consistent). ``index`` is not checked."""

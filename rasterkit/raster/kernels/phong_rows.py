@@ -36,7 +36,7 @@ from rasterkit.raster.kernels.lit_columns import (
     NY, NZ, POWER, SB, SCRATCH, SG, SHADE, SPOT, SR, TWO, VX, VY, VZ, X, Y, Z, encode_chunk, highlights, unit,
     whole_exponent)
 from rasterkit.raster.kernels.lit_shadows import light_reaches
-from rasterkit.runtime.intrinsics import stack_floats
+from rasterkit.runtime.intrinsics import prefetch_item, stack_floats
 from rasterkit.runtime.jit import kernel
 
 #: What a run's gather keeps: a line (3 values) per interpolated value, and the constants.
@@ -215,6 +215,35 @@ def _shade_chunk(s, n, color, j, lit, shadows, perspective_maps):
 
 
 @kernel(inline="always")
+def _prefetch_faces(lid, r, lo, hi, bary, lit):
+    """Ask for what the gather will read of each face seen in row ``r`` of ``lid`` (columns
+    ``lo .. hi``): its barycentric rows, corners, their positions and normals. Called a row
+    ahead: a face's first run would otherwise wait on these misses one after another (the
+    corners' positions only once its corners have come)."""
+    positions, faces, smooth, corner_normals, normal_corners = lit[4], lit[5], lit[9], lit[10], lit[11]
+    ru = np.uint64(r)
+    last = -1
+    for i in range(lo, hi + 1):
+        f = lid[ru, np.uint64(i)]
+        if f >= 0 and f != last:
+            last = f
+            prefetch_item(bary, f, 0)
+            prefetch_item(bary, f, 8)
+            prefetch_item(faces, f, 0)
+            if smooth:
+                prefetch_item(normal_corners, f, 0)
+    last = -1
+    for i in range(lo, hi + 1):
+        f = lid[ru, np.uint64(i)]
+        if f >= 0 and f != last:
+            last = f
+            for k in range(3):
+                prefetch_item(positions, faces[f, k], 0)
+                if smooth:
+                    prefetch_item(corner_normals, normal_corners[f, k], 0)
+
+
+@kernel(inline="always")
 def lit_fields(lit):
     """The record's fields as a tuple, unpacked once per band."""
     return (lit.lights, lit.eye, lit.perspective, lit.toward_viewer, lit.positions, lit.faces, lit.specular,
@@ -241,6 +270,8 @@ def resolve_lit_rows(y0, y1, shading, target, sample, lid, row_lo, row_hi, light
     s = stack_floats(SCRATCH)
     lines = stack_floats(_LINES)
     for r in range(y1 - y0):
+        if r + 1 < y1 - y0:
+            _prefetch_faces(lid, r + 1, row_lo[r + 1], row_hi[r + 1], bary, lit)
         j, lo, hi = y0 + r, row_lo[r], row_hi[r]
         ru, ju, base = np.uint64(r), np.uint64(j), np.uint64(lo)
         px, py = lo + 0.5 + sample_x, j + 0.5 + sample_y
