@@ -74,14 +74,12 @@ def _prefetch(builder, data, offset):
     builder.call(function, [address, ir.Constant(i32, 0), ir.Constant(i32, 3), ir.Constant(i32, 1)])
 
 
-@intrinsic
-def prefetch_texel(typingctx, array, m, j, i):
-    """Prefetch the cache line of ``array[m, j, i]`` (a 3-D C-contiguous array) for reading,
-    as :func:`prefetch_row` does (indices not checked: a prefetch outside the array is
-    harmless)."""
-    if not isinstance(array, types.Array) or array.layout != "C" or array.ndim != 3:
+def _prefetch_element(array, indices):
+    """The signature and code generator of a prefetch of ``array[indices]`` (C-contiguous,
+    one integer index per dimension), or None for other types."""
+    if not isinstance(array, types.Array) or array.layout != "C" or array.ndim != len(indices):
         return None
-    if not all(isinstance(index, types.Integer) for index in (m, j, i)):
+    if not all(isinstance(index, types.Integer) for index in indices):
         return None
 
     def codegen(context, builder, signature, args):
@@ -94,7 +92,15 @@ def prefetch_texel(typingctx, array, m, j, i):
         _prefetch(builder, data.data, offset)
         return context.get_dummy_value()
 
-    return types.void(array, m, j, i), codegen
+    return types.void(array, *indices), codegen
+
+
+@intrinsic
+def prefetch_texel(typingctx, array, m, j, i):
+    """Prefetch the cache line of ``array[m, j, i]`` (a 3-D C-contiguous array) for reading,
+    as :func:`prefetch_row` does (indices not checked: a prefetch outside the array is
+    harmless)."""
+    return _prefetch_element(array, (m, j, i))
 
 
 @intrinsic
@@ -102,22 +108,7 @@ def prefetch_item(typingctx, array, row, column):
     """Prefetch the cache line of ``array[row, column]`` (a 2-D C-contiguous array) for
     reading, as :func:`prefetch_row` does (indices not checked: a prefetch outside the
     array is harmless)."""
-    if not isinstance(array, types.Array) or array.layout != "C" or array.ndim != 2:
-        return None
-    if not all(isinstance(index, types.Integer) for index in (row, column)):
-        return None
-
-    def codegen(context, builder, signature, args):
-        array_type = signature.args[0]
-        data = context.make_array(array_type)(context, builder, args[0])
-        strides = cgutils.unpack_tuple(builder, data.strides)
-        offset = context.get_constant(types.intp, 0)
-        for value, kind, stride in zip(args[1:], signature.args[1:], strides):
-            offset = builder.add(offset, builder.mul(context.cast(builder, value, kind, types.intp), stride))
-        _prefetch(builder, data.data, offset)
-        return context.get_dummy_value()
-
-    return types.void(array, row, column), codegen
+    return _prefetch_element(array, (row, column))
 
 
 @intrinsic
