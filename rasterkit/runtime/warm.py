@@ -19,12 +19,10 @@ gets there and loads the resolve from the cache. Whether the model will be drawn
 guessed before it is read (:func:`rasterkit.formats.texture_maps`); the helpers then draw a
 textured sphere (:mod:`rasterkit.runtime.warm_mesh`).
 
-The helper renders a tiny mesh in the same mode through the ordinary drivers, with
-:func:`rasterkit.runtime.threads.run_parallel` intercepted: its workers are compiled for the argument
-types they get (``Dispatcher.compile``) and not run, and the other workers are neither
-compiled nor run (their writable arrays are zeroed, so the few small kernels that read
-them see harmless input). If anything goes wrong in the helper, this process simply
-compiles the kernels itself: the images never depend on it.
+The helper renders a tiny mesh in the same mode through the ordinary drivers, its workers
+compiled for the argument types they get and not run (:mod:`rasterkit.runtime.warm_helper`).
+If anything goes wrong in the helper, this process simply compiles the kernels itself: the
+images never depend on it.
 
 The built-in demo (no model to load) gets a helper of another kind on a machine with two
 cores or more: while this process compiles the demo's kernels, it compiles the OBJ reader's
@@ -44,12 +42,10 @@ import subprocess
 import sys
 import time
 
-import numpy as np
-
 from rasterkit.runtime import jit as _jit
 from rasterkit.runtime.forked import can_fork, fork, prepare_numba
-from rasterkit.runtime.warm_lit import (
-    TEXTURED_ROWS, frame_resolve, interpret_kernels, is_lit_frame, load_when_reported, rows_args)
+from rasterkit.runtime.warm_helper import frame_call, helper_main, kernel_named, run
+from rasterkit.runtime.warm_lit import TEXTURED_ROWS, frame_resolve
 from rasterkit.runtime import threads as _threads
 
 #: The OBJ reader's kernels, (module, function): what the demo's helper compiles.
@@ -75,12 +71,6 @@ FINISH_SECONDS = 10.0
 #: own (its lit resolve with the lookups), one without them compiles none of that.
 HELPED_OPTIONS = ("mode", "cull", "shading", "background", "aa", "ids", "normals", "camera_depth", "ao")
 
-#: The light a helper's frame has when the render has any: which lights (and how many) a frame
-#: has changes no kernel's argument types, only whether it has some.
-_HELPER_LIGHT = (-1.0, -2.0, -1.0)  # a directional light's direction
-_HELPER_SPOT = (1.0, 3.0, 2.0)  # a spot light's position, shining at the sphere (when a spot or point casts shadows)
-
-
 def helper_style(options, maps=frozenset()) -> dict:
     """What a helper renders with for a render with ``options`` (JSON: :data:`HELPED_OPTIONS`,
     ``lights``: whether it has any, ``shadows``: whether one of them casts shadows,
@@ -99,14 +89,6 @@ def helper_style(options, maps=frozenset()) -> dict:
 _cached = _jit.cached  # (a name of this module: tests replace it)
 
 
-def _kernel(name: str):
-    """The kernel ``module:function``."""
-    from importlib import import_module
-
-    module, function = name.split(":")
-    return getattr(import_module(module), function)
-
-
 def helped_workers(options) -> list[list]:
     """The kernels helpers compile for a render with ``options`` (a
     :class:`rasterkit.RenderOptions`): a list per helper process, each in the order the render
@@ -118,9 +100,9 @@ def helped_workers(options) -> list[list]:
     from rasterkit.raster.modes import mode
 
     row = mode(options.mode)
-    lists = [[_kernel(name) for name in names] for names in row.helped_kernels(options.aa)]
+    lists = [[kernel_named(name) for name in names] for names in row.helped_kernels(options.aa)]
     if options.ao and row.faces:
-        lists[0] += [_kernel(name) for name in AO_KERNELS]
+        lists[0] += [kernel_named(name) for name in AO_KERNELS]
     return lists
 
 
@@ -128,7 +110,7 @@ def band_worker_cached(options) -> bool:
     """Whether the band worker of ``options``' mode is in Numba's disk cache (any variant)."""
     from rasterkit.raster.modes import mode
 
-    return _cached(_kernel(mode(options.mode).band_worker(options.aa)))
+    return _cached(kernel_named(mode(options.mode).band_worker(options.aa)))
 
 
 def start(options, depth: bool, loading: bool, maps=frozenset()) -> None:
@@ -152,12 +134,12 @@ def start(options, depth: bool, loading: bool, maps=frozenset()) -> None:
     from rasterkit.raster.modes import mode
 
     if callable(maps):
-        maps = maps() if options.textures and not (_cached(_kernel(TEXTURED_ROWS)) and band_worker_cached(options)) \
+        maps = maps() if options.textures and not (_cached(kernel_named(TEXTURED_ROWS)) and band_worker_cached(options)) \
             else frozenset()
     style = helper_style(options, maps)
     _frame_only = style["shadows"]
     resolve = frame_resolve(style)
-    fresh = resolve is not None and not _cached(_kernel(resolve))  # then neither is the frame's band worker
+    fresh = resolve is not None and not _cached(kernel_named(resolve))  # then neither is the frame's band worker
     lists = [] if not mode(options.mode).faces and not loading and not _forks() else [
         names for names in ([w.py_func.__name__ for w in workers
                              if not _cached(w) or fresh and w.py_func.__name__ == "draw_bands"]
@@ -204,7 +186,7 @@ def _spawn(order: dict, report: bool = False):
     helper needs: a new interpreter would spend most of a second importing it again), else a
     new interpreter."""
     if _forks():
-        return fork(lambda: _run(order), report)
+        return fork(lambda: run(order), report)
     try:
         return subprocess.Popen([sys.executable, "-m", "rasterkit.runtime.warm", json.dumps(order)],
                                 stdin=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
@@ -309,98 +291,5 @@ def finish_lit() -> None:
             helper.wait()
 
 
-def frame_call(worker, args) -> bool:
-    """Whether a helper of a frame with shadow maps (``frame_only``) compiles this call (``args``
-    after the slot): not the band worker's first calls, for the maps (another variant, which
-    this process compiles meanwhile), only the frame's own, lit per pixel (lights or textures)."""
-    return getattr(worker, "py_func", worker).__name__ != "draw_bands" or is_lit_frame(worker, args)
-
-
-def _compile_only(names: list[str], frame_only: bool = False, lit_report: int | None = None,
-                  resolve: str | None = None):
-    """In the helper: compile the workers ``names`` for the arguments they get, run nothing,
-    and name each on standard output once it is in the cache.
-
-    It compiles from the bottom of a fresh Python stack (:func:`rasterkit.runtime.jit.compile_apart`:
-    started deep in a render's calls, the hidden-line band worker's compile takes about 1.7
-    times as long). ``lit_report``: the resolve's helper's pipe, read before the compile of
-    its kernel ``resolve`` here (:func:`rasterkit.runtime.warm_lit.load_when_reported`)."""
-    if lit_report is not None:
-        load_when_reported(_kernel(resolve), lit_report)
-
-    def hook(worker, args):
-        name = worker.py_func.__name__
-        if name in names and (not frame_only or frame_call(worker, args)):
-            _jit.compile_apart(worker, (0, *args))
-            print(name, flush=True)
-        _zero_writable(args)
-        return [0]
-
-    return hook
-
-
-class _Compiled(Exception):
-    """The resolve's helper has compiled what it is for: the render ends."""
-
-
-def _compile_rows(resolve: str):
-    """In the resolve's helper (:mod:`rasterkit.runtime.warm_lit`): at the frame's call of the
-    band worker, compile ``resolve`` for the arguments that call passes it, name it on
-    standard output and end the render; run no other worker."""
-    def hook(worker, args):
-        if is_lit_frame(worker, args):
-            _jit.compile_apart(_kernel(resolve), rows_args(args))
-            print(resolve.split(":")[1], flush=True)
-            raise _Compiled
-        _zero_writable(args)
-        return [0]
-
-    return hook
-
-
-def _zero_writable(values) -> None:
-    for value in values:
-        if isinstance(value, tuple):
-            _zero_writable(value)
-        elif isinstance(value, np.ndarray) and value.flags.writeable:
-            value.fill(0)
-
-
-def _helper_main(order: str) -> None:
-    _run(json.loads(order))
-
-
-def _run(order: dict) -> None:
-    """In the helper: do what ``order`` says."""
-    if order.get("obj"):  # nothing waits for it: it yields the core to anything that does
-        from rasterkit.runtime.warm_obj import read_sample_obj
-
-        read_sample_obj()
-        return
-    from rasterkit import Light, RenderOptions, render
-    from rasterkit.camera import Camera
-    from rasterkit.runtime.warm_mesh import helper_mesh
-
-    if order.get("lit_rows"):
-        interpret_kernels()
-    _threads.intercept(_compile_rows(order["lit_rows"]) if order.get("lit_rows") else
-                       _compile_only(order["workers"], order.get("frame_only", False), order.get("lit_report"),
-                                     order.get("resolve")))
-    camera = Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
-    settings = dict(order["options"])
-    mesh = helper_mesh(settings.pop("maps", ()), settings["shading"] != "flat" and not settings["normals"],
-                       order.get("normals", True))
-    shadows = settings.pop("shadows", False)
-    lights = (Light.directional(_HELPER_LIGHT, shadows=shadows),) if settings.pop("lights", False) else ()
-    if settings.pop("perspective_shadows", False):
-        lights += (Light.spot(_HELPER_SPOT, tuple(-c for c in _HELPER_SPOT), shadows=True),)
-    try:
-        fb = render(mesh, camera, options=RenderOptions(**settings, lights=lights))
-    except _Compiled:
-        return
-    if order["depth"]:
-        fb.depth  # noqa: B018 - reading it runs the depth pass
-
-
 if __name__ == "__main__":
-    _helper_main(sys.argv[1])
+    helper_main(sys.argv[1])

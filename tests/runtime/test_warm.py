@@ -19,6 +19,7 @@ from PIL import Image
 
 import rasterkit
 from rasterkit.runtime import warm as _warm
+from rasterkit.runtime import warm_helper
 from rasterkit.runtime.forked import Forked
 from rasterkit.runtime.notice import MESSAGE
 from rasterkit.cli import _parser
@@ -217,10 +218,10 @@ print(json.dumps({"compiled": sorted(set(compiled)), "faces": len(mesh.faces)}))
 
 READER_HELPER = """
 import sys
-from rasterkit.runtime import warm, warm_obj
+from rasterkit.runtime import warm_helper, warm_obj
 
 warm_obj._lower_priority = lambda: None
-warm._helper_main(sys.argv[1])
+warm_helper.helper_main(sys.argv[1])
 """
 
 
@@ -533,7 +534,7 @@ def test_a_lit_renders_helper_draws_with_a_light_the_same_variant_of_every_kerne
     monkeypatch.setattr(_warm._threads, "intercept", lambda hook: None)
     for options, kinds in ((lit, ["directional", "spot"]), (parallel, ["directional"])):
         seen.clear()
-        _warm._run({"options": _warm.helper_style(options), "depth": False, "workers": ["draw_bands"]})
+        warm_helper.run({"options": _warm.helper_style(options), "depth": False, "workers": ["draw_bands"]})
         (drawn,) = seen
         assert [light.kind for light in drawn.lights] == kinds
         assert all(light.shadows for light in drawn.lights)
@@ -549,7 +550,7 @@ def test_a_shadowed_frames_helper_compiles_the_frames_own_band_worker_and_leaves
 
     compiled, calls = [], []
     monkeypatch.setattr(warm._jit, "compile_apart", lambda worker, args: compiled.append((worker, args)))
-    hook = warm._compile_only(["draw_bands"], frame_only=True)
+    hook = warm_helper.compile_only(["draw_bands"], frame_only=True)
     monkeypatch.setattr(warm._threads, "_intercept", lambda worker, args: calls.append((worker, args))
                         or hook(worker, args))
     mesh = rasterkit.shapes.icosphere(1)
@@ -557,7 +558,7 @@ def test_a_shadowed_frames_helper_compiles_the_frames_own_band_worker_and_leaves
     rasterkit.render(mesh, camera, "solid", shading="phong",
                      lights=[rasterkit.Light.directional((-1, -2, -1), shadows=True)])
     bands = [(worker, args) for worker, args in calls if worker.py_func.__name__ == "draw_bands"]
-    assert len(bands) >= 2 and not warm.frame_call(*bands[0]) and warm.frame_call(*bands[-1])
+    assert len(bands) >= 2 and not warm_helper.frame_call(*bands[0]) and warm_helper.frame_call(*bands[-1])
     (worker, args), = compiled
     assert worker is bands[-1][0] and args[-1] is not None  # the frame's own call, with its lights
 
@@ -584,7 +585,7 @@ def test_an_ao_frames_band_worker_helper_compiles_the_occlusion_passes_too(monke
         assert not [w for helper in workers for w in helper if w.py_func.__name__.startswith("ao_")]
     compiled = []
     monkeypatch.setattr(warm._jit, "compile_apart", lambda worker, args: compiled.append(worker.py_func.__name__))
-    monkeypatch.setattr(warm._threads, "_intercept", warm._compile_only(names))
+    monkeypatch.setattr(warm._threads, "_intercept", warm_helper.compile_only(names))
     camera = rasterkit.Camera.look_at(eye=(2.0, 1.5, 3.0), target=(0.0, 0.0, 0.0), width=64, height=48)
     rasterkit.render(rasterkit.shapes.icosphere(1), camera, "solid", ao=True)
     assert compiled == names
